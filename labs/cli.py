@@ -1,0 +1,146 @@
+"""The ``dynlab`` command: a thin layer over the library.
+
+    dynlab run FILE... [--out DIR] [--format html,pdf,json] [--lang en|ru] [--json]
+    dynlab list
+    dynlab template LAB [--lang en|ru] [-o FILE]
+    dynlab demo [--out DIR] [--lang en|ru]
+
+Bad input prints one message naming the file, the field and the fix, and exits with 2.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from processing.diagnostics import InputError
+from processing.report.i18n import LANGS
+from processing.report.render import FORMATS, to_json, to_terminal, write_reports
+
+from .registry import LABS, evaluate, lab_module
+
+EXIT_INPUT = 2
+
+
+def _formats(text: str) -> tuple[str, ...]:
+    fmts = tuple(f.strip() for f in text.split(",") if f.strip())
+    bad = [f for f in fmts if f not in FORMATS]
+    if bad or not fmts:
+        raise argparse.ArgumentTypeError(
+            f"unknown format {', '.join(bad) or text!r}; use a comma list of {', '.join(FORMATS)}")
+    return fmts
+
+
+def _progress(items, desc: str):
+    from tqdm import tqdm
+
+    return tqdm(items, desc=desc, unit="file", file=sys.stderr, leave=False,
+                disable=len(items) < 2 or not sys.stderr.isatty())
+
+
+def _run_files(files, out: Path, formats, lang: str, as_json: bool) -> int:
+    failures = 0
+    for path in _progress(list(files), "reducing"):
+        try:
+            result = evaluate(path)
+            written = write_reports(result, out, Path(path).stem, formats, lang)
+        except InputError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            failures += 1
+            continue
+        print(to_json(result) if as_json else to_terminal(result, lang))
+        if not as_json:
+            print("  → " + ", ".join(str(p) for p in written))
+    return EXIT_INPUT if failures else 0
+
+
+def _sample_dir(given: str | None) -> Path:
+    candidates = [Path(given)] if given else [Path.cwd() / "sample_data",
+                                              Path(__file__).resolve().parents[1] / "sample_data"]
+    for c in candidates:
+        if c.is_dir() and any(c.glob("*/*.toml")):
+            return c
+    raise InputError("no sample data found", "run from the dynlab source folder, or give "
+                     "--data DIR with the sample_data folder", file=str(candidates[0]))
+
+
+def _demo(args) -> int:
+    data = _sample_dir(args.data)
+    files = sorted(data.glob("*/*.toml"))
+    out = Path(args.out)
+    print(f"dynlab demo: {len(files)} sample files from {data} → {out}/")
+    rows = []
+    for path in _progress(files, "demo"):
+        result = evaluate(path)
+        write_reports(result, out, path.stem, FORMATS, args.lang)
+        rows.append((path, result))
+    for path, result in rows:
+        print()
+        print(to_terminal(result, args.lang))
+    print(f"\nreports (html, pdf, json) for {len(rows)} files written to {out.resolve()}")
+    return 0
+
+
+def _template(args) -> int:
+    module = lab_module(args.lab)
+    from processing.measurement import template
+
+    text = template(module.SPEC, args.lang)
+    if args.output:
+        Path(args.output).write_text(text, encoding="utf-8")
+        print(f"wrote {args.output}: fill it in, then run: dynlab run {args.output}")
+    else:
+        sys.stdout.write(text)
+    return 0
+
+
+def _list(_args) -> int:
+    for lab_id, module in LABS.items():
+        print(f"{lab_id:8} {module.SPEC.title['en']}  /  {module.SPEC.title['ru']}")
+    return 0
+
+
+def parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="dynlab", description="Reduce engine-dynamics lab "
+                                "measurements into checked, standardised reports.")
+    p.add_argument("--debug", action="store_true", help="show tracebacks of internal errors")
+    sub = p.add_subparsers(dest="command", required=True)
+    run = sub.add_parser("run", help="reduce measurement files into reports")
+    run.add_argument("files", nargs="+", metavar="FILE")
+    run.add_argument("--out", default="reports", help="folder for the reports (default: reports)")
+    run.add_argument("--format", type=_formats, default=FORMATS,
+                     help="comma list of html,pdf,json (default: all)")
+    run.add_argument("--lang", choices=LANGS, default="en")
+    run.add_argument("--json", action="store_true", help="print the result JSON to stdout")
+    run.set_defaults(func=lambda a: _run_files(a.files, Path(a.out), a.format, a.lang, a.json))
+    sub.add_parser("list", help="list the labs").set_defaults(func=_list)
+    tpl = sub.add_parser("template", help="write a blank measurement file for a lab")
+    tpl.add_argument("lab")
+    tpl.add_argument("--lang", choices=LANGS, default="en")
+    tpl.add_argument("-o", "--output", help="file to write (default: print)")
+    tpl.set_defaults(func=_template)
+    demo = sub.add_parser("demo", help="reduce the bundled sample data into reports")
+    demo.add_argument("--out", default="dynlab-reports")
+    demo.add_argument("--lang", choices=LANGS, default="en")
+    demo.add_argument("--data", help="the sample_data folder (default: found automatically)")
+    demo.set_defaults(func=_demo)
+    return p
+
+
+def main(argv=None) -> int:
+    args = parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except InputError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except Exception as exc:
+        if args.debug:
+            raise
+        print(f"internal error: {type(exc).__name__}: {exc} (run with --debug for the "
+              f"traceback, and please report it)", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

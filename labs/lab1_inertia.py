@@ -1,0 +1,629 @@
+"""Lab 1. Moments of inertia of engine parts.
+
+The manual's chapter, method by method: the analytic sum over regular bodies (formulas 1–6),
+the unifilar torsion pendulum (7–12), the physical pendulum (13–16) and the trifilar
+suspension (17). Each function is the formula; :func:`reduce` takes a measurement file's
+inputs through them with uncertainties and compares the methods.
+
+References
+----------
+.. [1] Dynamics of internal-combustion engines: lab manual, Vladimir State University, 2003,
+       lab 1 ("Определение моментов инерции деталей двигателя").
+"""
+from __future__ import annotations
+
+import itertools
+import warnings
+
+import numpy as np
+
+from processing.diagnostics import IllConditionedWarning, collect_notices
+from processing.measurement import (AMPLITUDE, COUNT, GRAVITY, LENGTH, MASS, STOPWATCH, Field,
+                                    Inputs, LabSpec, Section, bi)
+from processing.oscillation import (check_amplitude, pendulum_period_factor, period_factor,
+                                    period_from_total)
+from processing.report.figures import method_chart
+from processing.result import (Figure, LabResult, Table, compare, flag_estimates,
+                               result_values)
+from processing.uncertainty import propagate
+
+
+# ------------------------------------------------------------------------ formulas
+
+def cylinder(m, R, r=0.0, h=0.0, *, axis="axial"):
+    """Moment of inertia of a solid (r = 0) or hollow cylinder about its own axis or a
+    transverse axis through its centre of mass.
+
+    Parameters
+    ----------
+    m : float or ndarray
+        Mass. [kg]
+    R, r : float or ndarray
+        Outer and inner radius. [m]
+    h : float or ndarray
+        Height (length along the axis); used only for ``axis="transverse"``. [m]
+    axis : {"axial", "transverse"}
+
+    Returns
+    -------
+    float or ndarray
+        J. [kg·m²]
+
+    Notes
+    -----
+    Lab manual, lab 1, formulas (1) and (2):
+
+    .. math:: J_z = \\frac{m}{2}(R^2 + r^2), \\qquad
+              J_x = J_y = \\frac{m}{12}(3R^2 + 3r^2 + h^2)
+
+    Examples
+    --------
+    >>> cylinder(2.0, 0.1)
+    0.01
+    """
+    if axis == "axial":
+        return 0.5 * m * (R**2 + r**2)
+    return m * (3 * R**2 + 3 * r**2 + h**2) / 12.0
+
+
+def thin_rod(m, l, *, axis="end"):
+    """Moment of inertia of a thin rod about a transverse axis at its end or centre.
+
+    Notes
+    -----
+    Lab manual, lab 1, formula (3): :math:`J = m l^2/3` about the end; :math:`m l^2/12` about
+    the centre.
+
+    Examples
+    --------
+    >>> thin_rod(3.0, 1.0)
+    1.0
+    """
+    return m * l**2 / (3.0 if axis == "end" else 12.0)
+
+
+def torus(m, R, r, *, axis="axial"):
+    """Moment of inertia of a ring of circular cross-section (torus).
+
+    Parameters
+    ----------
+    m : float or ndarray
+        Mass. [kg]
+    R : float or ndarray
+        Radius of the ring's centre line. [m]
+    r : float or ndarray
+        Radius of the cross-section. [m]
+    axis : {"axial", "transverse"}
+        The symmetry axis, or a diameter.
+
+    Notes
+    -----
+    Lab manual, lab 1, formulas (4) and (5):
+
+    .. math:: J_z = m\\left(R^2 + \\tfrac34 r^2\\right), \\qquad
+              J_x = m\\left(\\tfrac{R^2}{2} + \\tfrac58 r^2\\right)
+    """
+    if axis == "axial":
+        return m * (R**2 + 0.75 * r**2)
+    return m * (0.5 * R**2 + 0.625 * r**2)
+
+
+def parallel_axis(J_c, m, c):
+    """Steiner's theorem, lab manual, lab 1, formula (6): :math:`J = J_c + m c^2`."""
+    return J_c + m * c**2
+
+
+def trifilar_height(l, R1, R2):
+    """Vertical height of a trifilar suspension at rest: :math:`H = \\sqrt{l^2 - (R_1 - R_2)^2}`.
+
+    The manual's formula (17) writes the thread length l; for R₁ ≠ R₂ the threads slant and
+    the height H is what enters the restoring torque.
+    """
+    return np.sqrt(l**2 - (R1 - R2) ** 2)
+
+
+def trifilar(period, m, R1, R2, l, g):
+    """Moment of inertia on a trifilar suspension from the small-twist period.
+
+    Parameters
+    ----------
+    period : float or ndarray
+        Small-twist period of one full oscillation. [s]
+    m : float or ndarray
+        Mass hanging on the threads. [kg]
+    R1, R2 : float or ndarray
+        Radii of the thread points on the upper and the lower disc. [m]
+    l : float or ndarray
+        Thread length. [m]
+    g : float or ndarray
+        Local acceleration of gravity. [m/s²]
+
+    Returns
+    -------
+    float or ndarray
+        J about the vertical axis. [kg·m²]
+
+    Notes
+    -----
+    Lab manual, lab 1, formula (17), with the vertical height H instead of l (equal when
+    R₁ = R₂):
+
+    .. math:: J = \\frac{T^2 m g R_1 R_2}{4\\pi^2 H}, \\qquad H = \\sqrt{l^2 - (R_1 - R_2)^2}
+    """
+    return period**2 * m * g * R1 * R2 / (4 * np.pi**2 * trifilar_height(l, R1, R2))
+
+
+def trifilar_period_factor(amplitude, m, J, R1, R2, l):
+    """T(φ₀)/T₀ of a trifilar suspension twisted by φ₀, from its exact geometry.
+
+    The platform rises by H − h(φ) with h(φ)² = l² − R₁² − R₂² + 2R₁R₂ cos φ; the kinetic
+    energy includes that vertical motion, ½(J + m h'²)φ̇². The period integral is evaluated by
+    :func:`processing.oscillation.period_factor`.
+
+    Parameters
+    ----------
+    amplitude : float or ndarray
+        Twist amplitude φ₀. [rad]
+    m, J : float or ndarray
+        Mass [kg] and (approximate) moment of inertia [kg·m²] of what hangs.
+    R1, R2, l : float or ndarray
+        Geometry as in :func:`trifilar`. [m]
+    """
+    H = trifilar_height(l, R1, R2)
+
+    def h(phi):
+        return np.sqrt(H**2 - 4 * R1 * R2 * np.sin(0.5 * phi) ** 2)
+
+    def potential(phi):
+        return m * 4 * R1 * R2 * np.sin(0.5 * phi) ** 2 / (H + h(phi))
+
+    def inertia(phi):
+        return J + m * (R1 * R2 * np.sin(phi) / h(phi)) ** 2
+
+    return period_factor(amplitude, potential, inertia, m * R1 * R2 / H)
+
+
+def wire_stiffness(G, d, l):
+    """Torsional stiffness of a round wire, lab manual, lab 1, formula (11).
+
+    .. math:: c = \\frac{G J_p}{l}, \\qquad J_p = \\frac{\\pi d^4}{32}
+
+    (the OCR of the manual prints d²: the polar moment of a circle is πd⁴/32).
+
+    Parameters
+    ----------
+    G : float or ndarray
+        Shear modulus of the wire. [Pa]
+    d, l : float or ndarray
+        Wire diameter and free length. [m]
+
+    Returns
+    -------
+    float or ndarray
+        c. [N·m/rad]
+    """
+    return G * np.pi * d**4 / (32.0 * l)
+
+
+def unifilar_reference(period, period_ref, J_ref, period_empty=0.0):
+    """Unifilar torsion pendulum compared with a reference body ("English method").
+
+    Parameters
+    ----------
+    period, period_ref : float or ndarray
+        Periods with the part and with the reference body in the clamp. [s]
+    J_ref : float or ndarray
+        Moment of inertia of the reference body, usually a cylinder m r²/2. [kg·m²]
+    period_empty : float or ndarray
+        Period of the empty clamp, 0 to neglect the clamp's inertia. [s]
+
+    Notes
+    -----
+    Lab manual, lab 1, formula (12), with the clamp's inertia removed when it was timed:
+
+    .. math:: J = J_{ref}\\frac{T^2 - T_0^2}{T_{ref}^2 - T_0^2}
+    """
+    return J_ref * (period**2 - period_empty**2) / (period_ref**2 - period_empty**2)
+
+
+def unifilar_wire(period, stiffness, period_empty=0.0):
+    """Unifilar torsion pendulum from the wire's stiffness, formula (10):
+    :math:`J = c (T^2 - T_0^2) / 4\\pi^2`."""
+    return stiffness * (period**2 - period_empty**2) / (4 * np.pi**2)
+
+
+def physical_pendulum(period, m, c, g):
+    """Moment of inertia about the pivot of a physical pendulum, formula (15).
+
+    .. math:: J = \\frac{T^2}{4\\pi^2} m g c
+
+    Parameters
+    ----------
+    period : float or ndarray
+        Small-swing period. [s]
+    m : float or ndarray
+        Mass. [kg]
+    c : float or ndarray
+        Distance from the pivot to the centre of mass. [m]
+    g : float or ndarray
+        Local acceleration of gravity. [m/s²]
+
+    Examples
+    --------
+    A point mass on a string of 1 m: T = 2π√(l/g), J = m l².
+
+    >>> g = 9.81
+    >>> round(float(physical_pendulum(2 * np.pi * np.sqrt(1 / g), 2.0, 1.0, g)), 12)
+    2.0
+    """
+    return period**2 * m * g * c / (4 * np.pi**2)
+
+
+# -------------------------------------------------------------------- the measurement file
+
+SPEC = LabSpec(
+    id="lab1", number="1",
+    title=bi("Moments of inertia of engine parts", "Определение моментов инерции деталей двигателя"),
+    goal=bi("To study the experimental methods of finding the axial moment of inertia of engine "
+            "parts and to compare them with the analytic value.",
+            "Изучить экспериментальные методы определения осевого момента инерции деталей "
+            "двигателя и сравнить их с расчётным значением."),
+    sections=(
+        Section("body", bi("The part", "Деталь"), required=True, fields=(
+            Field("m", bi("mass of the part", "масса детали"), **MASS, example="12.345 kg"),
+            Field("g", bi("local acceleration of gravity", "ускорение свободного падения"),
+                  **GRAVITY),
+        )),
+        Section("analytic", bi("Analytic method: the part as regular bodies",
+                               "Расчётный метод: деталь как сумма тел правильной формы"),
+                many=True,
+                help=bi("One [[analytic]] table per part; holes with hole = true. Give the mass m\n"
+                        "or the density rho. offset = distance of the part's axis from the axis of\n"
+                        "rotation; count = number of identical parts at that offset.",
+                        "Одна таблица [[analytic]] на каждую часть; отверстия: hole = true. Масса m\n"
+                        "или плотность rho. offset — смещение оси части от оси вращения;\n"
+                        "count — число одинаковых частей."),
+                fields=(
+            Field("shape", bi("shape", "форма"), kind="choice",
+                  choices=("cylinder", "thin_rod", "torus", "point_mass")),
+            Field("axis", bi("axis", "ось"), kind="choice", default="axial",
+                  choices=("axial", "transverse", "end", "centre")),
+            Field("m", bi("mass of the part", "масса части"), **MASS, required=False),
+            Field("rho", bi("density (instead of m)", "плотность (вместо m)"), unit="kg/m^3",
+                  limit="100 kg/m^3", required=False, symbol="ρ", example="7200"),
+            Field("R", bi("outer radius (torus: centre-line radius)",
+                          "наружный радиус (тор: радиус средней линии)"), **LENGTH, required=False),
+            Field("r", bi("inner radius (torus: section radius)",
+                          "внутренний радиус (тор: радиус сечения)"), **LENGTH, required=False,
+                  allow_zero=True),
+            Field("h", bi("height along the axis", "высота вдоль оси"), **LENGTH, required=False),
+            Field("l", bi("rod length", "длина стержня"), **LENGTH, required=False),
+            Field("offset", bi("distance from the axis of rotation", "расстояние до оси вращения"),
+                  **LENGTH, required=False, allow_zero=True, symbol="c"),
+            Field("count", bi("number of identical parts", "число одинаковых частей"),
+                  kind="count", default=1),
+            Field("hole", bi("a hole (subtracted)", "отверстие (вычитается)"), kind="flag",
+                  default=False),
+        )),
+        Section("trifilar", bi("Trifilar suspension", "Трёхнитяный подвес"), fields=(
+            Field("R1", bi("radius of the thread points, upper disc",
+                           "радиус точек крепления нитей на верхнем диске"), **LENGTH, symbol="R₁"),
+            Field("R2", bi("radius of the thread points, lower platform",
+                           "радиус точек крепления нитей на нижнем диске"), **LENGTH, symbol="R₂"),
+            Field("l", bi("thread length", "длина нити"), **LENGTH),
+            Field("n_osc", bi("full oscillations timed", "число полных колебаний"), **COUNT),
+            Field("t", bi("time of n_osc oscillations, part on the platform",
+                          "время n колебаний, деталь на платформе"), **STOPWATCH),
+            Field("m_p", bi("mass of the empty platform", "масса пустой платформы"), **MASS,
+                  required=False, symbol="m_p"),
+            Field("t_p", bi("time of n_osc oscillations, empty platform",
+                            "время n колебаний пустой платформы"), **STOPWATCH, required=False,
+                  symbol="t_p"),
+            Field("amplitude", bi("twist amplitude", "амплитуда закрутки"), **AMPLITUDE),
+        )),
+        Section("unifilar", bi("Unifilar torsion pendulum", "Унифилярный подвес"), fields=(
+            Field("n_osc", bi("full oscillations timed", "число полных колебаний"), **COUNT),
+            Field("t", bi("time of n_osc oscillations with the part",
+                          "время n колебаний с деталью"), **STOPWATCH),
+            Field("t_0", bi("time of n_osc oscillations of the empty clamp",
+                            "время n колебаний пустого подвеса"), **STOPWATCH, required=False,
+                  symbol="t₀"),
+            Field("t_ref", bi("time of n_osc oscillations with the reference body",
+                              "время n колебаний с эталоном"), **STOPWATCH, required=False,
+                  symbol="t_э"),
+            Field("J_ref", bi("reference body's moment of inertia", "момент инерции эталона"),
+                  unit="kg*m^2", required=False, symbol="J_э"),
+            Field("m_ref", bi("reference cylinder's mass (instead of J_ref)",
+                              "масса эталонного цилиндра (вместо J_э)"), **MASS, required=False),
+            Field("d_ref", bi("reference cylinder's diameter", "диаметр эталонного цилиндра"),
+                  unit="mm", limit="0.05 mm", required=False),
+            Field("G", bi("shear modulus of the wire", "модуль сдвига проволоки"), unit="GPa",
+                  limit="2 GPa", required=False, example="79 GPa for steel"),
+            Field("d", bi("wire diameter", "диаметр проволоки"), unit="mm", limit="0.005 mm",
+                  required=False),
+            Field("l", bi("wire length", "длина проволоки"), **LENGTH, required=False),
+        )),
+        Section("pendulum", bi("Physical pendulum", "Физический маятник"), fields=(
+            Field("c", bi("distance from the pivot to the centre of mass",
+                          "расстояние от оси подвеса до центра масс"), **LENGTH),
+            Field("n_osc", bi("full oscillations timed", "число полных колебаний"), **COUNT),
+            Field("t", bi("time of n_osc oscillations", "время n колебаний"), **STOPWATCH),
+            Field("amplitude", bi("swing amplitude", "амплитуда качаний"), **AMPLITUDE),
+        )),
+    ),
+)
+
+RESULTS = {
+    "J_analytic": (bi("analytic (sum of regular bodies)", "расчётный (сумма простых тел)"),
+                   "J_an", "kg*m^2"),
+    "J_trifilar": (bi("trifilar suspension", "трёхнитяный подвес"), "J_tr", "kg*m^2"),
+    "J_unifilar": (bi("unifilar, reference body", "унифиляр, по эталону"), "J_un", "kg*m^2"),
+    "J_unifilar_wire": (bi("unifilar, from the wire's stiffness", "унифиляр, по жёсткости"),
+                        "J_un,c", "kg*m^2"),
+    "J_pendulum_pivot": (bi("physical pendulum, about the pivot", "физический маятник, ось подвеса"),
+                         "J_O", "kg*m^2"),
+    "J_pendulum_cm": (bi("physical pendulum, about the centre of mass",
+                         "физический маятник, ось через центр масс"), "J_c", "kg*m^2"),
+    "m_analytic": (bi("mass of the analytic model", "масса расчётной модели"), "m_an", "kg"),
+    "m_measured": (bi("mass, weighed", "масса, взвешиванием"), "m", "kg"),
+}
+CENTRAL = ("J_analytic", "J_trifilar", "J_unifilar", "J_unifilar_wire", "J_pendulum_cm")
+
+FORMULAS = [
+    bi("Analytic: J = Σ ± (J_c + m c²); cylinder J_z = m(R² + r²)/2, "
+       "J_x = m(3R² + 3r² + h²)/12; rod m l²/3; torus J_z = m(R² + 3r²/4)  (1)–(6)",
+       "Расчёт: J = Σ ± (J_c + m c²); цилиндр J_z = m(R² + r²)/2, "
+       "J_x = m(3R² + 3r² + h²)/12; стержень m l²/3; тор J_z = m(R² + 3r²/4)  (1)–(6)"),
+    bi("Period from the stopwatch: T = t/n; finite amplitude: T₀ = T·π/(2K(sin²(θ₀/2)))",
+       "Период по секундомеру: T = t/n; конечная амплитуда: T₀ = T·π/(2K(sin²(θ₀/2)))"),
+    bi("Trifilar: J = T² m g R₁R₂/(4π² H), H = √(l² − (R₁ − R₂)²); platform subtracted: "
+       "J = g R₁R₂[(m + m_p)T² − m_p T_p²]/(4π² H)  (17)",
+       "Трифиляр: J = T² m g R₁R₂/(4π² H), H = √(l² − (R₁ − R₂)²); с вычетом платформы: "
+       "J = g R₁R₂[(m + m_p)T² − m_p T_p²]/(4π² H)  (17)"),
+    bi("Unifilar: J = J_ref (T² − T₀²)/(T_ref² − T₀²)  (12); from the wire: "
+       "J = c(T² − T₀²)/(4π²), c = G π d⁴/(32 l)  (10), (11)",
+       "Унифиляр: J = J_э (T² − T₀²)/(T_э² − T₀²)  (12); по жёсткости: "
+       "J = c(T² − T₀²)/(4π²), c = G π d⁴/(32 l)  (10), (11)"),
+    bi("Physical pendulum: J_O = T² m g c/(4π²)  (15); J_c = J_O − m c²  (16)",
+       "Физический маятник: J_O = T² m g c/(4π²)  (15); J_c = J_O − m c²  (16)"),
+]
+REFERENCES = [
+    bi("Dynamics of internal-combustion engines: lab manual. Vladimir State University, 2003, lab 1.",
+       "Динамика двигателей внутреннего сгорания: метод. указания к лаб. работам. Владимир: ВлГУ, 2003. Лаб. работа №1."),
+    bi("JCGM 100:2008 (GUM) and JCGM 101:2008 (Monte Carlo) for the uncertainties.",
+       "JCGM 100:2008 (GUM) и JCGM 101:2008 (Монте-Карло) — оценка неопределённости."),
+]
+
+
+# ------------------------------------------------------------------------ reduction
+
+def _part(x, key, part):
+    """J and m of one analytic part (signed: holes are negative)."""
+    def get(name, default=0.0):
+        return x.get(f"{key}.{name}", default)
+
+    shape, axis = part["shape"], part["axis"]
+    R, r, h, l = get("R"), get("r"), get("h"), get("l")
+    if "m" in part:
+        m = get("m")
+    elif shape == "cylinder":
+        m = get("rho") * np.pi * (R**2 - r**2) * h
+    else:
+        m = get("rho") * 2 * np.pi**2 * R * r**2
+    if shape == "cylinder":
+        J = cylinder(m, R, r, h, axis=axis)
+    elif shape == "torus":
+        J = torus(m, R, r, axis=axis)
+    elif shape == "thin_rod":
+        J = thin_rod(m, l, axis=axis)
+    else:
+        J = 0.0 * m
+    sign = -1.0 if part["hole"] else 1.0
+    n = part["count"]
+    return sign * n * parallel_axis(J, m, get("offset")), sign * n * m
+
+
+_NEEDS = {"cylinder": ("R",), "torus": ("R", "r"), "thin_rod": ("l",), "point_mass": ("offset",)}
+_AXES = {"cylinder": ("axial", "transverse"), "torus": ("axial", "transverse"),
+         "thin_rod": ("end", "centre"), "point_mass": ("axial",)}
+
+
+def _check_part(inputs: Inputs, i: int, part: dict) -> None:
+    where = f"analytic[{i}]"
+    shape = part["shape"]
+    for name in _NEEDS[shape]:
+        if name not in part:
+            raise inputs.error(f"a {shape} needs '{name}'", f"add {name} = ... to this part",
+                               f"{where}.{name}")
+    if part["axis"] not in _AXES[shape]:
+        raise inputs.error(f"axis '{part['axis']}' does not apply to a {shape}",
+                           f"use one of {', '.join(_AXES[shape])}", f"{where}.axis")
+    if ("m" in part) == ("rho" in part):
+        raise inputs.error("give exactly one of the mass m or the density rho",
+                           "weigh the part (m) or give its material's density (rho)",
+                           f"{where}.m")
+    if "rho" in part and shape not in ("cylinder", "torus"):
+        raise inputs.error(f"the mass of a {shape} cannot follow from a density",
+                           "give its mass m", f"{where}.rho")
+    if shape == "cylinder" and "rho" in part and "h" not in part:
+        raise inputs.error("a cylinder given by its density needs its height h",
+                           "add h = ... (the part's length along its axis)", f"{where}.h")
+    if "r" in part and "R" in part and part["r"].value >= part["R"].value and shape == "cylinder":
+        raise inputs.error("the inner radius r is not smaller than the outer radius R",
+                           "check R and r (radii, not diameters)", f"{where}.r")
+
+
+def _check_sections(inputs: Inputs) -> None:
+    methods = [s for s in ("analytic", "trifilar", "unifilar", "pendulum") if s in inputs]
+    if not methods:
+        raise inputs.error("no method measured", "add at least one of the sections [[analytic]], "
+                           "[trifilar], [unifilar], [pendulum]", "trifilar")
+    if "trifilar" in inputs:
+        tr = inputs["trifilar"]
+        if ("m_p" in tr) != ("t_p" in tr):
+            missing = "t_p" if "m_p" in tr else "m_p"
+            raise inputs.error("the empty platform needs both its mass m_p and its time t_p",
+                               f"add {missing}, or remove both", f"trifilar.{missing}")
+        if abs(tr["R1"].value - tr["R2"].value) >= tr["l"].value:
+            raise inputs.error("the threads are shorter than the difference of the radii",
+                               "check l, R1, R2 (radii, not diameters; l in mm)", "trifilar.l")
+    if "unifilar" in inputs:
+        un = inputs["unifilar"]
+        by_ref = "t_ref" in un
+        by_wire = all(k in un for k in ("G", "d", "l"))
+        if not by_ref and not by_wire:
+            raise inputs.error("the unifilar needs a reference body (t_ref with J_ref or "
+                               "m_ref and d_ref) or the wire (G, d, l)",
+                               "add t_ref and J_ref, or G, d and l", "unifilar.t_ref")
+        if by_ref and "J_ref" not in un and not ("m_ref" in un and "d_ref" in un):
+            raise inputs.error("the reference body needs J_ref, or m_ref and d_ref",
+                               "add J_ref = ..., or the cylinder's m_ref and d_ref",
+                               "unifilar.J_ref")
+        if "t_0" in un:
+            for key in ("t", "t_ref"):
+                if key in un and un[key].value <= un["t_0"].value:
+                    raise inputs.error(f"{key} is not longer than the empty clamp's t_0",
+                                       "a body in the clamp must slow it down: check the times",
+                                       f"unifilar.{key}")
+    for i, part in enumerate(inputs.sections.get("analytic", [])):
+        _check_part(inputs, i, part)
+
+
+def _model(inputs: Inputs):
+    """The lab's measurement model: named SI inputs → every result (vectorised)."""
+    secs = inputs.sections
+
+    def model(**x):
+        out = {"m_measured": x["body.m"] + 0.0}
+        m, g = x["body.m"], x["body.g"]
+        if "analytic" in secs:
+            parts = [_part(x, f"analytic[{i}]", p) for i, p in enumerate(secs["analytic"])]
+            for i, (J, mp) in enumerate(parts):
+                out[f"J_part_{i}"] = J
+                out[f"m_part_{i}"] = mp
+            out["J_analytic"] = sum(p[0] for p in parts)
+            out["m_analytic"] = sum(p[1] for p in parts)
+        if "trifilar" in secs:
+            tr = secs["trifilar"]
+            R1, R2, l = x["trifilar.R1"], x["trifilar.R2"], x["trifilar.l"]
+            amp = x.get("trifilar.amplitude", 0.0)
+
+            def j_small(period, mass):
+                J0 = trifilar(period, mass, R1, R2, l, g)
+                return trifilar(period / trifilar_period_factor(amp, mass, J0, R1, R2, l),
+                                mass, R1, R2, l, g)
+
+            m_p = x.get("trifilar.m_p", 0.0)
+            J = j_small(period_from_total(x["trifilar.t"], tr["n_osc"]), m + m_p)
+            if "t_p" in tr:
+                J = J - j_small(period_from_total(x["trifilar.t_p"], tr["n_osc"]), m_p)
+            out["J_trifilar"] = J
+        if "unifilar" in secs:
+            un, n = secs["unifilar"], secs["unifilar"]["n_osc"]
+            T = period_from_total(x["unifilar.t"], n)
+            T0 = period_from_total(x["unifilar.t_0"], n) if "t_0" in un else 0.0
+            if "t_ref" in un:
+                J_ref = x["unifilar.J_ref"] if "J_ref" in un else \
+                    cylinder(x["unifilar.m_ref"], 0.5 * x["unifilar.d_ref"])
+                out["J_unifilar"] = unifilar_reference(
+                    T, period_from_total(x["unifilar.t_ref"], n), J_ref, T0)
+            if all(k in un for k in ("G", "d", "l")):
+                c = wire_stiffness(x["unifilar.G"], x["unifilar.d"], x["unifilar.l"])
+                out["J_unifilar_wire"] = unifilar_wire(T, c, T0)
+        if "pendulum" in secs:
+            pe = secs["pendulum"]
+            c = x["pendulum.c"]
+            T = period_from_total(x["pendulum.t"], pe["n_osc"])
+            T = T / pendulum_period_factor(x.get("pendulum.amplitude", 0.0))
+            out["J_pendulum_pivot"] = physical_pendulum(T, m, c, g)
+            out["J_pendulum_cm"] = out["J_pendulum_pivot"] - m * c**2
+        return out
+
+    return model
+
+
+def _warn_physics(inputs: Inputs, prop) -> None:
+    for sec in ("trifilar", "pendulum"):
+        if sec in inputs and "amplitude" in inputs[sec]:
+            check_amplitude(inputs[sec]["amplitude"].value, SPEC.section(sec).label["en"])
+    if "pendulum" in inputs:
+        ratio = prop["J_pendulum_pivot"].value / prop["J_pendulum_cm"].value
+        if ratio > 5 or ratio < 0:
+            warnings.warn(IllConditionedWarning(
+                f"physical pendulum: J about the centre of mass is a small difference of two large "
+                f"numbers (J_O/J_c = {ratio:.1f}), so its relative error is {ratio:.0f} times that "
+                f"of J_O; hang the part closer to its centre of mass",
+                f"физический маятник: J_c — малая разность двух больших чисел "
+                f"(J_O/J_c = {ratio:.1f}), относительная погрешность J_c в {ratio:.0f} раз больше, "
+                f"чем J_O; подвесьте деталь ближе к центру масс"))
+
+
+def _parts_table(inputs: Inputs, prop) -> Table:
+    rows = []
+    for i, p in enumerate(inputs["analytic"]):
+        label = f"{p['shape']} ({p['axis']})" + (f" ×{p['count']}" if p["count"] > 1 else "")
+        rows.append({"part": label + (" — hole" if p["hole"] else ""),
+                     "m": f"{prop[f'm_part_{i}'].value:.4g}",
+                     "J": f"{prop[f'J_part_{i}'].value:.5g}"})
+    return Table(bi("Analytic model: the parts", "Расчётная модель: части детали"),
+                 (("part", bi("part", "часть")), ("m", bi("m, kg", "m, кг")),
+                  ("J", bi("J about the axis, kg·m²", "J относительно оси, кг·м²"))), tuple(rows))
+
+
+def _conclusion(results, comparisons) -> list[dict]:
+    lines = []
+    for name in CENTRAL:
+        if name in results:
+            r = results[name]
+            lines.append(bi(f"{r.label['en']}: J = {r.value:.5g} ± {r.estimate.U:.2g} kg·m² "
+                            f"(k = 2, {100 * r.estimate.relative_U:.2f} %)",
+                            f"{r.label['ru']}: J = {r.value:.5g} ± {r.estimate.U:.2g} кг·м² "
+                            f"(k = 2, {100 * r.estimate.relative_U:.2f} %)"))
+    measured = [n for n in CENTRAL if n in results]
+    if len(measured) > 1:
+        best = min(measured, key=lambda n: results[n].estimate.relative_U)
+        lines.append(bi(f"The most precise method here: {results[best].label['en']}.",
+                        f"Наиболее точный метод в этом опыте: {results[best].label['ru']}."))
+        bad = [c for c in comparisons if not c.agree and c.a.startswith("J")]
+        lines.append(bi("All methods agree within their uncertainties." if not bad else
+                        f"{len(bad)} pair(s) of methods disagree: see the warnings.",
+                        "Все методы согласуются в пределах погрешностей." if not bad else
+                        f"Расхождение у {len(bad)} пар(ы) методов: см. предупреждения."))
+    return lines
+
+
+def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabResult:
+    """Reduce lab 1's measurements: J of the part by every method measured, compared.
+
+    Parameters
+    ----------
+    inputs : Inputs
+        A validated measurement file (:func:`processing.measurement.load` with :data:`SPEC`).
+    n_samples, seed : int
+        Monte Carlo draws and their seed (see :func:`processing.uncertainty.propagate`).
+
+    Returns
+    -------
+    LabResult
+        Results ``J_analytic``, ``J_trifilar``, ``J_unifilar``, ``J_unifilar_wire``,
+        ``J_pendulum_pivot``, ``J_pendulum_cm``, ``m_analytic``, ``m_measured`` (those the file
+        measures), pairwise comparisons of the central-axis values, warnings.
+    """
+    with collect_notices() as notices:
+        _check_sections(inputs)
+        prop = propagate(_model(inputs), inputs.flat(), n_samples=n_samples, seed=seed)
+        results = result_values(prop, RESULTS)
+        pairs = list(itertools.combinations([n for n in CENTRAL if n in results], 2))
+        comparisons = compare(prop, pairs + [("m_analytic", "m_measured")])
+        _warn_physics(inputs, prop)
+        flag_estimates(results, comparisons)
+    tables = [_parts_table(inputs, prop)] if "analytic" in inputs else []
+    shown = [n for n in CENTRAL if n in results]
+    figures = [Figure("methods", bi("Moment of inertia by method (bars: k = 2; ticks: Monte Carlo "
+                                    "95 % interval)",
+                                    "Момент инерции по методам (отрезки: k = 2; штрихи: интервал "
+                                    "Монте-Карло 95 %)"),
+                      lambda fig, lang: method_chart(fig, [results[n] for n in shown], lang))]
+    return LabResult(SPEC.id, SPEC.number, SPEC.title, SPEC.goal, inputs.meta, inputs.rows(),
+                     results, comparisons, tables, figures, FORMULAS, REFERENCES, notices,
+                     _conclusion(results, comparisons), inputs.file)

@@ -1,0 +1,132 @@
+"""Domain warnings and input errors.
+
+Suspect data warns by name (a subclass of :class:`DynlabWarning`); the message says the
+consequence and the remedy, in English and Russian, and reaches the report. Bad input raises
+:class:`InputError`, which names the file, the field and the fix.
+"""
+from __future__ import annotations
+
+import contextlib
+import warnings
+from dataclasses import dataclass
+
+
+class DynlabWarning(UserWarning):
+    """Base of the toolkit's warnings: suspect data or a method near its limits.
+
+    Parameters
+    ----------
+    message : str
+        English text: what is suspect, the consequence, the remedy.
+    ru : str, optional
+        The same in Russian (reports with ``--lang ru``). Defaults to the English text.
+    """
+
+    code = "warning"
+
+    def __init__(self, message: str, ru: str | None = None):
+        super().__init__(message)
+        self.message = message
+        self.ru = ru or message
+
+    def text(self, lang: str = "en") -> str:
+        return self.ru if lang == "ru" else self.message
+
+
+class AmplitudeTooLargeWarning(DynlabWarning):
+    """Oscillation amplitude beyond the small-swing range of the method."""
+
+    code = "amplitude_too_large"
+
+
+class IllConditionedWarning(DynlabWarning):
+    """The formula is close to a singular point: small input errors give large output errors."""
+
+    code = "ill_conditioned"
+
+
+class NonlinearityWarning(DynlabWarning):
+    """Linear (GUM) uncertainty disagrees with Monte Carlo: the model is nonlinear over ± u."""
+
+    code = "nonlinear"
+
+
+class SingleReadingWarning(DynlabWarning):
+    """A quantity read once: its scatter is unknown, only the instrument's limit is counted."""
+
+    code = "single_reading"
+
+
+class MethodsDisagreeWarning(DynlabWarning):
+    """Two methods for one quantity differ by more than their combined expanded uncertainty."""
+
+    code = "methods_disagree"
+
+
+class InconsistentInputWarning(DynlabWarning):
+    """Measured quantities that should agree with each other do not."""
+
+    code = "inconsistent_input"
+
+
+@dataclass(frozen=True)
+class Notice:
+    """A warning as it is stored in a result and printed in a report."""
+
+    code: str
+    message: str
+    ru: str
+
+    def text(self, lang: str = "en") -> str:
+        return self.ru if lang == "ru" else self.message
+
+    def to_dict(self) -> dict:
+        return {"code": self.code, "message": self.message, "message_ru": self.ru}
+
+
+@contextlib.contextmanager
+def collect_notices():
+    """Record the toolkit's warnings raised inside the block (other warnings pass through).
+
+    Yields a list that fills with :class:`Notice` items, each warning once, in order.
+    """
+    notices: list[Notice] = []
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", DynlabWarning)
+        yield notices
+    for w in caught:
+        if isinstance(w.message, DynlabWarning):
+            m = w.message
+            notice = Notice(type(m).code, m.message, m.ru)
+            if notice not in notices:
+                notices.append(notice)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+
+
+class InputError(ValueError):
+    """Bad input: names the file, the field, what is wrong and how to fix it.
+
+    Parameters
+    ----------
+    problem : str
+        What is wrong, with the offending value.
+    fix : str
+        What the user should do.
+    file : str, optional
+        The measurement file.
+    field : str, optional
+        Dotted path of the field in the file, e.g. ``trifilar.l``.
+    """
+
+    def __init__(self, problem: str, fix: str, *, file: str | None = None, field: str | None = None):
+        self.problem, self.fix, self.file, self.field = problem, fix, file, field
+        super().__init__(str(self))
+
+    def __str__(self) -> str:
+        where = ", ".join(p for p in (self.file, f"field '{self.field}'" if self.field else None) if p)
+        return f"{where + ': ' if where else ''}{self.problem}. Fix: {self.fix}"
+
+    def located(self, file: str) -> "InputError":
+        """The same error, attributed to ``file`` if it had no file yet."""
+        return InputError(self.problem, self.fix, file=self.file or file, field=self.field)

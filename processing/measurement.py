@@ -1,0 +1,466 @@
+"""Measurement files: declared inputs, TOML parsing to SI, validation, blank templates.
+
+A lab declares its inputs as :class:`Section` s of :class:`Field` s (name = the manual's
+symbol, the unit a plain number is read in, labels, the instrument's default limit of error).
+:func:`load` reads a student's TOML file against that declaration and returns
+:class:`Inputs`: every quantity converted to SI as a
+:class:`~processing.uncertainty.Measured`. Anything wrong raises
+:class:`~processing.diagnostics.InputError` naming the file, the field and the fix.
+
+File format (ARCHITECTURE.md, "Measurement file")::
+
+    lab = "lab1"
+    [meta]
+    student = "A. Ivanov"
+    [trifilar]
+    l = "850 mm ± 0.5 mm"          # a string with a unit, optionally a ± limit
+    R1 = 120.0                     # a number in the unit the field declares (mm)
+    t = [24.31, 24.28, 24.40]      # repeated readings: mean and type A uncertainty
+    m = { value = "5432 g", limit = "1 g" }   # or a table: value/readings, unit, limit, u
+"""
+from __future__ import annotations
+
+import difflib
+import math
+import tomllib
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Mapping
+
+from .diagnostics import InputError, SingleReadingWarning
+from .uncertainty import Measured
+from .units import parse_quantity, si_factor, to_si
+
+def bi(en: str, ru: str) -> dict[str, str]:
+    """A text in English and Russian."""
+    return {"en": en, "ru": ru}
+
+
+# Field presets for the manual's usual instruments (lab 1: "mass to ±1 g, lengths to ±0.5 mm";
+# a stopwatch reads to 0.01 s; an amplitude is judged by eye against a scale to about 1°).
+MASS = dict(unit="kg", limit="1 g")
+LENGTH = dict(unit="mm", limit="0.5 mm")
+STOPWATCH = dict(unit="s", limit="0.01 s", repeated=True)
+AMPLITUDE = dict(unit="deg", limit="1 deg", required=False, symbol="θ₀")
+COUNT = dict(kind="count", symbol="n")
+GRAVITY = dict(unit="m/s^2", default="9.81 ± 0.02 m/s^2")
+
+META_KEYS = ("student", "group", "date", "rig", "teacher", "university", "department", "notes")
+_TABLE_KEYS = ("value", "readings", "unit", "limit", "u")
+
+
+@dataclass(frozen=True)
+class Field:
+    """One input of a lab, as the manual names it.
+
+    Parameters
+    ----------
+    name : str
+        Key in the measurement file: the manual's symbol in ASCII (``R1``, ``l_CD``, ``t``).
+    label : dict
+        ``{"en": ..., "ru": ...}``, what the quantity is.
+    unit : str, optional
+        Unit of a plain number in the file (the manual's unit: ``mm``, ``g``, ``s``); None for
+        counts, choices and text.
+    symbol : str
+        How the report prints it (``R₁``); defaults to ``name``.
+    limit : str, optional
+        The usual instrument's limit of error ("0.5 mm"), used when the file gives none.
+    kind : {"quantity", "count", "choice", "text", "flag"}
+    required : bool
+        Must be present (within its section).
+    default : optional
+        Value used when absent (a number in ``unit`` or a string with a unit).
+    repeated : bool
+        Whether repeated readings (an array) are expected, e.g. stopwatch times.
+    allow_zero : bool
+        Quantities must be > 0 unless this is set (then ≥ 0).
+    choices : tuple of str
+        Allowed values of a ``choice``.
+    example : optional
+        A typical value, shown in the template's comment.
+    """
+
+    name: str
+    label: Mapping[str, str]
+    unit: str | None = None
+    symbol: str = ""
+    limit: str | None = None
+    kind: str = "quantity"
+    required: bool = True
+    default: Any = None
+    repeated: bool = False
+    allow_zero: bool = False
+    choices: tuple[str, ...] = ()
+    example: Any = None
+
+    @property
+    def display_symbol(self) -> str:
+        return self.symbol or self.name
+
+
+@dataclass(frozen=True)
+class Section:
+    """A table of the measurement file: one method or one measured object.
+
+    ``many=True`` makes it an array of tables (``[[analytic]]``), one entry per part.
+    """
+
+    name: str
+    label: Mapping[str, str]
+    fields: tuple[Field, ...]
+    required: bool = False
+    many: bool = False
+    help: Mapping[str, str] = field(default_factory=dict)
+
+    def field(self, name: str) -> Field:
+        return next(f for f in self.fields if f.name == name)
+
+
+@dataclass(frozen=True)
+class LabSpec:
+    """What a lab is and what it reads: id, number, titles and its sections."""
+
+    id: str
+    number: str
+    title: Mapping[str, str]
+    goal: Mapping[str, str]
+    sections: tuple[Section, ...]
+
+    def section(self, name: str) -> Section:
+        return next(s for s in self.sections if s.name == name)
+
+
+@dataclass
+class Inputs:
+    """A validated measurement file: SI values ready for a lab's ``reduce``.
+
+    ``inputs["trifilar"]["l"]`` is a :class:`Measured` (or an int, str); a ``many`` section
+    is a list of such dicts. Absent optional sections are absent keys.
+    """
+
+    lab: str
+    file: str
+    meta: dict[str, str]
+    sections: dict[str, Any]
+    spec: LabSpec | None = None
+
+    def __contains__(self, section: str) -> bool:
+        return section in self.sections
+
+    def __getitem__(self, section: str):
+        return self.sections[section]
+
+    def flat(self) -> dict[str, Any]:
+        """Every value keyed ``section.field`` (``section[i].field`` in a ``many`` section),
+        the keyword arguments of a lab's measurement model."""
+        flat = {}
+        for name, entry in self.sections.items():
+            many = isinstance(entry, list)
+            for i, e in enumerate(entry if many else [entry]):
+                key = f"{name}[{i}]" if many else name
+                flat.update({f"{key}.{k}": v for k, v in e.items()})
+        return flat
+
+    def rows(self) -> list[dict]:
+        """The measured inputs as report rows, each in its field's declared unit."""
+        rows = []
+        for sec in self.spec.sections:
+            entries = self.sections.get(sec.name)
+            if entries is None:
+                continue
+            for i, entry in enumerate(entries if sec.many else [entries]):
+                where = f"{sec.name}[{i}]" if sec.many else sec.name
+                for f in sec.fields:
+                    if f.name in entry:
+                        rows.append(_row(where, sec, f, entry[f.name]))
+        return rows
+
+    def error(self, problem: str, fix: str, field: str) -> InputError:
+        """An :class:`InputError` located in this file."""
+        return InputError(problem, fix, file=self.file, field=field)
+
+
+def _row(where: str, sec: Section, f: Field, v) -> dict:
+    row = {"section": where, "section_label": dict(sec.label), "name": f.name,
+           "symbol": f.display_symbol, "label": dict(f.label)}
+    if isinstance(v, Measured):
+        k = si_factor(f.unit)
+        row.update(value=v.value / k, u=v.u / k, unit=f.unit,
+                   readings=[r / k for r in v.readings] if len(v.readings) > 1 else [])
+    else:
+        row.update(value=v, unit="")
+    return row
+
+
+def read_toml(path: str | Path) -> dict:
+    """Read a TOML file, turning every failure into an :class:`InputError`."""
+    path = Path(path)
+    try:
+        text = path.read_bytes().decode("utf-8")
+    except FileNotFoundError:
+        raise InputError("file not found", "check the path", file=str(path)) from None
+    except IsADirectoryError:
+        raise InputError("is a directory, not a measurement file",
+                         "give the path of a .toml file", file=str(path)) from None
+    except UnicodeDecodeError:
+        raise InputError("not a text file (not UTF-8)",
+                         "give a TOML measurement file; 'dynlab template LAB' writes one",
+                         file=str(path)) from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"not a valid TOML file ({exc})",
+                         "correct the syntax: key = value, strings in quotes, "
+                         "arrays in [ ]; compare with 'dynlab template LAB'",
+                         file=str(path)) from None
+
+
+def _did_you_mean(word: str, options) -> str:
+    close = difflib.get_close_matches(word, list(options), n=1, cutoff=0.5)
+    return f"did you mean '{close[0]}'?" if close else f"known keys: {', '.join(options)}"
+
+
+def load(path: str | Path, spec: LabSpec, data: dict | None = None) -> Inputs:
+    """Read and validate a measurement file for the lab ``spec``.
+
+    Parameters
+    ----------
+    path : str or Path
+        The TOML file (used in messages even when ``data`` is given).
+    spec : LabSpec
+        The lab's declaration.
+    data : dict, optional
+        The already-parsed TOML document.
+
+    Raises
+    ------
+    InputError
+        Unknown or missing key, wrong unit, non-positive length, empty array, ...
+    """
+    file = str(path)
+    data = read_toml(path) if data is None else data
+    unknown = set(data) - {"lab", "meta"} - {s.name for s in spec.sections}
+    for key in sorted(unknown):
+        raise InputError(f"unknown section or key '{key}'",
+                         _did_you_mean(key, ["lab", "meta"] + [s.name for s in spec.sections]),
+                         file=file, field=key)
+    meta = _load_meta(data.get("meta", {}), file)
+    sections: dict[str, Any] = {}
+    for sec in spec.sections:
+        raw = data.get(sec.name)
+        if raw is None:
+            if sec.required:
+                raise InputError(f"section [{sec.name}] is missing",
+                                 f"add the section [{sec.name}] ({sec.label['en']}); "
+                                 f"'dynlab template {spec.id}' shows its fields", file=file,
+                                 field=sec.name)
+            continue
+        if sec.many:
+            if isinstance(raw, dict):
+                raw = [raw]
+            if not isinstance(raw, list) or not raw or not all(isinstance(r, dict) for r in raw):
+                raise InputError(f"[[{sec.name}]] must be one or more tables",
+                                 f"write each entry as a [[{sec.name}]] table", file=file,
+                                 field=sec.name)
+            sections[sec.name] = [_load_section(sec, r, file, f"{sec.name}[{i}]")
+                                  for i, r in enumerate(raw)]
+        else:
+            if not isinstance(raw, dict):
+                raise InputError(f"'{sec.name}' must be a table [{sec.name}]",
+                                 f"write the values under a line [{sec.name}]", file=file,
+                                 field=sec.name)
+            sections[sec.name] = _load_section(sec, raw, file, sec.name)
+    return Inputs(spec.id, file, meta, sections, spec)
+
+
+def _load_meta(raw, file: str) -> dict[str, str]:
+    if not isinstance(raw, dict):
+        raise InputError("[meta] must be a table", "write student, group, date under [meta]",
+                         file=file, field="meta")
+    for key in raw:
+        if key not in META_KEYS:
+            raise InputError(f"unknown key '{key}' in [meta]", _did_you_mean(key, META_KEYS),
+                             file=file, field=f"meta.{key}")
+    return {k: str(v) for k, v in raw.items()}
+
+
+def _load_section(sec: Section, raw: dict, file: str, where: str) -> dict:
+    names = [f.name for f in sec.fields]
+    for key in raw:
+        if key not in names:
+            raise InputError(f"unknown key '{key}' in [{sec.name}]", _did_you_mean(key, names),
+                             file=file, field=f"{where}.{key}")
+    out = {}
+    for f in sec.fields:
+        path = f"{where}.{f.name}"
+        if f.name not in raw:
+            if f.default is not None:
+                out[f.name] = _convert(f, f.default, file, path)
+            elif f.required:
+                raise InputError(f"'{f.name}' ({f.label['en']}) is missing",
+                                 f"add a line {f.name} = ... in [{sec.name}]"
+                                 + (f", in {f.unit}" if f.unit else ""), file=file, field=path)
+            continue
+        out[f.name] = _convert(f, raw[f.name], file, path)
+    return out
+
+
+def _convert(f: Field, raw, file: str, path: str):
+    def fail(problem, fix):
+        return InputError(problem, fix, file=file, field=path)
+
+    if raw == "" or raw == []:
+        raise fail(f"'{f.name}' ({f.label['en']}) is empty",
+                   "fill in the value you measured" + (f" (in {f.unit}, or a string like "
+                                                       f"'12.5 {f.unit}')" if f.unit else ""))
+    if f.kind == "text":
+        return str(raw)
+    if f.kind == "flag":
+        if not isinstance(raw, bool):
+            raise fail(f"'{f.name}' must be true or false, got {raw!r}", "write true or false")
+        return raw
+    if f.kind == "choice":
+        if raw not in f.choices:
+            raise fail(f"'{raw}' is not one of {', '.join(f.choices)}",
+                       _did_you_mean(str(raw), f.choices))
+        return raw
+    if f.kind == "count":
+        if isinstance(raw, bool) or not isinstance(raw, int) or raw < 1:
+            raise fail(f"'{f.name}' must be a whole number ≥ 1, got {raw!r}",
+                       "write the count as a whole number, e.g. 20")
+        return raw
+    return _measured(f, raw, fail)
+
+
+def _measured(f: Field, raw, fail) -> Measured:
+    limit = u_b = None
+    if isinstance(raw, dict):
+        for key in raw:
+            if key not in _TABLE_KEYS:
+                raise fail(f"unknown key '{key}' in the table of '{f.name}'",
+                           _did_you_mean(key, _TABLE_KEYS))
+        if ("value" in raw) == ("readings" in raw):
+            raise fail(f"the table of '{f.name}' needs exactly one of 'value' or 'readings'",
+                       "write { value = ... } for one reading or { readings = [...] } for repeats")
+        unit = raw.get("unit", f.unit)
+        body = raw.get("value", raw.get("readings"))
+        if "limit" in raw:
+            limit = _scalar(f, raw["limit"], unit, fail, what="limit", allow_zero=True)[0]
+        if "u" in raw:
+            u_b = _scalar(f, raw["u"], unit, fail, what="u", allow_zero=True)[0]
+    else:
+        unit, body = f.unit, raw
+    if isinstance(body, list):
+        if not body:
+            raise fail(f"'{f.name}' has an empty list of readings", "write at least one reading")
+        pairs = [_scalar(f, b, unit, fail) for b in body]
+        values = [p[0] for p in pairs]
+        limits = [p[1] for p in pairs if p[1] is not None]
+        limit = limit if limit is not None else (max(limits) if limits else None)
+    else:
+        value, own_limit = _scalar(f, body, unit, fail)
+        values = [value]
+        limit = limit if limit is not None else own_limit
+    if limit is None and u_b is None and f.limit is not None:
+        limit = parse_quantity(f.limit, f.unit)[0]
+    if len(values) == 1 and f.repeated:
+        warnings.warn(SingleReadingWarning(
+            f"'{f.name}' ({f.label['en']}) was read once: its scatter is unknown and only the "
+            f"instrument's limit enters its uncertainty; repeat the reading (the manual asks "
+            f"for three repeats)",
+            f"'{f.name}' ({f.label['ru']}) измерено один раз: разброс неизвестен, в "
+            f"погрешность вошла только погрешность прибора; повторите опыт (методика требует "
+            f"трёх повторений)"))
+    return Measured.from_readings(values, limit=limit or 0.0, u_b=u_b or 0.0)
+
+
+def _scalar(f: Field, raw, unit, fail, *, what: str = "value", allow_zero: bool | None = None):
+    allow_zero = f.allow_zero if allow_zero is None else allow_zero
+    if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
+        raise fail(f"the {what} of '{f.name}' must be a number or a string with a unit, "
+                   f"got {raw!r}", f"write e.g. {f.name} = \"12.5 {f.unit}\"")
+    if isinstance(raw, str):
+        try:
+            value, limit = parse_quantity(raw, unit)
+        except ValueError as exc:
+            raise fail(str(exc), f"write a number and a unit of {f.label['en']}, "
+                                 f"e.g. \"12.5 {f.unit}\"") from None
+    else:
+        try:
+            value, limit = to_si(float(raw), unit), None
+        except Exception:
+            raise fail(f"unit '{unit}' is not known", "use a unit like mm, g, s, deg") from None
+    if not math.isfinite(value):
+        raise fail(f"the {what} of '{f.name}' is not a finite number ({raw!r})",
+                   "write the number you read")
+    if value < 0 or (value == 0 and not allow_zero):
+        bound = "≥ 0" if allow_zero else "> 0"
+        raise fail(f"'{f.name}' ({f.label['en']}) must be {bound}, got {raw!r}",
+                   "check the sign and the reading" if value < 0 else
+                   "a zero reading cannot be right here: check the value")
+    return value, limit
+
+
+def template(spec: LabSpec, lang: str = "en") -> str:
+    """A commented blank measurement file for ``spec``; run as-is it says what to fill in."""
+    t = _TEMPLATE_TEXT[lang]
+    lines = [f"# dynlab — {t['lab']} {spec.number}: {spec.title[lang]}",
+             *[f"# {line}" for line in t["intro"]], f'lab = "{spec.id}"', "", "[meta]"]
+    lines += [f'{k} = ""' for k in ("student", "group", "date", "rig")]
+    for sec in spec.sections:
+        lines += ["", f"# ---- {sec.label[lang]} "
+                  f"({t['required'] if sec.required else t['optional']}) ----"]
+        lines += [f"# {h}" for h in sec.help.get(lang, "").splitlines()]
+        lines.append(f"[[{sec.name}]]" if sec.many else f"[{sec.name}]")
+        for f in sec.fields:
+            lines.append(f"# {f.display_symbol} — {f.label[lang]}" + _hint(f, t))
+            line = f'{f.name} = ""'
+            if not f.required or f.default is not None:
+                line = "# " + line
+            lines.append(line)
+    return "\n".join(lines) + "\n"
+
+
+def _hint(f: Field, t) -> str:
+    bits = []
+    if f.unit:
+        bits.append(f"[{f.unit}]")
+    if f.choices:
+        bits.append(" | ".join(f'"{c}"' for c in f.choices))
+    if f.repeated:
+        bits.append(t["repeats"])
+    if f.limit:
+        bits.append(f"{t['limit']} ± {f.limit}")
+    if f.default is not None:
+        bits.append(f"{t['default']} {f.default}")
+    elif not f.required:
+        bits.append(t["optional"])
+    if f.example is not None:
+        bits.append(f"{t['example']} {f.example}")
+    return " " + "; ".join(bits) if bits else ""
+
+
+_TEMPLATE_TEXT = {
+    "en": {
+        "lab": "Lab",
+        "intro": ["Fill in what you measured. A value is a number in the unit shown in brackets,",
+                  "or a string with its own unit: \"850 mm\", \"5.432 kg\". Add your instrument's",
+                  "limit of error as \"850 ± 0.5 mm\". Repeated readings go in an array:",
+                  "t = [24.31, 24.28, 24.40]. Delete the optional sections you did not measure;",
+                  "a commented line (#) is optional. Then: dynlab run THIS_FILE"],
+        "required": "required", "optional": "optional", "repeats": "repeated readings",
+        "limit": "instrument", "default": "default", "example": "e.g.",
+    },
+    "ru": {
+        "lab": "Лабораторная работа",
+        "intro": ["Впишите измеренные значения: число в единицах, указанных в скобках, или",
+                  "строку с единицами: \"850 mm\", \"5.432 kg\". Погрешность прибора: \"850 ± 0.5 mm\".",
+                  "Повторные отсчёты — массивом: t = [24.31, 24.28, 24.40]. Удалите необязательные",
+                  "разделы, которые не измерялись; строка с # — необязательная.",
+                  "Затем: dynlab run ЭТОТ_ФАЙЛ"],
+        "required": "обязательно", "optional": "необязательно", "repeats": "повторные отсчёты",
+        "limit": "прибор", "default": "по умолчанию", "example": "напр.",
+    },
+}

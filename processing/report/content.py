@@ -1,0 +1,97 @@
+"""What a report says, formatted once for every renderer (terminal, HTML, PDF).
+
+:func:`build` turns a :class:`~processing.result.LabResult` into plain strings and rows in
+the chosen language; renderers only lay them out.
+"""
+from __future__ import annotations
+
+import math
+
+from .i18n import text
+
+UNIVERSITY = {"en": "Vladimir State University", "ru": "Владимирский государственный университет"}
+DEPARTMENT = {"en": "Department of Internal Combustion Engines",
+              "ru": "Кафедра двигателей внутреннего сгорания"}
+
+
+def fmt_pm(value: float, U: float) -> tuple[str, str]:
+    """Value and uncertainty rounded together: U to two significant digits.
+
+    >>> fmt_pm(0.123456, 0.0012345)
+    ('0.1235', '0.0012')
+    >>> fmt_pm(1234.5, 0.0)
+    ('1234.5', '0')
+    """
+    if not (U > 0 and math.isfinite(U)):
+        return f"{value:.6g}", "0"
+    decimals = max(0, 1 - int(math.floor(math.log10(U))))
+    return f"{value:.{decimals}f}", f"{U:.{decimals}f}"
+
+
+def unit_text(unit: str) -> str:
+    return unit.replace("*", "·").replace("^2", "²").replace("^3", "³").replace("^-1", "⁻¹")
+
+
+def _budget(r, lang: str, top: int = 3) -> str:
+    items = sorted(r.estimate.contributions.items(), key=lambda kv: -kv[1])
+    total = sum(c * c for _, c in items) or 1.0
+    return ", ".join(f"{k} {100 * c * c / total:.0f} %" for k, c in items[:top] if c > 0)
+
+
+def _cell(value, lang: str) -> str:
+    return value[lang] if isinstance(value, dict) else str(value)
+
+
+def build(res, lang: str = "en") -> dict:
+    """Every piece of the report, in ``lang``, as strings and rows."""
+    t = text(lang)
+    meta = dict(res.meta)
+    results = []
+    for name, r in res.results.items():
+        e = r.estimate
+        v, U = fmt_pm(r.shown(e.value), r.shown(e.value + e.U) - r.shown(e.value))
+        lo, hi = (r.shown(x) for x in e.interval95)
+        results.append({
+            "name": name, "label": r.label[lang], "symbol": r.symbol, "value": v, "U": U,
+            "unit": unit_text(r.display_unit), "rel": f"{100 * e.relative_U:.2g} %"
+            if math.isfinite(e.relative_U) else "—",
+            "interval": f"[{lo:.5g}, {hi:.5g}]" if math.isfinite(lo) else "—",
+            "budget": _budget(r, lang), "nonlinear": e.nonlinear})
+    comparisons = []
+    for c in res.comparisons:
+        a, b = res.results[c.a], res.results[c.b]
+        d, U = fmt_pm(a.shown(c.difference.value) - a.shown(0.0),
+                      a.shown(c.difference.U) - a.shown(0.0))
+        comparisons.append({
+            "a": a.label[lang], "b": b.label[lang], "diff": f"{d} ± {U}",
+            "unit": unit_text(a.display_unit), "rel": f"{100 * c.relative_to(b.value):+.2f} %",
+            "agree": t["yes"] if c.agree else t["no"], "ok": c.agree})
+    inputs = []
+    for row in res.inputs:
+        if "u" in row:
+            v, u = fmt_pm(row["value"], row["u"])
+            readings = ", ".join(f"{x:g}" for x in row.get("readings", []))
+        else:
+            v, u, readings = str(row["value"]), "", ""
+        inputs.append({"section": row["section"], "symbol": row["symbol"],
+                       "label": row["label"][lang], "value": v, "u": u,
+                       "unit": unit_text(row["unit"]), "readings": readings})
+    tables = [{"title": tb.title[lang], "columns": [h[lang] for _, h in tb.columns],
+               "rows": [[_cell(r.get(k, ""), lang) for k, _ in tb.columns] for r in tb.rows]}
+              for tb in res.tables]
+    return {
+        "t": t, "lang": lang,
+        "university": meta.pop("university", UNIVERSITY[lang]),
+        "department": meta.pop("department", DEPARTMENT[lang]),
+        "lab_heading": f"{t['lab']} {res.number}", "title": res.title[lang],
+        "goal": res.goal[lang],
+        "meta": [(t.get(k, k), v) for k, v in meta.items() if v],
+        "inputs": inputs, "results": results, "comparisons": comparisons, "tables": tables,
+        "formulas": [f[lang] for f in res.formulas],
+        "references": [r[lang] for r in res.references],
+        "warnings": [w.text(lang) for w in res.warnings],
+        "warning_codes": [w.code for w in res.warnings],
+        "conclusion": [c[lang] for c in res.conclusion],
+        "figures": [(f.name, f.caption[lang]) for f in res.figures],
+        "source": res.source,
+    }

@@ -1,0 +1,45 @@
+"""The report engine's own words, in English and Russian."""
+from __future__ import annotations
+
+_TEXT = {
+    "en": {
+        "lab": "Lab", "report": "Lab report", "goal": "Goal", "inputs": "Measurements",
+        "formulas": "Formulas", "results": "Results", "comparisons": "Comparison of methods",
+        "warnings": "Warnings", "conclusion": "Conclusion", "references": "References",
+        "figures": "Figures", "quantity": "Quantity", "value": "Value", "unit": "Unit",
+        "readings": "Readings", "U": "U (k = 2)", "u": "u", "rel": "U rel.",
+        "interval": "95 % interval (MC)", "budget": "Main contributions to u²",
+        "method_a": "Method", "method_b": "against", "diff": "Difference",
+        "agree": "Agree within U", "yes": "yes", "no": "NO", "student": "Student",
+        "group": "Group", "date": "Date", "rig": "Rig", "teacher": "Teacher", "notes": "Notes",
+        "section": "Section", "symbol": "Symbol", "no_warnings": "None.",
+        "uncertainty_note": "Uncertainties: GUM linear propagation, checked by Monte Carlo "
+                            "(JCGM 101); U is expanded with k = 2.",
+        "generated": "Made with dynlab",
+    },
+    "ru": {
+        "lab": "Лабораторная работа №", "report": "Отчёт по лабораторной работе", "goal": "Цель работы",
+        "inputs": "Результаты измерений", "formulas": "Расчётные формулы", "results": "Результаты",
+        "comparisons": "Сравнение методов", "warnings": "Предупреждения",
+        "conclusion": "Выводы", "references": "Литература", "figures": "Графики",
+        "quantity": "Величина", "value": "Значение", "unit": "Ед.", "readings": "Отсчёты",
+        "U": "U (k = 2)", "u": "u", "rel": "U отн.", "interval": "Интервал 95 % (МК)",
+        "budget": "Основные вклады в u²", "method_a": "Метод", "method_b": "против",
+        "diff": "Разность", "agree": "Согласуются в пределах U", "yes": "да", "no": "НЕТ",
+        "student": "Студент", "group": "Группа", "date": "Дата", "rig": "Стенд",
+        "teacher": "Преподаватель", "notes": "Примечания", "section": "Раздел",
+        "symbol": "Обозн.", "no_warnings": "Нет.",
+        "uncertainty_note": "Неопределённости: линейное распространение по GUM с проверкой "
+                            "методом Монте-Карло (JCGM 101); U — расширенная, k = 2.",
+        "generated": "Подготовлено в dynlab",
+    },
+}
+
+LANGS = tuple(_TEXT)
+
+
+def text(lang: str) -> dict:
+    """The report words in ``lang`` ("en" or "ru")."""
+    if lang not in _TEXT:
+        raise ValueError(f"language must be one of {', '.join(LANGS)}, got {lang!r}")
+    return _TEXT[lang]

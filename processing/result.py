@@ -1,0 +1,196 @@
+"""The result of a lab's reduction: named values ± uncertainty, tables, figures, warnings.
+
+One :class:`LabResult` class serves every lab, so that one report engine renders them all
+and the JSON contract of ARCHITECTURE.md ("Result JSON") holds for each. Result names are
+stable: teachers' checks key on them.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable, Mapping
+
+from .diagnostics import Notice
+from .uncertainty import Estimate, Propagation
+from .units import convert, si_unit
+
+
+@dataclass(frozen=True)
+class ResultValue:
+    """One result: value, standard uncertainty u, and how to print it.
+
+    ``unit`` is SI (what JSON carries); ``display_unit`` is what a report prints.
+    """
+
+    name: str
+    estimate: Estimate
+    unit: str
+    label: Mapping[str, str]
+    symbol: str = ""
+    display_unit: str = ""
+
+    @property
+    def value(self) -> float:
+        return self.estimate.value
+
+    @property
+    def u(self) -> float:
+        return self.estimate.u
+
+    def shown(self, x: float) -> float:
+        """``x`` (SI) in the display unit."""
+        return convert(x, self.unit, self.display_unit) if self.display_unit else x
+
+    def to_dict(self) -> dict:
+        e = self.estimate
+        return {"value": e.value, "u": e.u, "U": e.U, "k": 2, "unit": self.unit,
+                "relative_U": e.relative_U, "interval95": list(e.interval95),
+                "dof": e.dof if math.isfinite(e.dof) else None, "nonlinear": e.nonlinear,
+                "symbol": self.symbol, "label": dict(self.label)}
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """Two results for one quantity (two methods): their difference and its uncertainty."""
+
+    a: str
+    b: str
+    difference: Estimate
+
+    @property
+    def agree(self) -> bool:
+        """Whether |a − b| ≤ U(a − b), the expanded (k = 2) uncertainty of the difference."""
+        return abs(self.difference.value) <= self.difference.U
+
+    def relative_to(self, reference: float) -> float:
+        return self.difference.value / reference if reference else math.nan
+
+    def to_dict(self, results: Mapping[str, ResultValue]) -> dict:
+        d = self.difference
+        return {"a": self.a, "b": self.b, "difference": d.value, "u": d.u, "U": d.U,
+                "relative": self.relative_to(results[self.b].value), "agree": self.agree}
+
+
+@dataclass(frozen=True)
+class Table:
+    """A table of the report (e.g. the manual's method × quantity table).
+
+    ``columns`` are ``(key, {"en", "ru"} heading)``; ``rows`` are dicts keyed by column key,
+    holding text, or a ``{"en", "ru"}`` dict where the text depends on the language.
+    """
+
+    title: Mapping[str, str]
+    columns: tuple[tuple[str, Mapping[str, str]], ...]
+    rows: tuple[Mapping[str, Any], ...]
+
+
+@dataclass(frozen=True)
+class Figure:
+    """A figure of the report: ``draw(fig, lang)`` draws on a matplotlib Figure."""
+
+    name: str
+    caption: Mapping[str, str]
+    draw: Callable[[Any, str], None]
+    size: tuple[float, float] = (6.4, 3.6)
+
+
+@dataclass
+class LabResult:
+    """What a lab's ``reduce`` returns; what every renderer takes.
+
+    Index it by result name (``res["J_trifilar"].value``); :meth:`to_dict` gives the JSON
+    contract; :meth:`to_pandas` a table of the results.
+    """
+
+    lab: str
+    number: str
+    title: Mapping[str, str]
+    goal: Mapping[str, str]
+    meta: Mapping[str, str]
+    inputs: list[dict]
+    results: dict[str, ResultValue]
+    comparisons: list[Comparison] = field(default_factory=list)
+    tables: list[Table] = field(default_factory=list)
+    figures: list[Figure] = field(default_factory=list)
+    formulas: list[Mapping[str, str]] = field(default_factory=list)
+    references: list[Mapping[str, str]] = field(default_factory=list)
+    warnings: list[Notice] = field(default_factory=list)
+    conclusion: list[Mapping[str, str]] = field(default_factory=list)
+    source: str = ""
+
+    def __getitem__(self, name: str) -> ResultValue:
+        return self.results[name]
+
+    def __contains__(self, name: str) -> bool:
+        return name in self.results
+
+    def to_dict(self) -> dict:
+        from . import __version__
+
+        return {
+            "lab": self.lab, "title": dict(self.title), "meta": dict(self.meta),
+            "inputs": {f"{row['section']}.{row['name']}": _input_json(row) for row in self.inputs},
+            "results": {k: v.to_dict() for k, v in self.results.items()},
+            "comparisons": [c.to_dict(self.results) for c in self.comparisons],
+            "warnings": [w.to_dict() for w in self.warnings],
+            "toolkit": {"name": "dynlab", "version": __version__},
+        }
+
+    def to_pandas(self):
+        """The results as a DataFrame: value, u, U (k = 2), unit, 95 % interval."""
+        import pandas as pd
+
+        return pd.DataFrame(
+            [{"name": k, "value": v.value, "u": v.u, "U": v.estimate.U, "unit": v.unit,
+              "low95": v.estimate.interval95[0], "high95": v.estimate.interval95[1]}
+             for k, v in self.results.items()]).set_index("name")
+
+
+def _input_json(row: dict) -> dict:
+    out = {k: row[k] for k in ("value", "u", "unit") if k in row}
+    if row.get("readings"):
+        out["readings"] = list(row["readings"])
+    return out
+
+
+def result_values(prop: Propagation, declared: Mapping[str, tuple]) -> dict[str, ResultValue]:
+    """Wrap a propagation's outputs as :class:`ResultValue` s.
+
+    ``declared`` maps output name → ``(label dict, symbol, display unit)``; outputs not
+    declared are left out (they are internal, e.g. intermediate quantities).
+    """
+    return {name: ResultValue(name, prop[name], si_unit(disp) if disp else "", label, symbol, disp)
+            for name, (label, symbol, disp) in declared.items() if name in prop}
+
+
+def compare(prop: Propagation, pairs) -> list[Comparison]:
+    """Comparisons of the result pairs ``(a, b)`` present in ``prop``, correlations included."""
+    return [Comparison(a, b, prop.difference(a, b)) for a, b in pairs if a in prop and b in prop]
+
+
+def flag_estimates(results: Mapping[str, ResultValue], comparisons, lang_names=None) -> None:
+    """Warn about nonlinear estimates and methods that disagree (inside ``collect_notices``)."""
+    import warnings
+
+    from .diagnostics import MethodsDisagreeWarning, NonlinearityWarning
+
+    for name, r in results.items():
+        if r.estimate.nonlinear:
+            lo, hi = (r.shown(x) for x in r.estimate.interval95)
+            warnings.warn(NonlinearityWarning(
+                f"{name}: the linear uncertainty is not reliable (the formula is strongly "
+                f"nonlinear over the input uncertainties); trust the Monte Carlo 95 % interval "
+                f"[{lo:.4g}, {hi:.4g}] {r.display_unit}",
+                f"{name}: линейная оценка погрешности ненадёжна (формула сильно нелинейна в "
+                f"пределах погрешностей входных данных); верен интервал Монте-Карло 95 % "
+                f"[{lo:.4g}, {hi:.4g}] {r.display_unit}"))
+    for c in comparisons:
+        if not c.agree:
+            rel = c.relative_to(results[c.b].value)
+            warnings.warn(MethodsDisagreeWarning(
+                f"{c.a} and {c.b} differ by {100 * rel:+.2f} %, more than the expanded "
+                f"uncertainty of their difference ({100 * c.difference.U / abs(results[c.b].value):.2f} %): "
+                f"look for a systematic error (a misread length, a wrong count of oscillations)",
+                f"{c.a} и {c.b} различаются на {100 * rel:+.2f} %, больше расширенной "
+                f"неопределённости разности ({100 * c.difference.U / abs(results[c.b].value):.2f} %): "
+                f"ищите систематическую ошибку (неверно измеренная длина, счёт колебаний)"))

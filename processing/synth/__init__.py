@@ -1,0 +1,1 @@
+"""Synthetic ground truth: physical scenes modelled just enough, with their true answers."""

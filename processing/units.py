@@ -1,0 +1,155 @@
+"""Units at the boundary: parse '120.5 mm', '2345 g ± 1 g', convert to SI.
+
+SI inside the toolkit; the manual's customary units (mm, g, min⁻¹, degrees, kgf) only where
+data enter. Parsing uses `pint <https://pint.readthedocs.io>`_, which knows every unit a lab
+sheet may carry and checks dimensions for us.
+
+Glossary of names used across the toolkit
+-----------------------------------------
+============================  ==========================================  ========
+name                          meaning                                     SI unit
+============================  ==========================================  ========
+``period``                    one full oscillation                        s
+``amplitude``                 angular amplitude of a swing                rad
+``mass``, ``m``               mass                                        kg
+``J_*``                       moment of inertia about the named axis      kg·m²
+``g``                         local acceleration of gravity               m/s²
+``crank_angle``               crank angle from TDC, α                     rad
+``angular_speed``             crank angular speed, ω                      rad/s
+``lambda_``                   crank radius / rod length, λ = R/L          1
+============================  ==========================================  ========
+"""
+from __future__ import annotations
+
+import re
+from functools import lru_cache
+
+import pint
+
+ureg = pint.UnitRegistry()
+ureg.define("kgf = 9.80665 * newton")
+
+_PLUS_MINUS = re.compile(r"\s*(?:±|\+/-|\+-)\s*")
+
+
+def _dimension_name(dim) -> str:
+    names = {
+        "[length]": "a length", "[mass]": "a mass", "[time]": "a time",
+        "": "a plain number or angle", "[length] / [time] ** 2": "an acceleration",
+        "[mass] / [length] / [time] ** 2": "a pressure or modulus",
+        "[length] ** 2 * [mass]": "a moment of inertia", "1 / [time]": "a frequency or speed",
+    }
+    key = str(dim) if str(dim) != "dimensionless" else ""
+    return names.get(key, f"a quantity of dimension {dim}")
+
+
+@lru_cache(maxsize=None)
+def si_factor(unit: str) -> float:
+    """Factor converting a value in ``unit`` to SI base units (degrees → radians).
+
+    >>> si_factor("mm")
+    0.001
+    """
+    return float(ureg.Quantity(1.0, unit).to_base_units().magnitude)
+
+
+@lru_cache(maxsize=None)
+def si_unit(unit: str) -> str:
+    """The SI unit, written compactly, of a quantity declared in ``unit``.
+
+    >>> si_unit("mm"), si_unit("g*cm^2")
+    ('m', 'kg*m^2')
+    """
+    base = ureg.Quantity(1.0, unit).to_base_units().units
+    text = f"{base:~C}".replace("**", "^")
+    return text or "1"
+
+
+def convert(value: float, unit: str, to: str) -> float:
+    """Convert ``value`` from ``unit`` to ``to``.
+
+    >>> convert(1500, "mm", "m")
+    1.5
+    """
+    return float(ureg.Quantity(value, unit).to(to).magnitude)
+
+
+def parse_quantity(text: str, expected_unit: str) -> tuple[float, float | None]:
+    """Parse ``'850 mm'``, ``'850 ± 0.5 mm'`` or ``'850 mm ± 0.5 mm'`` into SI.
+
+    Parameters
+    ----------
+    text : str
+        A number with a unit, optionally followed by a ± limit with its own unit (or sharing
+        the value's unit when only one is written). A bare number takes ``expected_unit``.
+    expected_unit : str
+        The unit the field is declared in; only its dimension is checked here.
+
+    Returns
+    -------
+    value, limit : float, float or None
+        In SI base units; ``limit`` is None when the text has no ± part.
+
+    Raises
+    ------
+    ValueError
+        When the text is not a number with a unit, or the unit's dimension is wrong.
+
+    Examples
+    --------
+    >>> parse_quantity("850 ± 0.5 mm", "mm")
+    (0.85, 0.0005)
+    >>> parse_quantity("2345 g", "kg")
+    (2.345, None)
+    """
+    parts = _PLUS_MINUS.split(text.strip())
+    if len(parts) > 2 or not parts[0]:
+        raise ValueError(f"cannot read {text!r} as a value with a unit")
+    main, tol = parts[0], parts[1] if len(parts) == 2 else None
+    if tol is not None and _is_number(main):
+        unit_part = _unit_of(tol)
+        main = f"{main} {unit_part}" if unit_part else main
+    value = _to_si(main, expected_unit, text)
+    limit = None
+    if tol is not None:
+        if _is_number(tol):
+            tol = f"{tol} {_unit_of(main) or expected_unit}"
+        limit = abs(_to_si(tol, expected_unit, text))
+    return value, limit
+
+
+def to_si(value: float, unit: str) -> float:
+    """A plain number in ``unit`` → SI base units."""
+    return value * si_factor(unit)
+
+
+def _is_number(s: str) -> bool:
+    try:
+        float(s)
+    except ValueError:
+        return False
+    return True
+
+
+def _unit_of(s: str) -> str:
+    m = re.match(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*(.*)$", s)
+    return m.group(1).strip() if m else ""
+
+
+def _to_si(s: str, expected_unit: str, whole: str) -> float:
+    s = s.strip()
+    if _is_number(s):
+        return to_si(float(s), expected_unit)
+    if not re.match(r"^\s*[-+]?(?:\d|\.\d)", s):
+        raise ValueError(f"cannot read {whole!r}: it should start with a number, e.g. '12.5 {expected_unit}'")
+    try:
+        q = ureg.Quantity(s)
+    except Exception as exc:
+        raise ValueError(f"cannot read {whole!r} as a value with a unit ({exc})") from None
+    want = ureg.Quantity(1.0, expected_unit).dimensionality
+    if q.dimensionality != want:
+        raise ValueError(
+            f"{whole!r} is {_dimension_name(q.dimensionality)}, but {_dimension_name(want)} "
+            f"is expected (unit like '{expected_unit}')"
+        )
+    return float(q.to_base_units().magnitude)
