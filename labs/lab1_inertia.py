@@ -58,7 +58,7 @@ def cylinder(m, R, r=0.0, h=0.0, *, axis="axial"):
 
     Examples
     --------
-    >>> cylinder(2.0, 0.1)
+    >>> round(cylinder(2.0, 0.1), 12)
     0.01
     """
     if axis == "axial":

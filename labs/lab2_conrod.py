@@ -28,9 +28,10 @@ from processing.report.figures import histogram, method_chart
 from processing.result import Figure, LabResult, Table, compare, flag_estimates, result_values
 from processing.uncertainty import Measured, propagate
 
-KATER_CONDITION_LIMIT = 25.0
-"""Condition number of formula (10) above which the swinging method is called ill-conditioned
-(κ = 2(1 + q)/(1 − q), q = k²/(l_C l_D): κ = 25 at q ≈ 0.85; ordinary rods have κ ≈ 5–8)."""
+KATER_CONDITION_LIMIT = 10.0
+"""Condition number of formula (10) above which the swinging method is called ill-conditioned.
+κ = 2/(1 − q) − 4 l_C l_D/l_CD², q = k²/(l_C l_D): ordinary rods (q ≈ 0.5) have κ ≈ 3; κ = 10
+near q ≈ 0.83, where a hand-timed period (± 0.4 %) moves the centre of mass by 4 % of l_CD."""
 
 STATISTICAL_SHARE = {"petrol": 0.25, "diesel": 0.30}
 """m_shp/m_sh by the manual's statistics, formula (12); the spread 0.2–0.3 of formula (11)
@@ -122,27 +123,31 @@ def swinging(T_C, T_D, l_CD, g):
 
 
 def condition_number(T_C, T_D, l_CD, g):
-    """Relative sensitivity of formula (10) to the periods: κ = |∂ln l_C/∂ln T_C| + |∂ln l_C/∂ln T_D|.
+    r"""How strongly formula (10) amplifies period errors: a relative error ε in the periods
+    moves the centre of mass by up to κ ε l_CD.
 
-    For the ideal pendulum κ = 2(1 + q)/(1 − q) with q = k²/(l_C l_D): about 6 for an
-    ordinary rod (q ≈ 0.5), unbounded at the Kater point q → 1. A relative period error ε
-    gives up to κε in l_C.
+    .. math:: \kappa = \frac{1}{l_{CD}}\left(\left|\frac{\partial l_C}{\partial \ln T_C}
+              \right| + \left|\frac{\partial l_C}{\partial \ln T_D}\right|\right)
+              = \frac{2}{1 - q} - \frac{4 l_C l_D}{l_{CD}^2}, \qquad q = \frac{k^2}{l_C l_D}
+
+    (the closed form for an ideal pendulum). About 3 for an ordinary rod (q ≈ 0.5),
+    unbounded at the Kater point q → 1, symmetric in the two pivots.
 
     Examples
     --------
-    q = 0.5 (k² = l_C l_D / 2) gives κ = 6:
+    A symmetric body with q = 0.5 gives κ = (1 + q)/(1 − q) = 3:
 
-    >>> g, lC, lD = 9.81, 0.1, 0.06
-    >>> k2 = 0.5 * lC * lD
-    >>> T = lambda l: 2 * np.pi * np.sqrt((k2 + l * l) / (g * l))
-    >>> round(float(condition_number(T(lC), T(lD), lC + lD, g)), 9)
-    6.0
+    >>> g, l = 9.81, 0.08
+    >>> T = 2 * np.pi * np.sqrt((0.5 * l * l + l * l) / (g * l))
+    >>> round(float(condition_number(T, T, 2 * l, g)), 9)
+    3.0
     """
     den = 8 * np.pi**2 * l_CD - (T_C**2 + T_D**2) * g
     num = 4 * np.pi**2 * l_CD - T_D**2 * g
-    d_c = 2 * T_C**2 * g / den
-    d_d = 2 * T_D**2 * g * (1.0 / den - 1.0 / num)
-    return np.abs(d_c) + np.abs(d_d)
+    l_C = l_CD * num / den
+    d_c = 2 * T_C**2 * g * l_C / den
+    d_d = 2 * T_D**2 * g * l_C * (1.0 / den - 1.0 / num)
+    return (np.abs(d_c) + np.abs(d_d)) / l_CD
 
 
 def inertia_about_cm(T, l, m_sh, g):
@@ -303,18 +308,18 @@ def _checks(inputs: Inputs, prop) -> None:
     kappa = prop["kappa_swinging"].value
     l_C = prop["l_C_swinging"]
     if kappa > KATER_CONDITION_LIMIT or not 0 < l_C.value < sw["l_CD"].value:
-        lo, hi = (1e3 * v for v in l_C.estimate.interval95)
+        lo, hi = (1e3 * v for v in l_C.interval95)
         warnings.warn(IllConditionedWarning(
             f"swinging method fails here: the prisms are close to conjugate points (Kater's "
             f"reversible pendulum, k² ≈ l_C·l_D), where formula (10) is 0/0; its condition number "
-            f"is {kappa:.0f} (an ordinary rod gives about 6), so a 0.1 % period error moves l_C "
-            f"by {0.1 * kappa:.1f} %, and the errors are large and lopsided: Monte Carlo 95 % "
+            f"is {kappa:.0f} (an ordinary rod gives about 3), so a 0.1 % period error moves the "
+            f"centre of mass by {0.1 * kappa:.1f} % of l_CD, and the errors are large and lopsided: Monte Carlo 95 % "
             f"interval of l_C [{lo:.1f}, {hi:.1f}] mm. Trust the weighing method; to use swinging, "
             f"hang the rod from points farther from its centre of mass",
             f"метод качания здесь не работает: точки подвеса близки к сопряжённым (оборотный "
             f"маятник Катера, k² ≈ l_C·l_D), где формула (10) даёт 0/0; число обусловленности "
-            f"{kappa:.0f} (у обычного шатуна около 6): ошибка периода 0,1 % смещает l_C на "
-            f"{0.1 * kappa:.1f} %, ошибки велики и несимметричны: интервал Монте-Карло 95 % для "
+            f"{kappa:.0f} (у обычного шатуна около 3): ошибка периода 0,1 % смещает центр масс "
+            f"на {0.1 * kappa:.1f} % от l_CD, ошибки велики и несимметричны: интервал Монте-Карло 95 % для "
             f"l_C [{lo:.1f}, {hi:.1f}] мм. Доверяйте методу взвешивания; для качания подвешивайте "
             f"шатун в точках, более удалённых от центра масс"))
     l_sw = prop["l_sh_swinging"]
