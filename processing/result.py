@@ -12,7 +12,7 @@ from typing import Any, Callable, Mapping
 
 from .diagnostics import Notice
 from .uncertainty import Estimate, Propagation
-from .units import convert, si_unit
+from .units import convert, si_unit, unit_text
 
 
 @dataclass(frozen=True)
@@ -180,10 +180,10 @@ def flag_estimates(results: Mapping[str, ResultValue], comparisons, lang_names=N
             warnings.warn(NonlinearityWarning(
                 f"{name}: the linear uncertainty is not reliable (the formula is strongly "
                 f"nonlinear over the input uncertainties); trust the Monte Carlo 95 % interval "
-                f"[{lo:.4g}, {hi:.4g}] {r.display_unit}",
+                f"[{lo:.4g}, {hi:.4g}] {unit_text(r.display_unit)}",
                 f"{name}: линейная оценка погрешности ненадёжна (формула сильно нелинейна в "
                 f"пределах погрешностей входных данных); верен интервал Монте-Карло 95 % "
-                f"[{lo:.4g}, {hi:.4g}] {r.display_unit}"))
+                f"[{lo:.4g}, {hi:.4g}] {unit_text(r.display_unit, 'ru')}"))
     for c in comparisons:
         if not c.agree:
             rel = c.relative_to(results[c.b].value)

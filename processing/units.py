@@ -153,3 +153,18 @@ def _to_si(s: str, expected_unit: str, whole: str) -> float:
             f"is expected (unit like '{expected_unit}')"
         )
     return float(q.to_base_units().magnitude)
+
+
+_RU_UNITS = {"kg": "кг", "mm": "мм", "m": "м", "s": "с", "g": "г", "deg": "°", "GPa": "ГПа",
+             "rad": "рад", "N": "Н", "Pa": "Па", "J": "Дж"}
+
+
+def unit_text(unit: str, lang: str = "en") -> str:
+    """A unit as printed: ``kg*m^2`` → ``kg·m²`` (``кг·м²`` in Russian).
+
+    >>> unit_text("kg*m^2", "ru")
+    'кг·м²'
+    """
+    if lang == "ru":
+        unit = re.sub(r"[A-Za-z]+", lambda m: _RU_UNITS.get(m.group(0), m.group(0)), unit)
+    return unit.replace("*", "·").replace("^2", "²").replace("^3", "³").replace("^-1", "⁻¹")

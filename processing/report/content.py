@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import math
 
+from processing.units import unit_text
+
 from .i18n import text
 
 UNIVERSITY = {"en": "Vladimir State University", "ru": "Владимирский государственный университет"}
@@ -28,14 +30,11 @@ def fmt_pm(value: float, U: float) -> tuple[str, str]:
     return f"{value:.{decimals}f}", f"{U:.{decimals}f}"
 
 
-def unit_text(unit: str) -> str:
-    return unit.replace("*", "·").replace("^2", "²").replace("^3", "³").replace("^-1", "⁻¹")
-
-
 def _budget(r, lang: str, top: int = 3) -> str:
     items = sorted(r.estimate.contributions.items(), key=lambda kv: -kv[1])
     total = sum(c * c for _, c in items) or 1.0
-    return ", ".join(f"{k} {100 * c * c / total:.0f} %" for k, c in items[:top] if c > 0)
+    return ", ".join(f"{k} {100 * c * c / total:.0f} %" for k, c in items[:top]
+                     if c * c / total >= 0.005)
 
 
 def _cell(value, lang: str) -> str:
@@ -53,7 +52,7 @@ def build(res, lang: str = "en") -> dict:
         lo, hi = (r.shown(x) for x in e.interval95)
         results.append({
             "name": name, "label": r.label[lang], "symbol": r.symbol, "value": v, "U": U,
-            "unit": unit_text(r.display_unit), "rel": f"{100 * e.relative_U:.2g} %"
+            "unit": unit_text(r.display_unit, lang), "rel": f"{100 * e.relative_U:.2g} %"
             if math.isfinite(e.relative_U) else "—",
             "interval": f"[{lo:.5g}, {hi:.5g}]" if math.isfinite(lo) else "—",
             "budget": _budget(r, lang), "nonlinear": e.nonlinear})
@@ -64,7 +63,7 @@ def build(res, lang: str = "en") -> dict:
                       a.shown(c.difference.U) - a.shown(0.0))
         comparisons.append({
             "a": a.label[lang], "b": b.label[lang], "diff": f"{d} ± {U}",
-            "unit": unit_text(a.display_unit), "rel": f"{100 * c.relative_to(b.value):+.2f} %",
+            "unit": unit_text(a.display_unit, lang), "rel": f"{100 * c.relative_to(b.value):+.2f} %",
             "agree": t["yes"] if c.agree else t["no"], "ok": c.agree})
     inputs = []
     for row in res.inputs:
@@ -75,7 +74,7 @@ def build(res, lang: str = "en") -> dict:
             v, u, readings = str(row["value"]), "", ""
         inputs.append({"section": row["section"], "symbol": row["symbol"],
                        "label": row["label"][lang], "value": v, "u": u,
-                       "unit": unit_text(row["unit"]), "readings": readings})
+                       "unit": unit_text(row["unit"], lang), "readings": readings})
     tables = [{"title": tb.title[lang], "columns": [h[lang] for _, h in tb.columns],
                "rows": [[_cell(r.get(k, ""), lang) for k, _ in tb.columns] for r in tb.rows]}
               for tb in res.tables]
