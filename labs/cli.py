@@ -4,6 +4,7 @@
     dynlab list
     dynlab template LAB [--lang en|ru] [-o FILE]
     dynlab demo [--out DIR] [--lang en|ru]
+    dynlab kinematics --lambda 0.25 [--offset z] [--step 5] [--approx] [--format table|csv]
 
 Bad input prints one message naming the file, the field and the fix, and exits with 2.
 """
@@ -38,12 +39,21 @@ def _progress(items, desc: str):
                 disable=len(items) < 2 or not sys.stderr.isatty())
 
 
+def _write(result, out: Path, stem: str, formats, lang: str) -> list[Path]:
+    """:func:`write_reports`, with an unwritable ``--out`` reported as bad input."""
+    try:
+        return write_reports(result, out, stem, formats, lang)
+    except OSError as exc:
+        raise InputError(f"cannot write the reports there ({exc.strerror or exc})",
+                         "give --out a folder you can write to", file=str(out)) from None
+
+
 def _run_files(files, out: Path, formats, lang: str, as_json: bool) -> int:
     failures = 0
     for path in _progress(list(files), "reducing"):
         try:
             result = evaluate(path)
-            written = write_reports(result, out, Path(path).stem, formats, lang)
+            written = _write(result, out, Path(path).stem, formats, lang)
         except InputError as exc:
             print(f"error: {exc}", file=sys.stderr)
             failures += 1
@@ -72,7 +82,7 @@ def _demo(args) -> int:
     rows = []
     for path in _progress(files, "demo"):
         result = evaluate(path)
-        write_reports(result, out, path.stem, FORMATS, args.lang)
+        _write(result, out, path.stem, FORMATS, args.lang)
         rows.append((path, result))
     for path, result in rows:
         print()
@@ -91,6 +101,29 @@ def _template(args) -> int:
         print(f"wrote {args.output}: fill it in, then run: dynlab run {args.output}")
     else:
         sys.stdout.write(text)
+    return 0
+
+
+def _kinematics(args) -> int:
+    from processing.kinematics import kinematics_table
+
+    if not 0 < args.step <= 180:
+        raise InputError(f"--step must be in (0, 180] degrees, got {args.step:g}",
+                         "give a step such as 5 or 15")
+    table = kinematics_table(args.lambda_, args.offset, step_deg=args.step,
+                             method="approx" if args.approx else "exact")
+    table = table.rename(columns={"alpha_deg": "alpha", "beta_deg": "beta",
+                                  "v": "v/(R*omega)", "j": "j/(R*omega^2)", "s": "s/R"})
+    if args.format == "csv":
+        sys.stdout.write((table.round(6) + 0.0).to_csv(index=False))
+    else:
+        kind = "approximate (to λ²)" if args.approx else "exact"
+        print(f"# crank-slider kinematics, {kind}: λ = {args.lambda_:g}, z = k/R = "
+              f"{args.offset:g}; α, β in degrees")
+        shown = table.round({"beta": 2, "s/R": 4, "v/(R*omega)": 4, "j/(R*omega^2)": 4}) + 0.0
+        print(shown.to_string(index=False, formatters={
+            "alpha": "{:g}".format, "beta": "{:.2f}".format,
+            **{c: "{:.4f}".format for c in ("s/R", "v/(R*omega)", "j/(R*omega^2)")}}))
     return 0
 
 
@@ -124,6 +157,14 @@ def parser() -> argparse.ArgumentParser:
     demo.add_argument("--lang", choices=LANGS, default="en")
     demo.add_argument("--data", help="the sample_data folder (default: found automatically)")
     demo.set_defaults(func=_demo)
+    kin = sub.add_parser("kinematics", help="table of dimensionless piston motion s, v, j")
+    kin.add_argument("--lambda", dest="lambda_", type=float, required=True,
+                     help="λ = R/L, crank radius over rod length")
+    kin.add_argument("--offset", type=float, default=0.0, help="pin offset ratio z = k/R")
+    kin.add_argument("--step", type=float, default=5.0, help="crank-angle step, degrees")
+    kin.add_argument("--approx", action="store_true", help="the series to λ² instead of exact")
+    kin.add_argument("--format", choices=("table", "csv"), default="table")
+    kin.set_defaults(func=_kinematics)
     return p
 
 
