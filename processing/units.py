@@ -17,6 +17,10 @@ name                          meaning                                     SI uni
 ``crank_angle``               crank angle from TDC, α                     rad
 ``angular_speed``             crank angular speed, ω                      rad/s
 ``lambda_``                   crank radius / rod length, λ = R/L          1
+``crank_radius``              crank radius, R                             m
+``offset_ratio``              piston-pin offset over crank radius, z=k/R  1
+``readings``                  repeated readings of one quantity           as given
+``u``, ``U``                  standard, expanded (k = 2) uncertainty      as value
 ============================  ==========================================  ========
 """
 from __future__ import annotations
