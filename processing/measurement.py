@@ -344,7 +344,7 @@ def _measured(f: Field, raw, fail) -> Measured:
         if ("value" in raw) == ("readings" in raw):
             raise fail(f"the table of '{f.name}' needs exactly one of 'value' or 'readings'",
                        "write { value = ... } for one reading or { readings = [...] } for repeats")
-        unit = raw.get("unit", f.unit)
+        unit = _table_unit(f, raw["unit"], fail) if "unit" in raw else f.unit
         body = raw.get("value", raw.get("readings"))
         if "limit" in raw:
             limit = _scalar(f, raw["limit"], unit, fail, what="limit", allow_zero=True)[0]
@@ -374,6 +374,24 @@ def _measured(f: Field, raw, fail) -> Measured:
             f"погрешность вошла только погрешность прибора; повторите опыт (методика требует "
             f"трёх повторений)"))
     return Measured.from_readings(values, limit=limit or 0.0, u_b=u_b or 0.0)
+
+
+def _table_unit(f: Field, unit, fail) -> str:
+    """The ``unit`` of a value table, checked: a known unit of the field's dimension."""
+    from .units import _dimension_name, ureg
+
+    fix = f"write the unit of {f.label['en']}, e.g. unit = \"{f.unit}\""
+    try:
+        dim = ureg.Quantity(1.0, unit).dimensionality if isinstance(unit, str) else None
+    except Exception:
+        dim = None
+    if dim is None:
+        raise fail(f"unit {unit!r} of '{f.name}' is not known", fix)
+    want = ureg.Quantity(1.0, f.unit).dimensionality
+    if dim != want:
+        raise fail(f"unit {unit!r} of '{f.name}' is {_dimension_name(dim)}, but "
+                   f"{_dimension_name(want)} is expected (unit like '{f.unit}')", fix)
+    return unit
 
 
 def _scalar(f: Field, raw, unit, fail, *, what: str = "value", allow_zero: bool | None = None):

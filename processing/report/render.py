@@ -19,6 +19,15 @@ from .content import build
 FORMATS = ("html", "pdf", "json")
 
 
+def _umask() -> int:
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+_UMASK = _umask()
+
+
 def figure_png(fig_spec, lang: str, dpi: int = 150) -> bytes:
     """Draw one :class:`~processing.result.Figure` to PNG bytes."""
     from matplotlib.figure import Figure
@@ -112,6 +121,7 @@ def write_reports(res, out_dir, stem: str, formats=FORMATS, lang: str = "en") ->
             temps.append((tmp, out_dir / f"{stem}.{fmt}"))
             with os.fdopen(fd, "wb") as fh:
                 fh.write(blob)
+            os.chmod(tmp, 0o666 & ~_UMASK)  # mkstemp makes 0600; a report is an ordinary file
         for tmp, final in temps:
             os.replace(tmp, final)
     finally:
