@@ -48,19 +48,30 @@ def _write(result, out: Path, stem: str, formats, lang: str) -> list[Path]:
                          "give --out a folder you can write to", file=str(out)) from None
 
 
+def _stems(files) -> list[str]:
+    """Report names: the file's stem, prefixed by its folder where two files share a stem."""
+    stems = [Path(f).stem for f in files]
+    return [f"{Path(f).parent.name}-{s}" if stems.count(s) > 1 else s
+            for f, s in zip(files, stems)]
+
+
 def _run_files(files, out: Path, formats, lang: str, as_json: bool) -> int:
-    failures = 0
-    for path in _progress(list(files), "reducing"):
+    failures, documents = 0, []
+    for path, stem in _progress(list(zip(files, _stems(files))), "reducing"):
         try:
             result = evaluate(path)
-            written = _write(result, out, Path(path).stem, formats, lang)
+            written = _write(result, out, stem, formats, lang)
         except InputError as exc:
             print(f"error: {exc}", file=sys.stderr)
             failures += 1
             continue
-        print(to_json(result) if as_json else to_terminal(result, lang))
-        if not as_json:
+        if as_json:
+            documents.append(to_json(result))
+        else:
+            print(to_terminal(result, lang))
             print("  → " + ", ".join(str(p) for p in written))
+    if documents:
+        print(documents[0] if len(files) == 1 else "[\n" + ",\n".join(documents) + "\n]")
     return EXIT_INPUT if failures else 0
 
 

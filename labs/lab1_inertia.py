@@ -22,6 +22,7 @@ from processing.measurement import (AMPLITUDE, COUNT, GRAVITY, LENGTH, MASS, STO
                                     Inputs, LabSpec, Section, bi)
 from processing.oscillation import (check_amplitude, pendulum_period_factor, period_factor,
                                     period_from_total)
+from processing.report.content import fmt_pm
 from processing.report.figures import method_chart
 from processing.result import (Figure, LabResult, Table, compare, flag_estimates,
                                result_values)
@@ -546,9 +547,18 @@ def _warn_physics(inputs: Inputs, prop) -> None:
     for sec in ("trifilar", "pendulum"):
         if sec in inputs and "amplitude" in inputs[sec]:
             check_amplitude(inputs[sec]["amplitude"].value, SPEC.section(sec).label["en"])
+    if "trifilar" in inputs and prop["J_trifilar"].value <= 0:
+        raise inputs.error(f"the part's J comes out {prop['J_trifilar'].value:.4g} kg·m² ≤ 0 after "
+                           f"the empty platform is subtracted", "the platform with the part must "
+                           "swing slower than alone: check t, t_p, m and m_p", "trifilar.t_p")
     if "pendulum" in inputs:
+        if prop["J_pendulum_cm"].value <= 0:
+            raise inputs.error(
+                f"J about the centre of mass comes out {prop['J_pendulum_cm'].value:.4g} kg·m² ≤ 0",
+                "c is the distance from the pivot to the centre of mass (mm): check it and the "
+                "times", "pendulum.c")
         ratio = prop["J_pendulum_pivot"].value / prop["J_pendulum_cm"].value
-        if ratio > 5 or ratio < 0:
+        if ratio > 5:
             warnings.warn(IllConditionedWarning(
                 f"physical pendulum: J about the centre of mass is a small difference of two large "
                 f"numbers (J_O/J_c = {ratio:.1f}), so its relative error is {ratio:.0f} times that "
@@ -575,9 +585,10 @@ def _conclusion(results, comparisons) -> list[dict]:
     for name in CENTRAL:
         if name in results:
             r = results[name]
-            lines.append(bi(f"{r.label['en']}: J = {r.value:.5g} ± {r.estimate.U:.2g} kg·m² "
+            v, U = fmt_pm(r.value, r.estimate.U)
+            lines.append(bi(f"{r.label['en']}: J = {v} ± {U} kg·m² "
                             f"(k = 2, {100 * r.estimate.relative_U:.2f} %)",
-                            f"{r.label['ru']}: J = {r.value:.5g} ± {r.estimate.U:.2g} кг·м² "
+                            f"{r.label['ru']}: J = {v} ± {U} кг·м² "
                             f"(k = 2, {100 * r.estimate.relative_U:.2f} %)"))
     measured = [n for n in CENTRAL if n in results]
     if len(measured) > 1:

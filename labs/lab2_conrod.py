@@ -24,6 +24,7 @@ from processing.diagnostics import IllConditionedWarning, InconsistentInputWarni
 from processing.measurement import (AMPLITUDE, COUNT, GRAVITY, LENGTH, MASS, STOPWATCH, Field,
                                     Inputs, LabSpec, Section, bi)
 from processing.oscillation import check_amplitude, pendulum_period_factor, period_from_total
+from processing.report.content import fmt_pm
 from processing.report.figures import histogram, method_chart
 from processing.result import Figure, LabResult, Table, compare, flag_estimates, result_values
 from processing.uncertainty import Measured, propagate
@@ -340,8 +341,8 @@ def _method_table(results) -> Table:
         row = {"method": mlab}
         for q in _QUANTITIES:
             r = results.get(f"{q}_{m}")
-            row[q] = "—" if r is None else \
-                f"{r.shown(r.value):.4g} ± {r.shown(r.value + r.estimate.U) - r.shown(r.value):.2g}"
+            row[q] = "—" if r is None else " ± ".join(
+                fmt_pm(r.shown(r.value), r.shown(r.value + r.estimate.U) - r.shown(r.value)))
         rows.append(row)
     return Table(bi("The manual's table: centre of mass and reduced masses by method (± U, k = 2)",
                     "Таблица методички: координаты центра масс и приведённые массы (± U, k = 2)"),
@@ -358,9 +359,10 @@ def _conclusion(results, inputs: Inputs) -> list[dict]:
         key = f"m_shp_{method}"
         if key in results:
             r = results[key]
-            lines.append(bi(f"{mlab['en']}: m_shp = {r.value:.4g} ± {r.estimate.U:.2g} kg "
+            v, U = fmt_pm(r.value, r.estimate.U)
+            lines.append(bi(f"{mlab['en']}: m_shp = {v} ± {U} kg "
                             f"({100 * r.value / m:.1f} % of the rod)",
-                            f"{mlab['ru']}: m_шп = {r.value:.4g} ± {r.estimate.U:.2g} кг "
+                            f"{mlab['ru']}: m_шп = {v} ± {U} кг "
                             f"({100 * r.value / m:.1f} % массы шатуна)"))
     if "dJ_third_condition" in results:
         dJ, J = results["dJ_third_condition"], results["J_cm_swinging"]

@@ -30,7 +30,7 @@ from typing import Any, Mapping
 
 from .diagnostics import InputError, SingleReadingWarning
 from .uncertainty import Measured
-from .units import parse_quantity, si_factor, to_si
+from .units import parse_quantity, si_factor, si_unit, to_si
 
 def bi(en: str, ru: str) -> dict[str, str]:
     """A text in English and Russian."""
@@ -188,7 +188,9 @@ def _row(where: str, sec: Section, f: Field, v) -> dict:
     if isinstance(v, Measured):
         k = si_factor(f.unit)
         row.update(value=v.value / k, u=v.u / k, unit=f.unit,
-                   readings=[r / k for r in v.readings] if len(v.readings) > 1 else [])
+                   readings=[r / k for r in v.readings] if len(v.readings) > 1 else [],
+                   si={"value": v.value, "u": v.u, "unit": si_unit(f.unit),
+                       "readings": list(v.readings) if len(v.readings) > 1 else []})
     else:
         row.update(value=v, unit="")
     return row
@@ -452,7 +454,8 @@ def _hint(f: Field, t) -> str:
     if f.limit:
         bits.append(f"{t['limit']} ± {f.limit}")
     if f.default is not None:
-        bits.append(f"{t['default']} {f.default}")
+        default = str(f.default).lower() if isinstance(f.default, bool) else f.default
+        bits.append(f"{t['default']} {default}")
     elif not f.required:
         bits.append(t["optional"])
     if f.example is not None:

@@ -147,9 +147,12 @@ class LabResult:
 
 
 def _input_json(row: dict) -> dict:
-    out = {k: row[k] for k in ("value", "u", "unit") if k in row}
-    if row.get("readings"):
-        out["readings"] = list(row["readings"])
+    """An input in SI (the JSON contract); counts, choices and text as they are."""
+    if "si" not in row:
+        return {"value": row["value"], "unit": ""}
+    out = {k: row["si"][k] for k in ("value", "u", "unit")}
+    if row["si"]["readings"]:
+        out["readings"] = row["si"]["readings"]
     return out
 
 

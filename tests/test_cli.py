@@ -378,6 +378,44 @@ def test_json_flag_prints_only_the_result_json(tmp_path, capsys):
     assert doc == on_disk, "--json output and the .json report differ"
 
 
+def test_json_flag_with_several_files_prints_one_array(tmp_path, capsys):
+    code, out, err = run(capsys, "run", LAB1, LAB2, "--out", tmp_path, "--format", "json",
+                         "--json")
+    assert code == 0, err
+    docs = json.loads(out)
+    assert [d["lab"] for d in docs] == ["lab1", "lab2"]
+
+
+def test_json_inputs_are_si(tmp_path, capsys):
+    run(capsys, "run", LAB2, "--out", tmp_path, "--format", "json")
+    inputs = json.loads((tmp_path / "conrod.json").read_text(encoding="utf-8"))["inputs"]
+    # the file says l_sh = "160.1 mm" and t_C in seconds; the contract is SI
+    assert inputs["rod.l_sh"]["value"] == pytest.approx(0.1601) and inputs["rod.l_sh"]["unit"] == "m"
+    assert inputs["rod.m_sh"]["unit"] == "kg"
+    assert len(inputs["swinging.t_C"]["readings"]) == 3
+
+
+def test_files_with_the_same_name_do_not_overwrite_each_other(tmp_path, capsys):
+    for folder in ("a", "b"):
+        (tmp_path / folder).mkdir()
+        (tmp_path / folder / "rod.toml").write_text(LAB2.read_text(encoding="utf-8"),
+                                                    encoding="utf-8")
+    out = tmp_path / "out"
+    code, _, err = run(capsys, "run", tmp_path / "a" / "rod.toml", tmp_path / "b" / "rod.toml",
+                       "--out", out, "--format", "json")
+    assert code == 0, err
+    assert sorted(p.name for p in out.iterdir()) == ["a-rod.json", "b-rod.json"]
+
+
+def test_negative_moment_about_the_centre_of_mass_is_an_input_error(tmp_path, capsys):
+    data = sample("lab1")
+    data["pendulum"]["c"] = 500.0   # pivot far beyond the radius of gyration: J_c < 0
+    path = tmp_path / "bad_c.toml"
+    path.write_text(dump_toml(data), encoding="utf-8")
+    code, out, err = run(capsys, "run", path, "--out", tmp_path / "out")
+    assert_one_clear_error(code, out, err, path, "pendulum.c", "≤ 0", tmp_path / "out")
+
+
 def test_list_names_both_labs(capsys):
     code, out, err = run(capsys, "list")
     assert code == 0, err
