@@ -78,14 +78,14 @@ def to_pdf(res, lang: str = "en", pngs=()) -> bytes:
                      t["readings"]],
                     [[r["section"], r["symbol"], r["label"], r["value"], r["u"], r["unit"],
                       r["readings"]] for r in c["inputs"]],
-                    [x * width for x in (0.12, 0.08, 0.3, 0.12, 0.1, 0.08, 0.2)])]
+                    [x * width for x in (0.11, 0.1, 0.29, 0.12, 0.1, 0.07, 0.21)])]
     story += [p(t["formulas"], "h2")] + [p("• " + f) for f in c["formulas"]]
     story += [p(t["results"], "h2"),
               table([t["quantity"], t["value"], t["U"], t["unit"], t["rel"], t["interval"],
                      t["budget"]],
                     [[f"{r['label']} ({r['name']})", r["value"], r["U"], r["unit"], r["rel"],
                       r["interval"], r["budget"]] for r in c["results"]],
-                    [x * width for x in (0.27, 0.11, 0.09, 0.08, 0.08, 0.17, 0.2)]),
+                    [x * width for x in (0.25, 0.11, 0.09, 0.08, 0.1, 0.17, 0.2)]),
               p(t["uncertainty_note"], "small")]
     for tb in c["tables"]:
         story += [p(tb["title"], "h2"), table(tb["columns"], tb["rows"])]
