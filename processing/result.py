@@ -44,7 +44,7 @@ class ResultValue:
     def to_dict(self) -> dict:
         e = self.estimate
         return {"value": e.value, "u": e.u, "U": e.U, "k": 2, "unit": self.unit,
-                "relative_U": e.relative_U, "interval95": list(e.interval95),
+                "relative_U": e.relative_U if math.isfinite(e.relative_U) else None, "interval95": list(e.interval95),
                 "dof": e.dof if math.isfinite(e.dof) else None, "nonlinear": e.nonlinear,
                 "symbol": self.symbol, "label": dict(self.label)}
 

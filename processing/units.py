@@ -34,6 +34,7 @@ ureg = pint.UnitRegistry()
 ureg.define("kgf = 9.80665 * newton")
 
 _PLUS_MINUS = re.compile(r"\s*(?:±|\+/-|\+-)\s*")
+_PER_MINUTE = re.compile(r"(?:1\s*/\s*min\b|min\s*(?:\^|\*\*)\s*-1|min⁻¹|мин⁻¹|об/мин)")
 
 
 def _dimension_name(dim) -> str:
@@ -105,7 +106,12 @@ def parse_quantity(text: str, expected_unit: str) -> tuple[float, float | None]:
     (0.85, 0.0005)
     >>> parse_quantity("2345 g", "kg")
     (2.345, None)
+    >>> round(parse_quantity("1500 min^-1", "rpm")[0], 4)   # speeds: revolutions per minute
+    157.0796
     """
+    if expected_unit == "rpm":
+        # the manual's min⁻¹ is revolutions per minute; pint would read 1/min as 1/60 rad/s
+        text = _PER_MINUTE.sub("rpm", text)
     parts = _PLUS_MINUS.split(text.strip())
     if len(parts) > 2 or not parts[0]:
         raise ValueError(f"cannot read {text!r} as a value with a unit")
@@ -160,7 +166,9 @@ def _to_si(s: str, expected_unit: str, whole: str) -> float:
 
 
 _RU_UNITS = {"kg": "кг", "mm": "мм", "m": "м", "s": "с", "g": "г", "deg": "°", "GPa": "ГПа",
-             "rad": "рад", "N": "Н", "Pa": "Па", "J": "Дж"}
+             "rad": "рад", "N": "Н", "Pa": "Па", "J": "Дж", "MPa": "МПа", "kN": "кН", "L": "л",
+             "cm": "см", "kW": "кВт", "MW": "МВт", "Hz": "Гц", "min": "мин", "rpm": "мин⁻¹",
+             "W": "Вт"}
 
 
 def unit_text(unit: str, lang: str = "en") -> str:

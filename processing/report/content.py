@@ -49,12 +49,14 @@ def build(res, lang: str = "en") -> dict:
     for name, r in res.results.items():
         e = r.estimate
         v, U = fmt_pm(r.shown(e.value), r.shown(e.value + e.U) - r.shown(e.value))
+        exact = e.U == 0
         lo, hi = (r.shown(x) for x in e.interval95)
         results.append({
-            "name": name, "label": r.label[lang], "symbol": r.symbol, "value": v, "U": U,
+            "name": name, "label": r.label[lang], "symbol": r.symbol, "value": v,
+            "U": "—" if exact else U, "exact": exact,
             "unit": unit_text(r.display_unit, lang), "rel": f"{100 * e.relative_U:.2g} %"
-            if math.isfinite(e.relative_U) else "—",
-            "interval": f"[{lo:.5g}, {hi:.5g}]" if math.isfinite(lo) else "—",
+            if math.isfinite(e.relative_U) and not exact else "—",
+            "interval": f"[{lo:.5g}, {hi:.5g}]" if math.isfinite(lo) and not exact else "—",
             "budget": _budget(r, lang), "nonlinear": e.nonlinear})
     comparisons = []
     for c in res.comparisons:
@@ -82,7 +84,7 @@ def build(res, lang: str = "en") -> dict:
         "t": t, "lang": lang,
         "university": meta.pop("university", UNIVERSITY[lang]),
         "department": meta.pop("department", DEPARTMENT[lang]),
-        "lab_heading": f"{t['lab']} {res.number}", "title": res.title[lang],
+        "lab_heading": f"{t['lab']} {res.number}" if res.number else t["coursework"], "title": res.title[lang],
         "goal": res.goal[lang],
         "meta": [(t.get(k, k), v) for k, v in meta.items() if v],
         "inputs": inputs, "results": results, "comparisons": comparisons, "tables": tables,

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 _TEXT = {
     "en": {
-        "lab": "Lab", "report": "Lab report", "goal": "Goal", "inputs": "Measurements",
+        "lab": "Lab", "coursework": "Coursework", "report": "Lab report", "goal": "Goal", "inputs": "Measurements",
         "formulas": "Formulas", "results": "Results", "comparisons": "Comparison of methods",
         "warnings": "Warnings", "conclusion": "Conclusion", "references": "References",
         "figures": "Figures", "quantity": "Quantity", "value": "Value", "unit": "Unit",
@@ -18,7 +18,7 @@ _TEXT = {
         "generated": "Made with dynlab",
     },
     "ru": {
-        "lab": "Лабораторная работа №", "report": "Отчёт по лабораторной работе", "goal": "Цель работы",
+        "lab": "Лабораторная работа №", "coursework": "Курсовая работа", "report": "Отчёт по лабораторной работе", "goal": "Цель работы",
         "inputs": "Результаты измерений", "formulas": "Расчётные формулы", "results": "Результаты",
         "comparisons": "Сравнение методов", "warnings": "Предупреждения",
         "conclusion": "Выводы", "references": "Литература", "figures": "Графики",

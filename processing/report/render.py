@@ -74,8 +74,10 @@ def to_terminal(res, lang: str = "en") -> str:
     lines += [f"  {k}: {v}" for k, v in c["meta"]]
     width = max((len(r["label"]) for r in c["results"]), default=10)
     for r in c["results"]:
-        lines.append(f"  {r['label']:<{width}}  {r['value']} ± {r['U']} {r['unit']}  "
-                     f"({r['rel']}){'  [nonlinear]' if r['nonlinear'] else ''}")
+        value = r["value"] if r["exact"] else f"{r['value']} ± {r['U']}"
+        rel = "" if r["exact"] else f"  ({r['rel']})"
+        lines.append(f"  {r['label']:<{width}}  {value} {r['unit']}{rel}"
+                     f"{'  [nonlinear]' if r['nonlinear'] else ''}")
     for cm in c["comparisons"]:
         if cm["ok"]:
             continue
