@@ -36,3 +36,12 @@ def test_readme_toml_example_is_a_valid_lab1_file(tmp_path):
     res = lab1_inertia.reduce(inputs, n_samples=2000)
     # the sample flywheel (sample_data/lab1): true J = 0.1712 kg·m²
     assert abs(res["J_trifilar"].value - 0.1712) < res["J_trifilar"].estimate.U
+
+
+def test_kinematics_example_is_what_the_command_prints(capsys):
+    from labs.cli import main
+
+    block = next(b for b in _blocks("text") if b.startswith("$ dynlab kinematics"))
+    command, *expected = block.strip().splitlines()
+    assert main(command.split()[2:]) == 0
+    assert capsys.readouterr().out.strip().splitlines() == expected
