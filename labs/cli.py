@@ -15,8 +15,8 @@ import sys
 from pathlib import Path
 
 from processing.diagnostics import InputError
-from processing.report.i18n import LANGS
-from processing.report.render import FORMATS, to_json, to_terminal, write_reports
+from processing.reporting.i18n import LANGS
+from processing.reporting.render import FORMATS, to_json, to_terminal, write_reports
 
 from .registry import LABS, evaluate, lab_module
 

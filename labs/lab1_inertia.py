@@ -22,8 +22,8 @@ from processing.measurement import (AMPLITUDE, COUNT, GRAVITY, LENGTH, MASS, STO
                                     Inputs, LabSpec, Section, bi)
 from processing.oscillation import (check_amplitude, pendulum_period_factor, period_factor,
                                     period_from_total)
-from processing.report.content import fmt_pm
-from processing.report.figures import method_chart
+from processing.reporting.content import fmt_pm
+from processing.reporting.figures import method_chart
 from processing.result import (Figure, LabResult, Table, compare, flag_estimates,
                                result_values)
 from processing.uncertainty import propagate

@@ -24,8 +24,8 @@ from processing.diagnostics import IllConditionedWarning, InconsistentInputWarni
 from processing.measurement import (AMPLITUDE, COUNT, GRAVITY, LENGTH, MASS, STOPWATCH, Field,
                                     Inputs, LabSpec, Section, bi)
 from processing.oscillation import check_amplitude, pendulum_period_factor, period_from_total
-from processing.report.content import fmt_pm
-from processing.report.figures import histogram, method_chart
+from processing.reporting.content import fmt_pm
+from processing.reporting.figures import histogram, method_chart
 from processing.result import Figure, LabResult, Table, compare, flag_estimates, result_values
 from processing.uncertainty import Measured, propagate
 

@@ -37,7 +37,7 @@ from processing.balance import (STECHKIN_KLIMOV_LIMIT, ImbalanceWarning, inline_
                                 inline_history, stechkin_klimov)
 from processing.diagnostics import InconsistentInputWarning, collect_notices
 from processing.measurement import LENGTH, MASS, Field, Inputs, LabSpec, Section, bi
-from processing.report.content import fmt_pm
+from processing.reporting.content import fmt_pm
 from processing.result import Figure, LabResult, Table, flag_estimates, result_values
 from processing.uncertainty import propagate
 

@@ -9,7 +9,7 @@ from labs import dyncalc as dc
 from processing.diagnostics import InputError
 from processing.kinematics import relative_velocity
 from processing.measurement import load
-from processing.report.render import write_reports
+from processing.reporting.render import write_reports
 
 SAMPLES = Path(__file__).resolve().parents[1] / "sample_data" / "dyncalc"
 

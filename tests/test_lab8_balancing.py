@@ -13,8 +13,8 @@ import pytest
 from labs import lab8_balancing as lab
 from processing import balance as bal
 from processing.measurement import load, template
-from processing.report.content import fmt_pm
-from processing.report.render import to_json
+from processing.reporting.content import fmt_pm
+from processing.reporting.render import to_json
 
 ROOT = Path(__file__).resolve().parents[1]
 D120 = ROOT / "sample_data" / "lab8" / "d120.toml"

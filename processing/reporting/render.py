@@ -59,7 +59,7 @@ def to_html(res, lang: str = "en", pngs=None) -> str:
 
     env = jinja2.Environment(autoescape=True, undefined=jinja2.StrictUndefined)
     template = env.from_string(
-        resources.files("processing.report").joinpath("templates/report.html").read_text("utf-8"))
+        resources.files("processing.reporting").joinpath("templates/report.html").read_text("utf-8"))
     c = build(res, lang)
     pngs = pngs if pngs is not None else [figure_png(f, lang) for f in res.figures]
     images = [(caption, base64.b64encode(png).decode("ascii"))
