@@ -33,7 +33,7 @@ from __future__ import annotations
 import math
 import re
 import warnings
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -43,7 +43,7 @@ from processing.diagnostics import (DynlabWarning, InconsistentInputWarning, Inp
 from processing.kinematics import (mean_piston_speed, relative_displacement, relative_velocity,
                                    rod_angle)
 from processing.measurement import Field, Inputs, LabSpec, Section, bi
-from processing.result import Figure, LabResult, Table, flag_estimates, result_values
+from processing.result import Figure, LabResult, Record, Table, flag_estimates, result_values
 from processing.uncertainty import Measured, propagate
 
 T_MEAN_TOLERANCE = 0.03
@@ -85,7 +85,7 @@ class FlywheelNotNeededWarning(DynlabWarning):
 # ------------------------------------------------------------------------ the calculation
 
 @dataclass(frozen=True)
-class Polytropes:
+class Polytropes(Record):
     """The coursework's polytrope tables (:func:`polytrope_points`).
 
     ``compression_ratio[k]`` = V_a/V_x and ``compression_pressure[k]`` = p_a (V_a/V_x)^n₁;
@@ -154,7 +154,7 @@ def polytrope_points(p_a, p_z, compression_ratio, n1, n2, pre_expansion_ratio=1.
 
 
 @dataclass(frozen=True)
-class DynamicCalculation:
+class DynamicCalculation(Record):
     """Everything the dynamic calculation finds (:func:`dynamic_calculation`). SI units.
 
     Curves are sampled at ``crank_angle`` (one cycle of cylinder 1, end point left out);
@@ -273,15 +273,6 @@ class DynamicCalculation:
         }
         if self.inertia_flywheel_chosen is not None:
             out["I_flywheel_chosen"] = self.inertia_flywheel_chosen
-        return out
-
-    def to_dict(self) -> dict:
-        """The fields as a plain dict (curves as arrays, nested results as dicts)."""
-        out = {}
-        for f in fields(self):
-            v = getattr(self, f.name)
-            out[f.name] = v.to_dict() if hasattr(v, "to_dict") else \
-                (vars(v) if isinstance(v, Polytropes) else v)
         return out
 
     def force_table(self, step_deg: float = TABLE_STEP_DEG):

@@ -64,12 +64,13 @@ References
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 
-from .diagnostics import DynlabWarning, InputError
-from .kinematics import _Result, _check_positive, _first, check_mechanism, piston_acceleration
+from .diagnostics import DynlabWarning, InputError, check_positive, first
+from .kinematics import check_mechanism, piston_acceleration
+from .result import Record
 
 ROUND_OFF = 1e-12
 """Sums below this fraction of the sum of their terms' magnitudes are exactly zero."""
@@ -87,7 +88,7 @@ class ImbalanceWarning(DynlabWarning):
 
 
 @dataclass(frozen=True)
-class OrderBalance(_Result):
+class OrderBalance(Record):
     """Free force and free moment of one kind of inertia force (see the module's conventions).
 
     Arrays where the inputs carried leading axes (e.g. Monte Carlo draws).
@@ -119,7 +120,7 @@ class OrderBalance(_Result):
 
 
 @dataclass(frozen=True)
-class InlineBalance:
+class InlineBalance(Record):
     """Free forces and moments of an in-line engine (:func:`inline_balance`)."""
 
     rotating: OrderBalance
@@ -135,15 +136,9 @@ class InlineBalance:
     def __iter__(self):
         return iter((self.rotating, self.first, self.second))
 
-    def to_dict(self) -> dict:
-        """``{"rotating": {...}, "first": {...}, "second": {...}, "about": x_0}``."""
-        out = {o.kind: o.to_dict() for o in self}
-        out["about"] = self.about
-        return out
-
 
 @dataclass(frozen=True)
-class InlineHistory(_Result):
+class InlineHistory(Record):
     """Free forces and moments over crank angle (:func:`inline_history`); arrays (..., n)."""
 
     crank_angle: np.ndarray
@@ -296,10 +291,10 @@ def _layout(crank_angles, positions, reciprocating_mass, rotating_mass, about, s
     for name, v in (("crank_angles", theta), ("positions", x), ("reciprocating_mass", m_j),
                     ("rotating_mass", m_r)):
         if not np.all(np.isfinite(v)):
-            raise InputError(f"{name} must be finite, got {_first(v[~np.isfinite(v)])}",
+            raise InputError(f"{name} must be finite, got {first(v[~np.isfinite(v)])}",
                              f"check {name}")
     if np.any(m_j < 0):
-        raise InputError(f"reciprocating_mass must be ≥ 0 kg, got {_first(m_j[m_j < 0]):g}",
+        raise InputError(f"reciprocating_mass must be ≥ 0 kg, got {first(m_j[m_j < 0]):g}",
                          "give the piston group plus the rod's small-end share, in kg")
     x0 = 0.5 * (x.min(axis=-1) + x.max(axis=-1)) if about is None else np.asarray(about, float)
     offset = np.asarray(x0)[..., None] - x
@@ -320,10 +315,10 @@ def _layout(crank_angles, positions, reciprocating_mass, rotating_mass, about, s
 
 
 def _check_engine(crank_radius, angular_speed, lambda_):
-    _check_positive("crank_radius", crank_radius, "m")
+    check_positive("crank_radius", crank_radius, "m")
     w = np.asarray(angular_speed, dtype=float)
     if not np.all(np.isfinite(w)) or np.any(w < 0):
-        raise InputError(f"angular_speed must be ≥ 0 rad/s, got {_first(w)}",
+        raise InputError(f"angular_speed must be ≥ 0 rad/s, got {first(w)}",
                          "give ω = πn/30 with n in min⁻¹")
     check_mechanism(lambda_)
 
@@ -553,7 +548,7 @@ def stechkin_klimov(second_order_force, engine_mass, angular_speed, bore):
     ----------
     Lab manual, lab 8; FORMULAS.md "Lab 8".
     """
-    _check_positive("engine_mass", engine_mass, "kg")
-    _check_positive("angular_speed", angular_speed, "rad/s")
-    _check_positive("bore", bore, "m")
+    check_positive("engine_mass", engine_mass, "kg")
+    check_positive("angular_speed", angular_speed, "rad/s")
+    check_positive("bore", bore, "m")
     return 0.25 * second_order_force / (engine_mass * angular_speed ** 2 * bore)

@@ -10,6 +10,8 @@ import contextlib
 import warnings
 from dataclasses import dataclass
 
+import numpy as np
+
 
 class DynlabWarning(UserWarning):
     """Base of the toolkit's warnings: suspect data or a method near its limits.
@@ -130,3 +132,16 @@ class InputError(ValueError):
     def located(self, file: str) -> "InputError":
         """The same error, attributed to ``file`` if it had no file yet."""
         return InputError(self.problem, self.fix, file=self.file or file, field=self.field)
+
+
+def first(values) -> float:
+    """The first element of an array of offending values, for a message."""
+    return float(np.ravel(values)[0])
+
+
+def check_positive(name: str, value, unit: str) -> None:
+    """Raise :class:`InputError` unless every element of ``value`` is > 0."""
+    bad = ~(np.asarray(value, dtype=float) > 0)
+    if np.any(bad):
+        raise InputError(f"{name} must be > 0 {unit}, got {first(np.asarray(value)[bad]):g}",
+                         f"give {name} in {unit} (SI)")

@@ -27,10 +27,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from .diagnostics import DynlabWarning, InputError
-from .kinematics import (_Result, _check_positive, _first, check_mechanism, dead_centres,
-                         crank_angle_from_displacement, piston_acceleration, relative_displacement,
-                         rod_angle)
+from .diagnostics import DynlabWarning, InputError, check_positive, first
+from .kinematics import (check_mechanism, crank_angle_from_displacement, dead_centres,
+                         piston_acceleration, relative_displacement, rod_angle)
+from .result import Record
 
 STANDARD_GRAVITY = 9.80665
 """g for GD² [m/s²]."""
@@ -64,7 +64,7 @@ def cycle_period(strokes=4):
 # --- cycle volumes and pressures -------------------------------------------------------------
 
 @dataclass(frozen=True)
-class CycleVolumes(_Result):
+class CycleVolumes(Record):
     """Characteristic volumes of the cycle (:func:`cycle_volumes`). [m³]"""
 
     clearance_volume: float
@@ -100,7 +100,7 @@ def cycle_volumes(swept_volume, compression_ratio, pre_expansion_ratio=1.0) -> C
     ----------
     FORMULAS.md B; Kolchin & Demidov.
     """
-    _check_positive("swept_volume", swept_volume, "m^3")
+    check_positive("swept_volume", swept_volume, "m^3")
     _check_ratios(compression_ratio, pre_expansion_ratio)
     clearance = swept_volume / (compression_ratio - 1)
     return CycleVolumes(clearance_volume=clearance, total_volume=swept_volume + clearance,
@@ -184,7 +184,7 @@ def compression_pressure(volume, p_a, total_volume, n1):
     ----------
     FORMULAS.md B; Kolchin & Demidov.
     """
-    _check_positive("p_a", p_a, "Pa")
+    check_positive("p_a", p_a, "Pa")
     _check_exponent("n1", n1)
     return p_a * (total_volume / volume) ** n1
 
@@ -216,13 +216,13 @@ def expansion_pressure(volume, p_z, combustion_volume, n2):
     ----------
     FORMULAS.md B; Kolchin & Demidov.
     """
-    _check_positive("p_z", p_z, "Pa")
+    check_positive("p_z", p_z, "Pa")
     _check_exponent("n2", n2)
     return p_z * (combustion_volume / volume) ** n2
 
 
 @dataclass(frozen=True)
-class CyclePressures(_Result):
+class CyclePressures(Record):
     """End points of the polytropes (:func:`cycle_pressures`)."""
 
     p_c: float
@@ -288,7 +288,7 @@ def _check_exhaust(p_r, strokes):
         raise InputError(f"the simplified two-stroke cycle has no exhaust stroke, got p_r = {p_r!r}",
                          "drop p_r for strokes=2")
     if p_r is not None:
-        _check_positive("p_r", p_r, "Pa")
+        check_positive("p_r", p_r, "Pa")
 
 
 def indicator_pressure(crank_angle, *, p_a, p_z, compression_ratio, n1, n2, lambda_, p_r=None,
@@ -513,7 +513,7 @@ def crank_angle_from_volume(volume, swept_volume, compression_ratio, lambda_, of
     outside = (v < volumes.clearance_volume - tolerance) | (v > volumes.total_volume + tolerance)
     if np.any(outside):
         raise InputError(f"volume must lie in [V_c, V_a] = [{volumes.clearance_volume:.6g}, "
-                         f"{volumes.total_volume:.6g}] m^3, got {_first(v[outside]):.6g}",
+                         f"{volumes.total_volume:.6g}] m^3, got {first(v[outside]):.6g}",
                          "check swept_volume, compression_ratio and the volume column's unit")
     stroke_ratio = dead_centres(lambda_, offset_ratio).stroke_ratio
     s = np.clip((v - volumes.clearance_volume) / swept_volume, 0, 1) * stroke_ratio
@@ -571,7 +571,7 @@ def brix_offset(crank_radius, lambda_):
     ----------
     FORMULAS.md B.
     """
-    _check_positive("crank_radius", crank_radius, "m")
+    check_positive("crank_radius", crank_radius, "m")
     check_mechanism(lambda_)
     return crank_radius * lambda_ / 2
 
@@ -599,7 +599,7 @@ def gas_force(pressure, piston_area, ambient_pressure=101325.0):
     ----------
     FORMULAS.md B; Li Bin et al. 2006, section 1.3.1.
     """
-    _check_positive("piston_area", piston_area, "m^2")
+    check_positive("piston_area", piston_area, "m^2")
     return (pressure - ambient_pressure) * piston_area
 
 
@@ -662,12 +662,12 @@ def rotating_inertia_force(rotating_mass, crank_radius, angular_speed):
     ----------
     FORMULAS.md B.
     """
-    _check_positive("crank_radius", crank_radius, "m")
+    check_positive("crank_radius", crank_radius, "m")
     return -rotating_mass * crank_radius * angular_speed ** 2
 
 
 @dataclass(frozen=True)
-class TolleValues(_Result):
+class TolleValues(Record):
     """Segments of the Tolle construction of P_j (:func:`tolle_construction`)."""
 
     ac: float
@@ -706,14 +706,14 @@ def tolle_construction(reciprocating_mass, crank_radius, angular_speed, lambda_)
     ----------
     FORMULAS.md B.
     """
-    _check_positive("crank_radius", crank_radius, "m")
+    check_positive("crank_radius", crank_radius, "m")
     check_mechanism(lambda_)
     scale = reciprocating_mass * crank_radius * angular_speed ** 2
     return TolleValues(ac=scale * (1 + lambda_), bd=scale * (1 - lambda_), ef=3 * lambda_ * scale)
 
 
 @dataclass(frozen=True)
-class CrankTrainForces(_Result):
+class CrankTrainForces(Record):
     """Forces of the crank train from the driving force (:func:`crank_train_forces`).
 
     All in N (or Pa when the driving force is per unit piston area), torque in N·m.
@@ -763,7 +763,7 @@ def crank_train_forces(crank_angle, driving_force, crank_radius, lambda_,
     ----------
     FORMULAS.md B; Li Bin et al. 2006, section 1.3.
     """
-    _check_positive("crank_radius", crank_radius, "m")
+    check_positive("crank_radius", crank_radius, "m")
     beta = rod_angle(crank_angle, lambda_, offset_ratio)
     rod = driving_force / np.cos(beta)
     tangential = rod * np.sin(crank_angle + beta)
@@ -964,7 +964,7 @@ def torque_nonuniformity(crank_angle, torque, *, period):
 
 
 @dataclass(frozen=True)
-class ExcessWork(_Result):
+class ExcessWork(Record):
     """Largest energy swing of the crank over a period (:func:`excess_work`)."""
 
     work: float
@@ -1054,8 +1054,8 @@ def required_inertia(excess_work, mean_angular_speed, speed_irregularity):
     ----------
     FORMULAS.md B; lab manual, lab 3.
     """
-    _check_positive("mean_angular_speed", mean_angular_speed, "rad/s")
-    _check_positive("speed_irregularity", speed_irregularity, "(dimensionless)")
+    check_positive("mean_angular_speed", mean_angular_speed, "rad/s")
+    check_positive("speed_irregularity", speed_irregularity, "(dimensionless)")
     return excess_work / (speed_irregularity * mean_angular_speed ** 2)
 
 
@@ -1085,13 +1085,13 @@ def speed_irregularity(excess_work, inertia, mean_angular_speed):
     ----------
     Lab manual, lab 3; FORMULAS.md B.
     """
-    _check_positive("inertia", inertia, "kg*m^2")
-    _check_positive("mean_angular_speed", mean_angular_speed, "rad/s")
+    check_positive("inertia", inertia, "kg*m^2")
+    check_positive("mean_angular_speed", mean_angular_speed, "rad/s")
     return excess_work / (inertia * mean_angular_speed ** 2)
 
 
 @dataclass(frozen=True)
-class SpeedCycle(_Result):
+class SpeedCycle(Record):
     """Steady periodic crank speed over one period (:func:`crank_speed_cycle`)."""
 
     crank_angle: np.ndarray
@@ -1152,8 +1152,8 @@ def crank_speed_cycle(crank_angle, torque, inertia, mean_angular_speed, *, perio
     ----------
     Lab manual, lab 3 (M_i = M_resist + J_o dω/dt); FORMULAS.md B.
     """
-    _check_positive("inertia", inertia, "kg*m^2")
-    _check_positive("mean_angular_speed", mean_angular_speed, "rad/s")
+    check_positive("inertia", inertia, "kg*m^2")
+    check_positive("mean_angular_speed", mean_angular_speed, "rad/s")
     angle, value = _closed_cycle(crank_angle, torque, period)
     integral = _running_integral(angle, value)
     energy = integral - integral[-1] / period * (angle - angle[0])
@@ -1179,7 +1179,7 @@ def crank_speed_cycle(crank_angle, torque, inertia, mean_angular_speed, *, perio
 
 
 @dataclass(frozen=True)
-class FlywheelRim(_Result):
+class FlywheelRim(Record):
     """Thin-rim flywheel sizing (:func:`flywheel_rim`)."""
 
     mass: float
@@ -1229,9 +1229,9 @@ def flywheel_rim(inertia, rim_diameter, angular_speed, *, speed_limit=70.0) -> F
     ----------
     FORMULAS.md B; Kolchin & Demidov (flywheel).
     """
-    _check_positive("inertia", inertia, "kg*m^2")
-    _check_positive("rim_diameter", rim_diameter, "m")
-    _check_positive("speed_limit", speed_limit, "m/s")
+    check_positive("inertia", inertia, "kg*m^2")
+    check_positive("rim_diameter", rim_diameter, "m")
+    check_positive("speed_limit", speed_limit, "m/s")
     speed = abs(angular_speed) * rim_diameter / 2
     if speed > speed_limit:
         warnings.warn(RimSpeedWarning(

@@ -20,26 +20,15 @@ References
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 
-from .diagnostics import InputError
+from .diagnostics import InputError, check_positive, first
+from .result import Record
 
 _METHODS = ("exact", "approx")
 _STROKES = ("down", "up")
-
-
-class _Result:
-    """Mixin of the result dataclasses: ``to_dict()`` of the named fields."""
-
-    def to_dict(self) -> dict:
-        """The fields as a plain dict (values as stored: floats or arrays)."""
-        return {f.name: getattr(self, f.name) for f in fields(self)}
-
-
-def _first(values) -> float:
-    return float(np.ravel(values)[0])
 
 
 def check_mechanism(lambda_, offset_ratio=0.0) -> None:
@@ -61,7 +50,7 @@ def check_mechanism(lambda_, offset_ratio=0.0) -> None:
     lam = np.asarray(lambda_, dtype=float)
     bad = ~((lam > 0) & (lam < 1))
     if np.any(bad):
-        raise InputError(f"lambda_ must be in (0, 1), got {_first(lam[bad]):g}",
+        raise InputError(f"lambda_ must be in (0, 1), got {first(lam[bad]):g}",
                          "give lambda_ = R/L, crank radius over rod length (typically 0.24-0.32)")
     z = np.asarray(offset_ratio, dtype=float)
     reach = np.broadcast_to(lam * (1 + np.abs(z)), np.broadcast_shapes(lam.shape, z.shape))
@@ -69,8 +58,8 @@ def check_mechanism(lambda_, offset_ratio=0.0) -> None:
     if np.any(bad):
         zb, lb = np.broadcast_arrays(z, lam)
         raise InputError(
-            f"offset_ratio must satisfy lambda_*(1 + |z|) < 1, got z = {_first(zb[bad]):g} "
-            f"with lambda_ = {_first(lb[bad]):g}",
+            f"offset_ratio must satisfy lambda_*(1 + |z|) < 1, got z = {first(zb[bad]):g} "
+            f"with lambda_ = {first(lb[bad]):g}",
             "give offset_ratio = k/R, the pin offset over the crank radius (a few hundredths)")
 
 
@@ -78,13 +67,6 @@ def _check_method(method: str) -> None:
     if method not in _METHODS:
         raise InputError(f"method must be 'exact' or 'approx', got {method!r}",
                          "pass method='exact' (true geometry) or method='approx' (series to λ²)")
-
-
-def _check_positive(name: str, value, unit: str) -> None:
-    bad = ~(np.asarray(value, dtype=float) > 0)
-    if np.any(bad):
-        raise InputError(f"{name} must be > 0 {unit}, got {_first(np.asarray(value)[bad]):g}",
-                         f"give {name} in {unit} (SI)")
 
 
 def _cos_rod(crank_angle, lambda_, offset_ratio):
@@ -378,7 +360,7 @@ def piston_displacement(crank_angle, crank_radius, lambda_, offset_ratio=0.0, *,
     ----------
     FORMULAS.md A.
     """
-    _check_positive("crank_radius", crank_radius, "m")
+    check_positive("crank_radius", crank_radius, "m")
     return crank_radius * relative_displacement(crank_angle, lambda_, offset_ratio, method=method)
 
 
@@ -408,7 +390,7 @@ def piston_velocity(crank_angle, crank_radius, angular_speed, lambda_, offset_ra
     ----------
     FORMULAS.md A.
     """
-    _check_positive("crank_radius", crank_radius, "m")
+    check_positive("crank_radius", crank_radius, "m")
     return crank_radius * angular_speed * relative_velocity(crank_angle, lambda_, offset_ratio,
                                                             method=method)
 
@@ -439,13 +421,13 @@ def piston_acceleration(crank_angle, crank_radius, angular_speed, lambda_, offse
     ----------
     FORMULAS.md A.
     """
-    _check_positive("crank_radius", crank_radius, "m")
+    check_positive("crank_radius", crank_radius, "m")
     return crank_radius * angular_speed ** 2 * relative_acceleration(
         crank_angle, lambda_, offset_ratio, method=method)
 
 
 @dataclass(frozen=True)
-class DeadCentres(_Result):
+class DeadCentres(Record):
     """Crank angles of the dead centres and the stroke (:func:`dead_centres`)."""
 
     tdc: float | np.ndarray
@@ -549,12 +531,12 @@ def crank_angle_from_displacement(displacement, lambda_, offset_ratio=0.0, *, me
     s, span = np.broadcast_arrays(s, centres.stroke_ratio)
     bad = ~((s >= -1e-12) & (s <= span + 1e-12))
     if np.any(bad):
-        raise InputError(f"displacement must lie in [0, stroke ratio], got {_first(s[bad]):g}",
+        raise InputError(f"displacement must lie in [0, stroke ratio], got {first(s[bad]):g}",
                          "pass s = S/R measured from TDC, at most the stroke over the crank radius")
     if method == "approx":
         if np.any(np.asarray(offset_ratio) != 0):
             raise InputError("method='approx' inverts the axial approximate displacement only, "
-                             f"got offset_ratio = {_first(np.asarray(offset_ratio)):g}",
+                             f"got offset_ratio = {first(np.asarray(offset_ratio)):g}",
                              "use method='exact' for a desaxial mechanism")
         cos_a = (np.sqrt(np.maximum((1 + lambda_) ** 2 - 2 * lambda_ * s, 0.0)) - 1) / lambda_
         down = np.arccos(np.clip(cos_a, -1, 1))
@@ -603,7 +585,7 @@ def _quantity(quantity: str):
 
 
 @dataclass(frozen=True)
-class ApproximationError(_Result):
+class ApproximationError(Record):
     """Largest error of an approximate kinematic form (:func:`max_approximation_error`).
 
     Errors are dimensionless (units R, Rω, Rω² for s, v, j); angles in [0, 2π).
@@ -724,7 +706,7 @@ def max_approximation_error(lambda_, offset_ratio=0.0, *, quantity="j") -> Appro
 
 
 @dataclass(frozen=True)
-class AccelerationExtremes(_Result):
+class AccelerationExtremes(Record):
     """Extremes of the approximate piston acceleration j/(Rω²) (:func:`acceleration_extremes`)."""
 
     at_tdc: float | np.ndarray
@@ -795,7 +777,7 @@ def mean_piston_speed(stroke, angular_speed):
     ----------
     FORMULAS.md A; Russian kinematics notes (v_ср = Sn/30); Li Bin et al. 2006, eq. (10).
     """
-    _check_positive("stroke", stroke, "m")
+    check_positive("stroke", stroke, "m")
     return stroke * angular_speed / np.pi
 
 

@@ -7,12 +7,21 @@ stable: teachers' checks key on them.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Any, Callable, Mapping
 
 from .diagnostics import Notice
 from .uncertainty import Estimate, Propagation
 from .units import convert, si_unit, unit_text
+
+
+class Record:
+    """Mixin of the result dataclasses of the formula modules: ``to_dict()`` of the named
+    fields, nested records as dicts (values as stored: floats or arrays)."""
+
+    def to_dict(self) -> dict:
+        return {f.name: (v.to_dict() if isinstance(v := getattr(self, f.name), Record) else v)
+                for f in fields(self)}
 
 
 @dataclass(frozen=True)
