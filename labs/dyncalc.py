@@ -950,9 +950,8 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
             f"Carlo draws of the inputs given with a ± (GUM linear estimate checked by them).",
             f"Неопределённости: расчёт повторён для {min(n_samples, MAX_MC_DRAWS)} выборок "
             f"Монте-Карло входных данных, заданных с ± (линейная оценка GUM, проверенная ими)."))
-    return LabResult(SPEC.id, SPEC.number, SPEC.title, SPEC.goal, inputs.meta, inputs.rows(),
-                     results, [], tables, figures, FORMULAS, REFERENCES, notices, conclusion,
-                     inputs.file)
+    return LabResult.of(inputs, results, tables=tables, figures=figures, formulas=FORMULAS,
+                        references=REFERENCES, warnings=notices, conclusion=conclusion)
 
 
 # ------------------------------------------------------------------------ tables

@@ -635,6 +635,6 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
                                     "Момент инерции по методам (отрезки: k = 2; штрихи: интервал "
                                     "Монте-Карло 95 %)"),
                       lambda fig, lang: method_chart(fig, [results[n] for n in shown], lang))]
-    return LabResult(SPEC.id, SPEC.number, SPEC.title, SPEC.goal, inputs.meta, inputs.rows(),
-                     results, comparisons, tables, figures, FORMULAS, REFERENCES, notices,
-                     _conclusion(results, comparisons), inputs.file)
+    return LabResult.of(inputs, results, comparisons=comparisons, tables=tables, figures=figures,
+                        formulas=FORMULAS, references=REFERENCES, warnings=notices,
+                        conclusion=_conclusion(results, comparisons))

@@ -416,6 +416,6 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
                               lambda fig, lang: histogram(
                                   fig, samples, 1e3 * l_C.value,
                                   [1e3 * v for v in l_C.estimate.interval95], "l_C, mm", lang)))
-    return LabResult(SPEC.id, SPEC.number, SPEC.title, SPEC.goal, inputs.meta, inputs.rows(),
-                     results, comparisons, [_method_table(results)], figures, FORMULAS,
-                     REFERENCES, notices, _conclusion(results, inputs), inputs.file)
+    return LabResult.of(inputs, results, comparisons=comparisons, tables=[_method_table(results)],
+                        figures=figures, formulas=FORMULAS, references=REFERENCES,
+                        warnings=notices, conclusion=_conclusion(results, inputs))

@@ -801,6 +801,6 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
         "Свободные силы (вверху) и моменты (внизу) за оборот: гармоники ряда и точная сумма сил "
         "инерции поступательно движущихся масс; центробежные — составляющая вдоль осей цилиндров"),
         _draw(nominal), size=(6.4, 5.2))]
-    return LabResult(SPEC.id, SPEC.number, SPEC.title, SPEC.goal, inputs.meta, inputs.rows(),
-                     results, [], [_phase_table(results, nominal)], figures, FORMULAS, REFERENCES,
-                     notices, _conclusion(results, inputs, notices), inputs.file)
+    return LabResult.of(inputs, results, tables=[_phase_table(results, nominal)], figures=figures,
+                        formulas=FORMULAS, references=REFERENCES, warnings=notices,
+                        conclusion=_conclusion(results, inputs, notices))

@@ -127,6 +127,14 @@ class LabResult:
     conclusion: list[Mapping[str, str]] = field(default_factory=list)
     source: str = ""
 
+    @classmethod
+    def of(cls, inputs, results: dict[str, ResultValue], **parts) -> "LabResult":
+        """The result of reducing ``inputs`` (a :class:`~processing.measurement.Inputs`): the
+        title block, goal, input table and source come from the file and its lab's spec."""
+        spec = inputs.spec
+        return cls(spec.id, spec.number, spec.title, spec.goal, inputs.meta, inputs.rows(),
+                   results, source=inputs.file, **parts)
+
     def __getitem__(self, name: str) -> ResultValue:
         return self.results[name]
 
