@@ -90,15 +90,14 @@ def _demo(args) -> int:
     files = sorted(data.glob("*/*.toml"))
     out = Path(args.out)
     print(f"dynlab demo: {len(files)} sample files from {data} → {out}/")
-    rows = []
+    results = []
     for path in _progress(files, "demo"):
-        result = evaluate(path)
-        _write(result, out, path.stem, FORMATS, args.lang)
-        rows.append((path, result))
-    for path, result in rows:
+        results.append(evaluate(path))
+        _write(results[-1], out, path.stem, FORMATS, args.lang)
+    for result in results:
         print()
         print(to_terminal(result, args.lang))
-    print(f"\nreports (html, pdf, json) for {len(rows)} files written to {out.resolve()}")
+    print(f"\nreports (html, pdf, json) for {len(results)} files written to {out.resolve()}")
     return 0
 
 

@@ -543,7 +543,7 @@ def _model(inputs: Inputs):
     return model
 
 
-def _warn_physics(inputs: Inputs, prop) -> None:
+def _check_physics(inputs: Inputs, prop) -> None:
     for sec in ("trifilar", "pendulum"):
         if sec in inputs and "amplitude" in inputs[sec]:
             check_amplitude(inputs[sec]["amplitude"].value, SPEC.section(sec).label["en"])
@@ -626,7 +626,7 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
         results = result_values(prop, RESULTS)
         pairs = list(itertools.combinations([n for n in CENTRAL if n in results], 2))
         comparisons = compare(prop, pairs + [("m_analytic", "m_measured")])
-        _warn_physics(inputs, prop)
+        _check_physics(inputs, prop)
         flag_estimates(results, comparisons)
     tables = [_parts_table(inputs, prop)] if "analytic" in inputs else []
     shown = [n for n in CENTRAL if n in results]

@@ -69,7 +69,6 @@ def to_html(res, lang: str = "en", pngs=None) -> str:
 
 def to_terminal(res, lang: str = "en") -> str:
     c = build(res, lang)
-    t = c["t"]
     lines = [f"{c['lab_heading']}. {c['title']}"]
     lines += [f"  {k}: {v}" for k, v in c["meta"]]
     width = max((len(r["label"]) for r in c["results"]), default=10)
