@@ -38,8 +38,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from processing import dynamics as dyn
-from processing.diagnostics import (DynlabWarning, InconsistentInputWarning, InputError,
-                                    collect_notices)
+from processing.diagnostics import (DynlabWarning, FlywheelNotNeededWarning,
+                                    InconsistentInputWarning, InputError,
+                                    MeanPressureDiscrepancyWarning, collect_notices)
 from processing.kinematics import (mean_piston_speed, relative_displacement, relative_velocity,
                                    rod_angle)
 from processing.measurement import Field, Inputs, LabSpec, Section, bi
@@ -68,18 +69,6 @@ engines up to about 25 m/s. Outside, S or n is wrong."""
 CONSISTENCY_TOLERANCE = 0.02
 """Allowed relative gap between a given p_c (p_b) and the polytrope's p_a ε^n₁ (p_z/δ^n₂),
 and between a given V_s and F_p S: thermal-calculation rounding."""
-
-
-class MeanPressureDiscrepancyWarning(DynlabWarning):
-    """The diagram's mean tangential pressure misses the analytic p_i·i·k/π by ≥ 3 %."""
-
-    code = "t_mean_discrepancy"
-
-
-class FlywheelNotNeededWarning(DynlabWarning):
-    """The crank train alone keeps δ below the target: no flywheel is needed."""
-
-    code = "flywheel_not_needed"
 
 
 # ------------------------------------------------------------------------ the calculation

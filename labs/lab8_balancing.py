@@ -33,9 +33,9 @@ import warnings
 
 import numpy as np
 
-from processing.balance import (STECHKIN_KLIMOV_LIMIT, ImbalanceWarning, inline_balance,
-                                inline_history, stechkin_klimov)
-from processing.diagnostics import InconsistentInputWarning, collect_notices
+from processing.balance import (STECHKIN_KLIMOV_LIMIT, inline_balance, inline_history,
+                                stechkin_klimov)
+from processing.diagnostics import ImbalanceWarning, InconsistentInputWarning, collect_notices
 from processing.measurement import LENGTH, MASS, Field, Inputs, LabSpec, Section, bi
 from processing.reporting.content import fmt_pm
 from processing.result import Figure, LabResult, Table, flag_estimates, result_values

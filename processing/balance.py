@@ -68,7 +68,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .diagnostics import DynlabWarning, InputError, check_positive, first
+from .diagnostics import InputError, check_positive, first
 from .kinematics import check_mechanism, piston_acceleration
 from .result import Record
 
@@ -79,12 +79,6 @@ STECHKIN_KLIMOV_LIMIT = 0.002
 """ξ below this is a satisfactory balance by the Stechkin–Klimov criterion (lab manual, lab 8)."""
 
 KINDS = ("rotating", "first", "second")
-
-
-class ImbalanceWarning(DynlabWarning):
-    """An engine's free forces or moments make its balance unsatisfactory."""
-
-    code = "imbalance"
 
 
 @dataclass(frozen=True)

@@ -71,6 +71,30 @@ class InconsistentInputWarning(DynlabWarning):
     code = "inconsistent_input"
 
 
+class RimSpeedWarning(DynlabWarning):
+    """The flywheel rim runs faster than its material allows."""
+
+    code = "rim_speed"
+
+
+class ImbalanceWarning(DynlabWarning):
+    """An engine's free forces or moments make its balance unsatisfactory."""
+
+    code = "imbalance"
+
+
+class MeanPressureDiscrepancyWarning(DynlabWarning):
+    """The diagram's mean tangential pressure misses the analytic p_i·i·k/π by ≥ 3 %."""
+
+    code = "t_mean_discrepancy"
+
+
+class FlywheelNotNeededWarning(DynlabWarning):
+    """The crank train alone keeps δ below the target: no flywheel is needed."""
+
+    code = "flywheel_not_needed"
+
+
 @dataclass(frozen=True)
 class Notice:
     """A warning as it is stored in a result and printed in a report."""

@@ -27,19 +27,13 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from .diagnostics import DynlabWarning, InputError, check_positive, first
+from .diagnostics import InputError, RimSpeedWarning, check_positive, first
 from .kinematics import (check_mechanism, crank_angle_from_displacement, dead_centres,
                          piston_acceleration, relative_displacement, rod_angle)
 from .result import Record
 
 STANDARD_GRAVITY = 9.80665
 """g for GD² [m/s²]."""
-
-
-class RimSpeedWarning(DynlabWarning):
-    """The flywheel rim runs faster than its material allows."""
-
-    code = "rim_speed"
 
 
 def cycle_period(strokes=4):
