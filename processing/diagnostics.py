@@ -77,6 +77,42 @@ class RimSpeedWarning(DynlabWarning):
     code = "rim_speed"
 
 
+class UndersampledWarning(DynlabWarning):
+    """Too few samples per tooth for the edges to be timed reliably."""
+
+    code = "too_few_samples_per_tooth"
+
+
+class TeethMiscountedWarning(DynlabWarning):
+    """Teeth missed or doubled by the pulse shaper: revolutions or cycles left out."""
+
+    code = "teeth_miscounted"
+
+
+class UnequalCyclesWarning(DynlabWarning):
+    """Working cycles of unequal length: the regime was not steady."""
+
+    code = "unequal_cycles"
+
+
+class GapNotFoundWarning(DynlabWarning):
+    """The wheel's reference gap was not found where expected."""
+
+    code = "gap_not_found"
+
+
+class ShortRecordWarning(DynlabWarning):
+    """The record holds fewer working cycles than a statistic needs."""
+
+    code = "short_record"
+
+
+class PitchErrorWarning(DynlabWarning):
+    """The wheel's tooth-pitch errors are comparable with the speed fluctuation measured."""
+
+    code = "pitch_error"
+
+
 class ImbalanceWarning(DynlabWarning):
     """An engine's free forces or moments make its balance unsatisfactory."""
 

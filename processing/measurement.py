@@ -329,8 +329,9 @@ def _convert(f: Field, raw, file: str, path: str):
                        _did_you_mean(str(raw), f.choices))
         return raw
     if f.kind == "count":
-        if isinstance(raw, bool) or not isinstance(raw, int) or raw < 1:
-            raise fail(f"'{f.name}' must be a whole number ≥ 1, got {raw!r}",
+        least = 0 if f.allow_zero else 1
+        if isinstance(raw, bool) or not isinstance(raw, int) or raw < least:
+            raise fail(f"'{f.name}' must be a whole number ≥ {least}, got {raw!r}",
                        "write the count as a whole number, e.g. 20")
         return raw
     return _measured(f, raw, fail)

@@ -1,0 +1,274 @@
+"""Tooth-edge timing in a sampled pulse train (an inductive speed sensor, any pulse channel).
+
+An inductive (variable-reluctance) sensor gives one bipolar pulse per tooth, u = ω dΦ/dα:
+positive while the tooth approaches, negative as it leaves. The *edge* of a tooth is the
+falling crossing of the signal's mean level between the two lobes: it sits at the tooth's
+centre whatever the amplitude (which grows with speed), so it is the timing point of choice
+(a clipped input or a DC offset do not move it either).
+
+The detector is a comparator with hysteresis, run block by block:
+
+* per block of ``block`` samples the level L is the block mean (removes a DC offset, follows
+  a drift) and the arming threshold is L + ``hysteresis`` · RMS (follows the amplitude as
+  the speed changes);
+* the comparator arms when two consecutive samples exceed the threshold and fires at the
+  first falling crossing of L that stays below L for two samples; a one-sample spike can
+  neither arm nor fire it;
+* the crossing is placed between samples by one of :data:`METHODS`.
+
+Everything is computed on fixed blocks at absolute sample positions, so feeding a recording
+in chunks of any size (:class:`EdgeDetector`) returns exactly the edges of the in-memory call
+(:func:`detect_edges`); memory is bounded by the batch, whatever the recording's length.
+The large passes compare the stored samples (``int16`` codes stay integers) against
+per-block thresholds; only the few samples around each edge are ever converted to float.
+"""
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+import numpy as np
+
+from .diagnostics import InputError
+
+METHODS = ("linear", "cubic", "fit")
+"""Sub-sample placement of a crossing between samples:
+
+``linear``
+    the straight line through the two samples around the crossing;
+``cubic``
+    the cubic through the four samples around it (Lagrange), root by Newton's method;
+``fit``
+    the least-squares cubic through ``2·window`` samples around it, root by Newton's method:
+    averages the noise of several samples and, unlike a least-squares line, follows the
+    waveform's curvature, so it has no bias that depends on where the crossing falls
+    between samples (which would repeat tooth by tooth when the sampling locks to them).
+"""
+
+
+def _as_samples(chunk) -> np.ndarray:
+    x = np.asarray(chunk)
+    if x.ndim != 1:
+        raise InputError(f"a signal chunk must be one-dimensional, got shape {x.shape}",
+                         "pass one channel at a time")
+    if x.dtype.kind not in "iuf":
+        raise InputError(f"signal samples must be numbers, got dtype {x.dtype}",
+                         "convert the channel to integers or floats")
+    if x.dtype.kind == "f" and x.dtype.itemsize < 4:
+        x = x.astype(np.float32)
+    return x
+
+
+def _block_thresholds(x2d: np.ndarray, hysteresis: float, stride: int = 4):
+    """Per-block level (mean) and arming threshold in the samples' own dtype.
+
+    Integers compare against integer thresholds with the same result as the real ones
+    (x < L ⇔ x < ⌈L⌉, x > H ⇔ x > ⌊H⌋), so no float copy of the block is made.
+    The RMS about the mean is taken on every ``stride``-th sample (thousands per block).
+    """
+    level = x2d.mean(axis=1, dtype=np.float64)
+    sub = x2d[:, ::stride].astype(np.float64)
+    sub -= level[:, None]
+    rms = np.sqrt(np.einsum("ij,ij->i", sub, sub) / sub.shape[1])
+    high = level + hysteresis * rms
+    if x2d.dtype.kind in "iu":
+        info = np.iinfo(x2d.dtype)
+        low_cmp = np.clip(np.ceil(level), info.min, info.max).astype(x2d.dtype)
+        high_cmp = np.clip(np.floor(high), info.min, info.max).astype(x2d.dtype)
+    else:
+        low_cmp, high_cmp = level.astype(x2d.dtype), high.astype(x2d.dtype)
+    return level, low_cmp, high_cmp
+
+
+def _place(y: np.ndarray, method: str, window: int) -> np.ndarray:
+    """Crossing offset (in samples, from the window's first sample) of each row of ``y``.
+
+    ``y`` holds, per crossing, the level-removed samples from ``c - window`` to
+    ``c + window - 1`` where the signal is above the level at ``c - 1`` and below at ``c``.
+    """
+    w = window
+    y0, y1 = y[:, w - 1], y[:, w]
+    linear = (w - 1) + y0 / (y0 - y1)
+    if method == "linear":
+        return linear
+    if method == "cubic":
+        p = y[:, w - 2: w + 2]
+        s = linear - (w - 2)
+        for _ in range(3):
+            d = (s[:, None] - np.arange(4.0))
+            # Lagrange basis on nodes 0..3 and their derivatives at s
+            l0 = -d[:, 1] * d[:, 2] * d[:, 3] / 6
+            l1 = d[:, 0] * d[:, 2] * d[:, 3] / 2
+            l2 = -d[:, 0] * d[:, 1] * d[:, 3] / 2
+            l3 = d[:, 0] * d[:, 1] * d[:, 2] / 6
+            f = l0 * p[:, 0] + l1 * p[:, 1] + l2 * p[:, 2] + l3 * p[:, 3]
+            dl0 = -(d[:, 2] * d[:, 3] + d[:, 1] * d[:, 3] + d[:, 1] * d[:, 2]) / 6
+            dl1 = (d[:, 2] * d[:, 3] + d[:, 0] * d[:, 3] + d[:, 0] * d[:, 2]) / 2
+            dl2 = -(d[:, 1] * d[:, 3] + d[:, 0] * d[:, 3] + d[:, 0] * d[:, 1]) / 2
+            dl3 = (d[:, 1] * d[:, 2] + d[:, 0] * d[:, 2] + d[:, 0] * d[:, 1]) / 6
+            df = dl0 * p[:, 0] + dl1 * p[:, 1] + dl2 * p[:, 2] + dl3 * p[:, 3]
+            s = np.clip(s - f / df, 1.0, 2.0)
+        return s + (w - 2)
+    # least-squares cubic in coordinates centred between samples c-1 and c
+    x = np.arange(2 * w, dtype=np.float64) - (w - 0.5)
+    coef = y @ np.linalg.pinv(np.vander(x, 4, increasing=True)).T
+    root = (linear - (w - 0.5)).copy()
+    for _ in range(4):
+        f = coef[:, 0] + root * (coef[:, 1] + root * (coef[:, 2] + root * coef[:, 3]))
+        df = coef[:, 1] + root * (2 * coef[:, 2] + 3 * root * coef[:, 3])
+        root = np.clip(root - f / df, -0.5, 0.5)
+    return root + (w - 0.5)
+
+
+class EdgeDetector:
+    """Falling crossings of a pulse train, fed chunk by chunk.
+
+    Parameters
+    ----------
+    method : {"linear", "cubic", "fit"}
+        Sub-sample placement (:data:`METHODS`).
+    hysteresis : float
+        Arming threshold above the block mean, in units of the block's RMS. 0.5 rejects
+        noise up to an SNR of about 10 dB and arms on lobes above a quarter of the peak.
+    window : int
+        Half-width of the ``fit`` window in samples (``2·window`` samples are fitted, ≥ 2).
+    block : int
+        Samples per block over which the level and RMS are taken.
+    batch : int
+        Blocks processed per vectorised pass (bounds the temporary memory).
+
+    Examples
+    --------
+    >>> t = np.arange(4000) / 1000.0
+    >>> x = np.sin(2 * np.pi * 50 * t + np.pi)        # falling crossings at k/50 s
+    >>> det = EdgeDetector("linear", block=1000)
+    >>> edges = np.concatenate([det.feed(c) for c in np.array_split(x, 7)] + [det.finish()])
+    >>> np.round(edges[:3] / 1000.0, 6)
+    array([0.02, 0.04, 0.06])
+    """
+
+    def __init__(self, method: str = "fit", *, hysteresis: float = 0.5, window: int = 4,
+                 block: int = 2 ** 16, batch: int = 16):
+        if method not in METHODS:
+            raise InputError(f"unknown edge method {method!r}", f"use one of {', '.join(METHODS)}")
+        if not 0 < hysteresis < 3:
+            raise InputError(f"hysteresis {hysteresis!r} out of range",
+                             "give it in RMS units, between 0.1 and 1")
+        self.method, self.hysteresis, self.block, self.batch = method, hysteresis, block, batch
+        self.window = {"linear": 1, "cubic": 2, "fit": max(int(window), 2)}[method]
+        self._left = self.window + 2
+        self._right = self.window + 1
+        self._pending: list[np.ndarray] = []
+        self._pending_len = 0
+        self._tail = None              # (raw, level, below, above) of the context samples
+        self._start = 0                # absolute index of the tail's first sample
+        self._armed = False
+        self._last_thresholds = None
+
+    def feed(self, chunk) -> np.ndarray:
+        """Edges (absolute sample positions, float) confirmed by the samples so far."""
+        x = _as_samples(chunk)
+        if x.size:
+            self._pending.append(x)
+            self._pending_len += x.size
+        out = []
+        step = self.block * self.batch
+        while self._pending_len >= self.block:
+            data = self._take(min(step, self._pending_len // self.block * self.block))
+            out.append(self._process(data))
+        return np.concatenate(out) if out else np.empty(0)
+
+    def finish(self) -> np.ndarray:
+        """Edges in the last, partial block; the detector is then exhausted."""
+        data = self._take(self._pending_len)
+        edges = self._process(data, final=True) if data.size else np.empty(0)
+        self._tail = None
+        return edges
+
+    def _take(self, n: int) -> np.ndarray:
+        if not self._pending:
+            return np.empty(0)
+        data = np.concatenate(self._pending) if len(self._pending) > 1 else self._pending[0]
+        rest = data[n:]
+        self._pending = [rest] if rest.size else []
+        self._pending_len = rest.size
+        return data[:n]
+
+    def _process(self, data: np.ndarray, final: bool = False) -> np.ndarray:
+        if final:
+            x2d = data.reshape(1, -1)
+            if data.size < self.block // 8 and self._last_thresholds is not None:
+                lv, lo, hi = (np.array([v]) for v in self._last_thresholds)
+            else:
+                lv, lo, hi = _block_thresholds(x2d, self.hysteresis)
+        else:
+            x2d = data.reshape(-1, self.block)
+            lv, lo, hi = _block_thresholds(x2d, self.hysteresis)
+        self._last_thresholds = (lv[-1], lo[-1], hi[-1])
+        per = x2d.shape[1]
+        t_raw, t_lv, t_below, t_above = self._tail or (
+            np.empty(0, data.dtype), np.empty(0), np.empty(0, bool), np.empty(0, bool))
+        n_tail = t_raw.size
+        raw = np.concatenate([t_raw, data])
+        below = np.concatenate([t_below, (x2d < lo[:, None]).ravel()])
+        above = np.concatenate([t_above, (x2d > hi[:, None]).ravel()])
+
+        def levels(idx):
+            inside = idx >= n_tail
+            out = np.empty(idx.shape)
+            out[~inside] = t_lv[idx[~inside]]
+            out[inside] = lv[(idx[inside] - n_tail) // per]
+            return out
+
+        n = raw.size
+        first, stop = self._left, n - self._right
+        # a crossing at c: below the level at c and c+1, not at c-1
+        cross = np.flatnonzero(below[1:-1] & below[2:] & ~below[:-2]) + 1
+        cross = cross[(cross >= first) & (cross < stop)]
+        # arming at a: the start of a run of >= 2 samples above the threshold
+        arm = np.flatnonzero(above[2:] & above[1:-1] & ~above[:-2]) + 2
+        arm = arm[(arm >= first) & (arm < stop)]
+        after = np.searchsorted(cross, arm, side="right")
+        accepted = np.unique(cross[after[after < cross.size]])
+        if self._armed and cross.size:
+            accepted = np.union1d(accepted, cross[:1])
+        self._armed = bool((arm.size and (accepted.size == 0 or arm[-1] > accepted[-1]))
+                           or (self._armed and cross.size == 0))
+        edges = np.empty(0)
+        if accepted.size:
+            w = self.window
+            idx = accepted[:, None] + np.arange(-w, w)
+            y = raw[idx].astype(np.float64) - levels(idx)
+            edges = self._start + (accepted - w) + _place(y, self.method, w)
+        if not final:
+            t0 = n - self._left - self._right
+            self._tail = (raw[t0:].copy(), levels(np.arange(t0, n)), below[t0:].copy(),
+                          above[t0:].copy())
+            self._start += t0
+        return edges
+
+
+def detect_edges(x, method: str = "fit", **options) -> np.ndarray:
+    """Tooth edges of an in-memory signal, in samples from its first sample.
+
+    Parameters
+    ----------
+    x : array_like
+        One channel (integer ADC codes or floats).
+    method : {"linear", "cubic", "fit"}
+    **options
+        Passed to :class:`EdgeDetector` (``hysteresis``, ``window``, ``block``).
+
+    Returns
+    -------
+    numpy.ndarray
+        Edge positions in samples (divide by the sample rate for seconds).
+    """
+    det = EdgeDetector(method, **options)
+    return np.concatenate([det.feed(x), det.finish()])
+
+
+def stream_edges(chunks: Iterable, method: str = "fit", **options) -> np.ndarray:
+    """Tooth edges of a signal given as consecutive chunks (same result as in memory)."""
+    det = EdgeDetector(method, **options)
+    parts = [det.feed(c) for c in chunks]
+    return np.concatenate(parts + [det.finish()])
