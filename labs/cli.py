@@ -18,6 +18,7 @@ from processing.diagnostics import InputError
 from processing.reporting.i18n import LANGS
 from processing.reporting.render import FORMATS, to_json, to_terminal, write_reports
 
+from . import lab3_speed_irregularity
 from .registry import LABS, evaluate, lab_module
 
 EXIT_INPUT = 2
@@ -143,6 +144,15 @@ def _list(_args) -> int:
     return 0
 
 
+def _synth(args) -> int:
+    written = lab3_speed_irregularity.write_synthetic(
+        args.out, args.seed, fmt=args.format, snr_db=args.snr,
+        pitch_error_deg=args.pitch_error, sample_rate=args.sample_rate * 1e3)
+    for path in written.values():
+        print(path)
+    return 0
+
+
 def parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="dynlab", description="Reduce engine-dynamics lab "
                                 "measurements into checked, standardised reports.")
@@ -175,6 +185,16 @@ def parser() -> argparse.ArgumentParser:
     kin.add_argument("--approx", action="store_true", help="the series to λ² instead of exact")
     kin.add_argument("--format", choices=("table", "csv"), default="table")
     kin.set_defaults(func=_kinematics)
+    syn = sub.add_parser("synth", help="write a synthetic measurement with its answer key")
+    syn.add_argument("lab", choices=("lab3",))
+    syn.add_argument("--seed", type=int, default=0)
+    syn.add_argument("--out", default="synthetic", help="folder to write (default: synthetic)")
+    syn.add_argument("--format", choices=lab3_speed_irregularity.SYNTH_FORMATS, default="wav")
+    syn.add_argument("--snr", type=float, default=30.0, help="sensor SNR, dB (default 30)")
+    syn.add_argument("--pitch-error", type=float, default=0.03,
+                     help="σ of the wheel's tooth angles, degrees (default 0.03)")
+    syn.add_argument("--sample-rate", type=float, default=48.0, help="kHz (default 48)")
+    syn.set_defaults(func=_synth)
     return p
 
 

@@ -1,0 +1,750 @@
+"""Lab 3. Speed irregularity of the engine on a steady regime.
+
+The manual's chapter: a spur gear of z teeth on the crankshaft tail passes an inductive
+sensor, f = n z/60; the pulses are shaped, turned into a voltage proportional to the speed
+and recorded; δ = (ω_max − ω_min)/ω_cp over one working cycle, ω_cp = (ω_max + ω_min)/2
+= πn/30 (720° for a four-stroke engine), for two regimes 20–50 min⁻¹ apart at
+(0.6…0.8) n_nom. Typical δ: automotive engines 0.01–0.02, tractor engines 0.003–0.01.
+
+Here the sensor's own signal (or a counter's edge times) is reduced: every tooth edge is
+timed (:mod:`processing.edges`), numbered (:mod:`processing.toothwheel`), and ω(α) of every
+working cycle is found twice — tooth by tooth and by a Fourier fit of the edge times
+(:mod:`processing.angular_speed`). The student's reading of the frequency-to-voltage
+oscillogram (h_max, h_min and the mean level, scaled by the tachometer) is reduced by the
+manual's formula and compared with the signal's δ.
+
+References
+----------
+.. [1] Dynamics of internal-combustion engines: lab manual, Vladimir State University, 2003,
+       lab 3 ("Определение неравномерности хода двигателя на установившемся режиме").
+"""
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from processing.angular_speed import (CycleSpeeds, Irregularity, fit_cycles, jackknife,
+                                      order_spectrum, tooth_cycles)
+from processing.diagnostics import (GapNotFoundWarning, InconsistentInputWarning, InputError,
+                                    PitchErrorWarning, ShortRecordWarning, TeethMiscountedWarning,
+                                    UndersampledWarning, UnequalCyclesWarning, collect_notices)
+from processing.edges import METHODS as EDGE_METHODS
+from processing.edges import EdgeDetector
+from processing.measurement import Field, Inputs, LabSpec, Section, bi
+from processing.reporting.content import fmt_pm
+from processing.result import Figure, LabResult, Table, compare, flag_estimates, result_values
+from processing.signals import open_channel, read_edge_times
+from processing.toothwheel import ToothTrack, calibrate_pitch, track_teeth
+from processing.uncertainty import Measured, propagate
+
+REFERENCE_RANGES = {"automotive": (0.01, 0.02), "tractor": (0.003, 0.01)}
+"""The manual's typical δ (lab 3): automotive 0.01–0.02, tractor 0.003–0.01."""
+
+MIN_SAMPLES_PER_TOOTH = 10.0
+"""Below this the edges' sub-sample timing degrades fast (the benchmark's stability map)."""
+
+UNEQUAL_CYCLES = 0.01
+"""Spread (max − min)/mean of the cycle durations above which the regime is not steady."""
+
+PITCH_BIAS = 0.02
+"""Relative bias of the tooth-by-tooth δ from pitch errors above which a warning is given."""
+
+SPEC = LabSpec(
+    id="lab3", number="3",
+    title=bi("Speed irregularity of the engine on a steady regime",
+             "Определение неравномерности хода двигателя на установившемся режиме"),
+    goal=bi("Determine the coefficient of speed irregularity δ of the crankshaft on two steady "
+            "regimes from the speed sensor's pulses and compare it with typical values.",
+            "Экспериментально определить степень неравномерности вращения коленчатого вала δ "
+            "на двух установившихся режимах по импульсам датчика частоты вращения и сравнить "
+            "со среднестатистическими данными."),
+    sections=(
+        Section("wheel", bi("Toothed wheel and sensor", "Зубчатое колесо и датчик"), required=True,
+                fields=(
+                    Field("z", bi("number of tooth pitches (incl. missing teeth)",
+                                  "число шагов зубьев (вместе с пропущенными)"),
+                          kind="count", symbol="z", example=60),
+                    Field("missing", bi("teeth missing at the reference gap (0: none)",
+                                        "число пропущенных зубьев в метке (0 — нет метки)"),
+                          kind="count", allow_zero=True, default=0),
+                    Field("calibration", bi("record of the wheel coasting smoothly (pitch "
+                                            "calibration), a file", "запись выбега (калибровка "
+                                            "шага зубьев), файл"), kind="text", required=False),
+                    Field("calibration_channel", bi("channel of the calibration record",
+                                                    "канал записи выбега"),
+                          kind="text", required=False),
+                )),
+        Section("engine", bi("Engine", "Двигатель"), required=True, fields=(
+            Field("strokes", bi("strokes per cycle (4 or 2)", "тактность (4 или 2)"),
+                  kind="count", default=4, symbol="τ"),
+            Field("cylinders", bi("number of cylinders", "число цилиндров"), kind="count",
+                  required=False, symbol="i"),
+            Field("kind", bi("kind (for the typical range)", "тип (для сравнения)"),
+                  kind="choice", choices=tuple(REFERENCE_RANGES), required=False),
+        )),
+        Section("analysis", bi("Signal analysis", "Обработка сигнала"), fields=(
+            Field("edge_method", bi("edge timing between samples", "интерполяция фронта"),
+                  kind="choice", choices=EDGE_METHODS, default="fit"),
+            Field("orders", bi("highest order of ω(α) fitted (default: chosen from the noise)",
+                               "наибольший порядок гармоник ω(α) (по умолчанию — по шуму)"),
+                  kind="count", required=False),
+        )),
+        Section("regime", bi("Regime", "Режим"), many=True, required=True, fields=(
+            Field("signal", bi("sensor recording: CSV, WAV or HDF5 file",
+                               "запись датчика: файл CSV, WAV или HDF5"),
+                  kind="text", required=False, example="regime1.wav"),
+            Field("channel", bi("channel (column, dataset or WAV channel number)",
+                                "канал (столбец, набор данных или номер канала WAV)"),
+                  kind="text", required=False),
+            Field("tdc_channel", bi("once-per-revolution (TDC) channel, if recorded",
+                                    "канал отметки ВМТ (раз за оборот), если записан"),
+                  kind="text", required=False),
+            Field("sample_rate", bi("sample rate, if the file does not say",
+                                    "частота дискретизации, если её нет в файле"),
+                  unit="kHz", required=False, symbol="f_s"),
+            Field("edges", bi("or: tooth edge times from a counter (CSV, s)",
+                              "или: моменты фронтов от счётчика (CSV, с)"),
+                  kind="text", required=False),
+            Field("n_tach", bi("tachometer reading", "показание тахометра"), unit="rpm",
+                  limit="5 rpm", symbol="n", example=1800),
+            Field("h_max", bi("oscillogram: highest point of the speed trace",
+                              "осциллограмма: наибольшая ордината"), unit="mm",
+                  limit="0.5 mm", required=False, symbol="h_max"),
+            Field("h_min", bi("oscillogram: lowest point of the speed trace",
+                              "осциллограмма: наименьшая ордината"), unit="mm",
+                  limit="0.5 mm", required=False, symbol="h_min"),
+            Field("h_mean", bi("oscillogram: mean level (default (h_max + h_min)/2)",
+                               "осциллограмма: средний уровень (по умолчанию (h_max + h_min)/2)"),
+                  unit="mm", limit="0.5 mm", required=False, symbol="h_cp"),
+        )),
+    ),
+)
+
+
+# ------------------------------------------------------------------------ formulas
+
+def delta_oscillogram(h_max, h_min, h_mean=None):
+    """δ read off a frequency-to-voltage oscillogram, the manual's way.
+
+    .. math:: \\delta = \\frac{h_{max} - h_{min}}{h_{cp}}, \\qquad
+              h_{cp} = \\frac{h_{max} + h_{min}}{2}\\ \\text{(unless read)}
+
+    The trace's height is proportional to ω, so the scale (mm per min⁻¹, from the
+    tachometer) cancels.
+
+    Parameters
+    ----------
+    h_max, h_min : float or ndarray
+        Highest and lowest ordinates of the speed trace over a working cycle. [m]
+    h_mean : float or ndarray, optional
+        The mean level, if read; otherwise the mid-range. [m]
+
+    Returns
+    -------
+    float or ndarray
+        δ. [1]
+
+    Examples
+    --------
+    >>> round(delta_oscillogram(0.0408, 0.0400), 5)
+    0.0198
+    """
+    h_cp = (h_max + h_min) / 2 if h_mean is None else h_mean
+    return (h_max - h_min) / h_cp
+
+
+def oscillogram_scale(h_mean, n_tach):
+    """Scale of the oscillogram: mm of trace per min⁻¹ (manual, lab 3, step 6).
+
+    Parameters
+    ----------
+    h_mean : float
+        Mean level of the trace. [m]
+    n_tach : float
+        Tachometer reading. [rad/s]
+
+    Returns
+    -------
+    float
+        Scale in m per rad/s (× 1000·π/30 for mm per min⁻¹).
+    """
+    return h_mean / n_tach
+
+
+FORMULAS = [
+    bi("Tooth frequency f = n z/60; instantaneous speed over a pitch ω_k = Δθ_k/Δt_k",
+       "Частота следования зубьев f = n z/60; мгновенная скорость на шаге ω_k = Δθ_k/Δt_k"),
+    bi("Fourier fit of the edge times: t(θ) = t₀ + ∫₀^θ dφ/ω(φ), 1/ω a Fourier series in the "
+       "cycle's orders (half orders for a four-stroke engine)",
+       "Аппроксимация моментов фронтов: t(θ) = t₀ + ∫₀^θ dφ/ω(φ), 1/ω — ряд Фурье по порядкам "
+       "цикла (полупорядки для четырёхтактного двигателя)"),
+    bi("δ = (ω_max − ω_min)/ω_mean, ω_mean = cycle angle / cycle time; the manual's form "
+       "δ′ = (ω_max − ω_min)/ω_cp = (ω_max² − ω_min²)/(2ω_cp²), ω_cp = (ω_max + ω_min)/2",
+       "δ = (ω_max − ω_min)/ω_ср, ω_ср = угол цикла / время цикла; по методичке "
+       "δ′ = (ω_max − ω_min)/ω_cp = (ω_max² − ω_min²)/(2ω_cp²), ω_cp = (ω_max + ω_min)/2"),
+    bi("Oscillogram: δ = (h_max − h_min)/h_cp; scale μ = h_cp/n (mm per min⁻¹)",
+       "Осциллограмма: δ = (h_max − h_min)/h_cp; масштаб μ = h_cp/n (мм/мин⁻¹)"),
+    bi("Uncertainty of the mean cycle: jackknife over the cycles (type A, n − 1 degrees of freedom)",
+       "Неопределённость среднего цикла: метод складного ножа по циклам (тип A, n − 1 степеней свободы)"),
+]
+
+REFERENCES = [
+    bi("Dynamics of internal-combustion engines: lab manual. Vladimir State University, 2003, lab 3.",
+       "Динамика двигателей внутреннего сгорания: метод. указания к лаб. работам. Владимир: ВлГУ, 2003. Лаб. работа №3."),
+    bi("JCGM 100:2008 (GUM) and JCGM 101:2008 (Monte Carlo) for the uncertainties.",
+       "JCGM 100:2008 (GUM) и JCGM 101:2008 (Монте-Карло) — оценка неопределённости."),
+]
+
+
+# ------------------------------------------------------------------------ one regime
+
+@dataclass
+class Regime:
+    """What one recorded regime reduces to."""
+
+    number: int
+    track: ToothTrack
+    fourier: CycleSpeeds
+    tooth: CycleSpeeds
+    u_fourier: Irregularity
+    u_tooth: Irregularity
+    samples_per_tooth: float | None
+    pitch_bias: dict
+
+
+def _path(inputs: Inputs, name: str) -> Path:
+    p = Path(name)
+    return p if p.is_absolute() else Path(inputs.file).parent / p
+
+
+def _channel_key(text: str | None):
+    return int(text) if text is not None and text.strip().isdigit() else text
+
+
+def _edges_of(channel, method: str) -> np.ndarray:
+    det = EdgeDetector(method)
+    parts = [det.feed(chunk) for chunk in channel.chunks()]
+    return np.concatenate(parts + [det.finish()]) / channel.sample_rate
+
+
+def _signal_edges(inputs: Inputs, i: int, entry: dict, method: str):
+    """Edge times of a regime, its TDC marks and the samples per tooth (None for counters)."""
+    where = f"regime[{i}]"
+    if "edges" in entry:
+        return read_edge_times(_path(inputs, entry["edges"]), field=f"{where}.edges"), None, None
+    if "signal" not in entry:
+        raise inputs.error("neither a recording nor edge times are given",
+                           "add signal = \"file.wav\" (or .csv, .h5) or edges = \"edges.csv\"",
+                           where)
+    rate = entry["sample_rate"].value if "sample_rate" in entry else None
+    path = _path(inputs, entry["signal"])
+    channel = open_channel(path, channel=_channel_key(entry.get("channel")), sample_rate=rate,
+                           field=f"{where}.signal")
+    times = _edges_of(channel, method)
+    if times.size < 3:
+        raise InputError(f"no tooth pulses found in channel '{channel.name}' "
+                         f"({times.size} edges in {channel.duration:.3g} s)",
+                         "check that this is the sensor's channel and that the signal is not "
+                         "flat or pure noise", file=str(path), field=f"{where}.signal")
+    tdc = None
+    if "tdc_channel" in entry:
+        mark = open_channel(path, channel=_channel_key(entry["tdc_channel"]), sample_rate=rate,
+                            field=f"{where}.tdc_channel")
+        tdc = _edges_of(mark, method)
+    return times, tdc, channel.sample_rate * float(np.median(np.diff(times)))
+
+
+def _calibration(inputs: Inputs, method: str):
+    wheel = inputs["wheel"]
+    if "calibration" not in wheel:
+        return None
+    path = _path(inputs, wheel["calibration"])
+    channel = open_channel(path, channel=_channel_key(wheel.get("calibration_channel")),
+                           field="wheel.calibration")
+    track = track_teeth(_edges_of(channel, method), wheel["z"], wheel["missing"])
+    try:
+        return calibrate_pitch(track)
+    except InputError as exc:
+        raise InputError(exc.problem, exc.fix, file=str(path), field="wheel.calibration") from None
+
+
+def _regime(inputs: Inputs, i: int, entry: dict, calibration) -> Regime:
+    wheel, engine = inputs["wheel"], inputs["engine"]
+    analysis = inputs.sections.get("analysis", {"edge_method": "fit"})
+    revolutions = engine["strokes"] // 2
+    times, tdc, spt = _signal_edges(inputs, i, entry, analysis["edge_method"])
+    label = bi(f"regime {i + 1}", f"режим {i + 1}")
+    if spt is not None and spt < MIN_SAMPLES_PER_TOOTH:
+        warnings.warn(UndersampledWarning(
+            f"{label['en']}: {spt:.1f} samples per tooth (fewer than {MIN_SAMPLES_PER_TOOTH:.0f}): "
+            "edge times lose their sub-sample accuracy; record at a higher sample rate",
+            f"{label['ru']}: {spt:.1f} отсчётов на зуб (меньше {MIN_SAMPLES_PER_TOOTH:.0f}): "
+            "точность моментов фронтов падает; увеличьте частоту дискретизации"))
+    track = track_teeth(times, wheel["z"], wheel["missing"], reference_times=tdc)
+    _check_track(track, label)
+    angles = None if calibration is None else calibration.angles
+    options = {"revolutions": revolutions, "tooth_angles": angles}
+    try:
+        pitch_u = None if calibration is None else float(np.sqrt(np.nanmean(calibration.u ** 2)))
+        fourier = fit_cycles(track, orders=analysis.get("orders"), pitch_error=pitch_u, **options)
+        tooth = tooth_cycles(track, **options)
+    except InputError as exc:
+        raise inputs.error(exc.problem, exc.fix, f"regime[{i}]") from None
+    _check_cycles(fourier, label)
+    bias = _pitch_bias(track, fourier, tooth, calibration, analysis.get("orders"), revolutions)
+    return Regime(i + 1, track, fourier, tooth, jackknife(fourier), jackknife(tooth), spt, bias)
+
+
+def _check_track(track: ToothTrack, label) -> None:
+    if track.missing and not track.gap_found:
+        warnings.warn(GapNotFoundWarning(
+            f"{label['en']}: the {track.missing}-tooth reference gap was not found once per "
+            "revolution: check z and the number of missing teeth; revolutions are counted "
+            "from the first edge",
+            f"{label['ru']}: метка из {track.missing} пропущенных зубьев не найдена раз за оборот: "
+            "проверьте z и число пропущенных зубьев; обороты отсчитаны от первого фронта"))
+    if track.missed or track.doubled or track.bad_revolutions.size:
+        warnings.warn(TeethMiscountedWarning(
+            f"{label['en']}: {track.missed} teeth missed and {track.doubled} spurious edges "
+            f"removed; {track.bad_revolutions.size} revolutions miscounted and left out: check "
+            "the sensor gap and the signal's level",
+            f"{label['ru']}: пропущено зубьев {track.missed}, удалено ложных фронтов "
+            f"{track.doubled}; отброшено оборотов со сбитым счётом {track.bad_revolutions.size}: "
+            "проверьте зазор датчика и уровень сигнала"))
+
+
+def _check_cycles(cycles: CycleSpeeds, label) -> None:
+    if cycles.cycles < 2:
+        warnings.warn(ShortRecordWarning(
+            f"{label['en']}: only {cycles.cycles} complete working cycle: no cycle-to-cycle "
+            "statistics and no uncertainty; record at least 2 (better 20) cycles",
+            f"{label['ru']}: всего {cycles.cycles} полный рабочий цикл: нет статистики по "
+            "циклам и оценки погрешности; запишите не менее 2 (лучше 20) циклов"))
+    spread = np.ptp(cycles.duration) / cycles.duration.mean() if cycles.cycles > 1 else 0.0
+    if spread > UNEQUAL_CYCLES:
+        warnings.warn(UnequalCyclesWarning(
+            f"{label['en']}: the working cycles differ in length by {100 * spread:.1f} %: the "
+            "speed was changing, so this is not a steady regime; wait for the speed to settle",
+            f"{label['ru']}: длительности рабочих циклов различаются на {100 * spread:.1f} %: "
+            "скорость менялась, режим не установившийся; дождитесь стабилизации"))
+
+
+def _pitch_bias(track, fourier, tooth, calibration, orders, revolutions) -> dict:
+    """How much the wheel's pitch errors move δ: with a calibration, nominal versus calibrated
+    pitch; without, the tooth method versus the pitch errors that repeat every revolution."""
+    if calibration is not None:
+        nominal = {"revolutions": revolutions}
+        f0 = fit_cycles(track, orders=orders, **nominal).mean_cycle.delta
+        t0 = tooth_cycles(track, **nominal).mean_cycle.delta
+        deviation = calibration.deviation
+        return {"source": "calibration", "fourier": float(f0 / fourier.mean_cycle.delta - 1),
+                "tooth": float(t0 / tooth.mean_cycle.delta - 1),
+                "rms": float(np.sqrt(np.nanmean((deviation - np.nanmean(deviation)) ** 2)))}
+    dev = fourier.pitch_deviation
+    angles = np.arange(track.teeth) * track.pitch + np.nan_to_num(dev - dev[0])
+    corrected = tooth_cycles(track, revolutions=revolutions, tooth_angles=angles).mean_cycle.delta
+    return {"source": "repeating", "tooth": float(tooth.mean_cycle.delta / corrected - 1),
+            "rms": float(np.sqrt(np.nanmean(dev ** 2)))}
+
+
+# ------------------------------------------------------------------------ results
+
+def _result_names(r: int) -> dict:
+    return {
+        f"omega_mean_{r}": (bi(f"mean speed, regime {r} (signal)", f"средняя частота вращения, "
+                              f"режим {r} (сигнал)"), "n", "rpm"),
+        f"omega_min_{r}": (bi(f"lowest speed of the mean cycle, regime {r}",
+                              f"наименьшая частота вращения среднего цикла, режим {r}"),
+                           "n_min", "rpm"),
+        f"omega_max_{r}": (bi(f"highest speed of the mean cycle, regime {r}",
+                              f"наибольшая частота вращения среднего цикла, режим {r}"),
+                           "n_max", "rpm"),
+        f"delta_{r}": (bi(f"speed irregularity of the mean cycle, regime {r}",
+                          f"степень неравномерности среднего цикла, режим {r}"), "δ", ""),
+        f"delta_mid_{r}": (bi(f"the same relative to (ω_max + ω_min)/2, regime {r}",
+                              f"то же относительно (ω_max + ω_min)/2, режим {r}"), "δ′", ""),
+        f"delta_cycles_{r}": (bi(f"mean of the cycles' δ, regime {r}",
+                                 f"среднее δ отдельных циклов, режим {r}"), "δ̄_c", ""),
+        f"delta_tooth_{r}": (bi(f"δ tooth by tooth (mean cycle), regime {r}",
+                                f"δ по отдельным зубьям (средний цикл), режим {r}"), "δ_z", ""),
+        f"delta_osc_{r}": (bi(f"δ read off the oscillogram, regime {r}",
+                              f"δ по осциллограмме, режим {r}"), "δ_osc", ""),
+        f"omega_tach_{r}": (bi(f"tachometer, regime {r}", f"тахометр, режим {r}"), "n_t", "rpm"),
+    }
+
+
+def _jack(value, u, n) -> Measured:
+    return Measured(float(value), float(u) if np.isfinite(u) else 0.0, max(n - 1, 1))
+
+
+def _signal_inputs(reg: Regime) -> dict[str, Measured]:
+    r, f, n = reg.number, reg.fourier, reg.fourier.cycles
+    mc, u = f.mean_cycle, reg.u_fourier
+    return {f"s{r}.omega_mean": Measured.from_readings(f.cycle_angle / f.duration),
+            f"s{r}.omega_min": _jack(mc.omega_min, u.omega_min, n),
+            f"s{r}.omega_max": _jack(mc.omega_max, u.omega_max, n),
+            f"s{r}.delta": _jack(mc.delta, u.delta, n),
+            f"s{r}.delta_mid": _jack(mc.delta_mid, u.delta_mid, n),
+            f"s{r}.delta_cycles": Measured.from_readings(f.per_cycle.delta),
+            f"s{r}.delta_tooth": _jack(reg.tooth.mean_cycle.delta, reg.u_tooth.delta,
+                                       reg.tooth.cycles)}
+
+
+def _model(regimes: list[Regime], entries: list[dict]):
+    def model(**x):
+        out = {}
+        for reg, entry in zip(regimes, entries):
+            r = reg.number
+            for q in ("omega_mean", "omega_min", "omega_max", "delta", "delta_mid",
+                      "delta_cycles", "delta_tooth"):
+                out[f"{q}_{r}"] = x[f"s{r}.{q}"]
+            out[f"omega_tach_{r}"] = x[f"regime[{r - 1}].n_tach"]
+            if "h_max" in entry and "h_min" in entry:
+                mean = x.get(f"regime[{r - 1}].h_mean")
+                out[f"delta_osc_{r}"] = delta_oscillogram(x[f"regime[{r - 1}].h_max"],
+                                                          x[f"regime[{r - 1}].h_min"], mean)
+        return out
+
+    return model
+
+
+def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabResult:
+    """Reduce lab 3's recordings (and oscillogram readings) to δ of each regime.
+
+    Parameters
+    ----------
+    inputs : Inputs
+        A validated measurement file (:func:`processing.measurement.load` with :data:`SPEC`);
+        recording paths are relative to the file.
+    n_samples, seed : int
+        Monte Carlo draws and their seed.
+
+    Returns
+    -------
+    LabResult
+        Per regime r: ``omega_mean_r``, ``omega_min_r``, ``omega_max_r``, ``delta_r`` (the
+        mean cycle, Fourier fit), ``delta_mid_r``, ``delta_cycles_r``, ``delta_tooth_r``,
+        ``omega_tach_r`` and, with oscillogram readings, ``delta_osc_r``.
+    """
+    engine = inputs["engine"]
+    if engine["strokes"] not in (2, 4):
+        raise inputs.error(f"strokes = {engine['strokes']}", "write 4 (four-stroke) or 2",
+                           "engine.strokes")
+    with collect_notices() as notices:
+        method = inputs.sections.get("analysis", {"edge_method": "fit"})["edge_method"]
+        calibration = _calibration(inputs, method)
+        entries = inputs["regime"]
+        regimes = [_regime(inputs, i, e, calibration) for i, e in enumerate(entries)]
+        flat = {k: v for k, v in inputs.flat().items() if isinstance(v, Measured)}
+        for reg in regimes:
+            flat.update(_signal_inputs(reg))
+            _check_tachometer(reg, entries[reg.number - 1])
+            _check_pitch(reg)
+        prop = propagate(_model(regimes, entries), flat, n_samples=n_samples, seed=seed)
+        declared = {k: v for reg in regimes for k, v in _result_names(reg.number).items()}
+        results = result_values(prop, declared)
+        pairs = [(f"delta_{m}_{r.number}", f"delta_{r.number}") for r in regimes
+                 for m in ("tooth", "osc")]
+        comparisons = compare(prop, pairs)
+        # the tooth method is biased up by timing noise by design: only the student's
+        # oscillogram reading is flagged when it disagrees with the signal
+        flag_estimates(results, [c for c in comparisons if c.a.startswith("delta_osc")])
+    kind = engine.get("kind")
+    return LabResult.of(inputs, results, comparisons=comparisons,
+                        tables=[_regime_table(regimes, results, entries), _pitch_table(regimes)],
+                        figures=_figures(regimes, kind), formulas=FORMULAS,
+                        references=REFERENCES, warnings=notices,
+                        conclusion=_conclusion(regimes, results, kind))
+
+
+def _check_tachometer(reg: Regime, entry: dict) -> None:
+    n_t = entry["n_tach"]
+    w = float(np.mean(reg.fourier.cycle_angle / reg.fourier.duration))
+    gap = w / n_t.value - 1
+    if abs(gap) > 0.03 + 2 * n_t.u / n_t.value:
+        warnings.warn(InconsistentInputWarning(
+            f"regime {reg.number}: the signal's mean speed ({w * 30 / np.pi:.0f} min⁻¹) and the "
+            f"tachometer ({n_t.value * 30 / np.pi:.0f} min⁻¹) differ by {100 * gap:+.1f} %: "
+            "check z, the sample rate and the tachometer reading",
+            f"режим {reg.number}: средняя частота по сигналу ({w * 30 / np.pi:.0f} мин⁻¹) и по "
+            f"тахометру ({n_t.value * 30 / np.pi:.0f} мин⁻¹) различаются на {100 * gap:+.1f} %: "
+            "проверьте z, частоту дискретизации и показание тахометра"))
+
+
+def _check_pitch(reg: Regime) -> None:
+    bias = reg.pitch_bias
+    if bias["source"] == "repeating" and abs(bias["tooth"]) > PITCH_BIAS:
+        warnings.warn(PitchErrorWarning(
+            f"regime {reg.number}: the wheel's pitch errors (≈ {np.degrees(bias['rms']):.3f}° "
+            f"rms) move the tooth-by-tooth δ by {100 * bias['tooth']:+.1f} %; the Fourier δ "
+            "does not see them above its highest order, but below it they cannot be told from "
+            "the engine: calibrate the wheel on a coast-down record ([wheel] calibration)",
+            f"режим {reg.number}: погрешности шага зубьев (≈ {np.degrees(bias['rms']):.3f}° "
+            f"ср. кв.) смещают δ по зубьям на {100 * bias['tooth']:+.1f} %; δ по ряду Фурье их "
+            "не видит выше наибольшего порядка, ниже — их не отличить от двигателя: "
+            "откалибруйте колесо по записи выбега ([wheel] calibration)"))
+
+
+# ------------------------------------------------------------------------ report parts
+
+def _pm(results, name) -> str:
+    if name not in results:
+        return "—"
+    r = results[name]
+    return " ± ".join(fmt_pm(r.shown(r.value), r.shown(r.value + r.estimate.U) - r.shown(r.value)))
+
+
+def _regime_table(regimes, results, entries) -> Table:
+    rows = []
+    for reg, entry in zip(regimes, entries):
+        r = reg.number
+        row = {"regime": str(r), "cycles": f"{reg.fourier.cycles}",
+               "spt": "—" if reg.samples_per_tooth is None else f"{reg.samples_per_tooth:.1f}",
+               "n": _pm(results, f"omega_mean_{r}"), "n_t": _pm(results, f"omega_tach_{r}"),
+               "delta": _pm(results, f"delta_{r}"), "delta_c": _pm(results, f"delta_cycles_{r}"),
+               "delta_z": _pm(results, f"delta_tooth_{r}"),
+               "delta_osc": _pm(results, f"delta_osc_{r}")}
+        if "h_max" in entry and "h_min" in entry:
+            h_cp = entry["h_mean"].value if "h_mean" in entry else \
+                (entry["h_max"].value + entry["h_min"].value) / 2
+            mu = oscillogram_scale(h_cp, entry["n_tach"].value) * 1e3 * np.pi / 30
+            row["scale"] = f"{mu:.4f}"
+        else:
+            row["scale"] = "—"
+        rows.append(row)
+    cols = (("regime", bi("Regime", "Режим")), ("cycles", bi("Cycles", "Циклов")),
+            ("spt", bi("Samples per tooth", "Отсчётов на зуб")),
+            ("n_t", bi("n tachometer, min⁻¹", "n тахометр, мин⁻¹")),
+            ("n", bi("n signal, min⁻¹", "n по сигналу, мин⁻¹")),
+            ("delta", bi("δ mean cycle", "δ среднего цикла")),
+            ("delta_c", bi("δ of cycles, mean", "δ циклов, среднее")),
+            ("delta_z", bi("δ tooth by tooth", "δ по зубьям")),
+            ("delta_osc", bi("δ oscillogram", "δ по осциллограмме")),
+            ("scale", bi("μ, mm per min⁻¹", "μ, мм/мин⁻¹")))
+    return Table(bi("Speed irregularity by regime (± U, k = 2)",
+                    "Степень неравномерности по режимам (± U, k = 2)"), cols, rows)
+
+
+def _pitch_table(regimes) -> Table:
+    rows = []
+    for reg in regimes:
+        b = reg.pitch_bias
+        rows.append({"regime": str(reg.number),
+                     "source": bi("coast-down calibration", "калибровка по выбегу")
+                     if b["source"] == "calibration" else
+                     bi("errors repeating every revolution", "погрешности, повторяющиеся каждый оборот"),
+                     "rms": f"{np.degrees(b['rms']):.4f}",
+                     "fourier": f"{100 * b['fourier']:+.2f}" if "fourier" in b else "—",
+                     "tooth": f"{100 * b['tooth']:+.2f}"})
+    cols = (("regime", bi("Regime", "Режим")), ("source", bi("Pitch known from", "Шаг определён")),
+            ("rms", bi("pitch error rms, °", "ср. кв. погрешность шага, °")),
+            ("fourier", bi("bias of δ (Fourier) with equal pitches, %",
+                           "смещение δ (ряд Фурье) при равном шаге, %")),
+            ("tooth", bi("bias of δ (tooth by tooth) with equal pitches, %",
+                         "смещение δ (по зубьям) при равном шаге, %")))
+    return Table(bi("How much the wheel's tooth-pitch errors would bias δ",
+                    "Влияние погрешностей шага зубьев на δ"), cols, rows)
+
+
+def _rpm(omega):
+    return np.asarray(omega) * 30 / np.pi
+
+
+def _draw_speed(fig, regimes, lang):
+    axes = fig.subplots(len(regimes), 1, sharex=True, squeeze=False)[:, 0]
+    for ax, reg in zip(axes, regimes):
+        f = reg.fourier
+        ax.plot(np.degrees(reg.tooth.angle), _rpm(reg.tooth.speed.mean(axis=0)), ".", ms=2,
+                color="0.5", label="tooth by tooth (mean)" if lang == "en" else "по зубьям (среднее)")
+        for s in f.speed:
+            ax.plot(np.degrees(f.angle), _rpm(s), color="tab:blue", lw=0.4, alpha=0.25)
+        ax.plot(np.degrees(f.angle), _rpm(f.mean_speed), color="k", lw=1.5,
+                label="mean cycle" if lang == "en" else "средний цикл")
+        ax.set_ylabel(("n, min⁻¹ (regime {})" if lang == "en" else "n, мин⁻¹ (режим {})")
+                      .format(reg.number))
+        ax.legend(fontsize=7, loc="upper right")
+    axes[-1].set_xlabel("α from the reference tooth, °" if lang == "en"
+                        else "α от опорного зуба, °")
+
+
+def _draw_cycles(fig, regimes, kind, lang):
+    ax = fig.subplots()
+    for reg in regimes:
+        d = reg.fourier.per_cycle.delta
+        ax.plot(np.arange(1, d.size + 1), d, "o-", ms=3, lw=0.8,
+                label=("regime {}" if lang == "en" else "режим {}").format(reg.number))
+        ax.axhline(float(reg.fourier.mean_cycle.delta), lw=0.8, ls="--", color=ax.lines[-1].get_color())
+    for name, (lo, hi) in REFERENCE_RANGES.items():
+        if kind in (None, name):
+            ax.axhspan(lo, hi, alpha=0.12, color="tab:green" if name == "automotive" else "tab:orange",
+                       label={"automotive": bi("automotive 0.01–0.02", "автомобильные 0,01–0,02"),
+                              "tractor": bi("tractor 0.003–0.01", "тракторные 0,003–0,01")}[name][lang])
+    ax.set_xlabel("working cycle" if lang == "en" else "рабочий цикл")
+    ax.set_ylabel("δ")
+    ax.legend(fontsize=7)
+
+
+def _draw_orders(fig, regimes, lang):
+    ax = fig.subplots()
+    width = 0.8 / (2 * len(regimes))
+    for j, reg in enumerate(regimes):
+        t = reg.tooth
+        top = min(reg.track.teeth / 2, 12)
+        s = order_spectrum(t.angle, t.mean_speed, t.cycle_angle, max_order=top)
+        ax.bar(s.order + (j - (len(regimes) - 1) / 2) * width * 2, 100 * s.relative, width=width * 1.6,
+               label=("regime {}" if lang == "en" else "режим {}").format(reg.number))
+    ax.set_xlabel("order (harmonics per revolution)" if lang == "en"
+                  else "порядок (гармоник за оборот)")
+    ax.set_ylabel("amplitude of ω, % of ω_mean" if lang == "en" else "амплитуда ω, % от ω_ср")
+    ax.legend(fontsize=7)
+
+
+def _figures(regimes, kind) -> list[Figure]:
+    return [
+        Figure("speed", bi("ω(α) of every working cycle (thin), their mean (bold) and the "
+                           "tooth-by-tooth mean (dots)",
+                           "ω(α) каждого рабочего цикла (тонкие), их среднее (жирная) и среднее "
+                           "по зубьям (точки)"),
+               lambda fig, lang: _draw_speed(fig, regimes, lang),
+               size=(6.4, 2.6 * len(regimes))),
+        Figure("delta_cycles", bi("δ of each working cycle (dashed: the mean cycle) and the "
+                                  "manual's typical ranges",
+                                  "δ каждого рабочего цикла (штрих — средний цикл) и типичные "
+                                  "значения по методичке"),
+               lambda fig, lang: _draw_cycles(fig, regimes, kind, lang)),
+        Figure("orders", bi("Order spectrum of the mean cycle's tooth-by-tooth speed (half "
+                            "orders: four-stroke cycle; high integer orders: pitch errors)",
+                            "Порядковый спектр скорости среднего цикла по зубьям (полупорядки — "
+                            "четырёхтактный цикл; высокие целые порядки — погрешности шага)"),
+               lambda fig, lang: _draw_orders(fig, regimes, lang)),
+    ]
+
+
+def _conclusion(regimes, results, kind) -> list[dict]:
+    lines = []
+    for reg in regimes:
+        r = reg.number
+        d = results[f"delta_{r}"]
+        v, U = fmt_pm(d.value, d.estimate.U)
+        n = results[f"omega_mean_{r}"]
+        lines.append(bi(f"Regime {r}: n = {n.shown(n.value):.0f} min⁻¹, δ = {v} ± {U} "
+                        f"over {reg.fourier.cycles} working cycles",
+                        f"Режим {r}: n = {n.shown(n.value):.0f} мин⁻¹, δ = {v} ± {U} "
+                        f"по {reg.fourier.cycles} рабочим циклам"))
+        if f"delta_osc_{r}" in results:
+            o = results[f"delta_osc_{r}"]
+            lines.append(bi(f"Regime {r}: the oscillogram gives δ = {o.value:.4f} "
+                            f"({100 * (o.value / d.value - 1):+.1f} % against the signal)",
+                            f"Режим {r}: по осциллограмме δ = {o.value:.4f} "
+                            f"({100 * (o.value / d.value - 1):+.1f} % к значению по сигналу)"))
+    for name, (lo, hi) in REFERENCE_RANGES.items():
+        if kind in (None, name):
+            inside = [reg.number for reg in regimes
+                      if lo <= results[f"delta_{reg.number}"].value <= hi]
+            en = {"automotive": "automotive engines", "tractor": "tractor engines"}[name]
+            ru = {"automotive": "автомобильных двигателей", "tractor": "тракторных двигателей"}[name]
+            lines.append(bi(f"Typical δ of {en} is {lo}–{hi}: regimes within it: "
+                            f"{', '.join(map(str, inside)) or 'none'}",
+                            f"Типичное δ {ru} {lo}–{hi}: режимы в этих пределах: "
+                            f"{', '.join(map(str, inside)) or 'нет'}"))
+    return lines
+
+
+# ------------------------------------------------------------------------ synthetic files
+
+SYNTH_FORMATS = ("wav", "csv", "h5")
+
+
+def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=(1800.0, 1840.0),
+                    cycles: int = 40, snr_db: float = 30.0, pitch_error_deg: float = 0.03,
+                    sample_rate: float = 48e3, calibrate: bool = True) -> dict[str, Path]:
+    """Write a synthetic lab 3 measurement: recordings, a measurement file and the answer key.
+
+    Two regimes of the default four-cylinder engine (:class:`processing.synth.engine.Engine`)
+    at ``speeds`` (min⁻¹), seen by a 60−2 wheel with pitch errors through an inductive sensor
+    and a 16-bit sound card; a coast-down record for the pitch calibration; the oscillogram
+    readings a student would take (mean level 90 mm, read to 0.2 mm) from the true mean cycle.
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Folder to write into (created).
+    seed : int
+        Seed of everything random (engine scatter, wheel, noise, readings).
+    fmt : {"wav", "csv", "h5"}
+        Recording format.
+    speeds : sequence of float
+        Regimes' mean speeds. [min⁻¹]
+    cycles : int
+        Working cycles recorded per regime.
+    snr_db, pitch_error_deg, sample_rate : float
+        Sensor SNR [dB], σ of the wheel's tooth-angle errors [°], sample rate [Hz].
+    calibrate : bool
+        Also write the coast-down record and name it in the file.
+
+    Returns
+    -------
+    dict
+        Paths written: ``toml``, ``answer``, and the recordings.
+    """
+    import json
+
+    from processing.signals import write_csv, write_hdf5, write_wav
+    from processing.synth.engine import (Engine, Sensor, ToothWheel, coast_run, record,
+                                         run_engine)
+
+    if fmt not in SYNTH_FORMATS:
+        raise InputError(f"unknown recording format {fmt!r}", f"use one of {', '.join(SYNTH_FORMATS)}")
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    rng = np.random.default_rng([seed, 3])
+    wheel = ToothWheel(teeth=60, missing=2, pitch_error=np.radians(pitch_error_deg), seed=seed)
+    sensor = Sensor(sample_rate=sample_rate, snr_db=snr_db, spikes_per_second=0.5)
+
+    def save(name: str, rec) -> str:
+        file = f"{name}.{fmt}"
+        if fmt == "wav":
+            write_wav(out / file, rec.signal, rec.sample_rate)
+        elif fmt == "h5":
+            write_hdf5(out / file, {"tooth": rec.signal}, rec.sample_rate,
+                       volts_per_code=rec.volts_per_code)
+        else:
+            write_csv(out / file, {"u": rec.signal * rec.volts_per_code}, rec.sample_rate)
+        return file
+
+    written, regimes, answers = {}, [], []
+    for i, n in enumerate(speeds, start=1):
+        run = run_engine(Engine(mean_angular_speed=n * np.pi / 30, cycle_variation=0.02),
+                         cycles + 1, seed=seed * 100 + i)
+        rec = record(run, wheel, sensor, seed=seed * 100 + i)
+        file = save(f"regime{i}", rec)
+        written[f"regime{i}"] = out / file
+        grid = np.linspace(0, run.cycle_angle, 2881)[:-1]
+        mean_cycle = np.mean([run.speed_at_angle(c * run.cycle_angle + grid)
+                              for c in range(cycles)], axis=0)
+        h_cp = 90.0
+        h = h_cp * np.array([mean_cycle.max(), mean_cycle.min()]) / run.mean_angular_speed
+        h_read = np.round((h + rng.normal(0, 0.1, 2)) / 0.2) * 0.2
+        n_tach = round(float(run.mean_angular_speed * 30 / np.pi) + rng.normal(0, 2))
+        regimes.append(f'[[regime]]\nsignal = "{file}"\nn_tach = "{n_tach} ± 5 rpm"\n'
+                       f'h_max = "{h_read[0]:.1f} ± 0.2 mm"\nh_min = "{h_read[1]:.1f} ± 0.2 mm"\n'
+                       f'h_mean = "{h_cp:.1f} ± 0.2 mm"\n')
+        answers.append(rec.answer_key())
+    calibration = ""
+    if calibrate:
+        coast = record(coast_run(speeds[0] * np.pi / 30, 2.0), wheel, sensor, seed=seed * 100)
+        calibration = f'calibration = "{save("coast", coast)}"\n'
+        written["coast"] = out / f"coast.{fmt}"
+    toml = (f'lab = "lab3"\n[meta]\nstudent = "synthetic (dynlab synth lab3 --seed {seed})"\n'
+            f'notes = "generated; the true answers are in answer_key.json"\n\n'
+            f'[wheel]\nz = 60\nmissing = 2\n{calibration}\n'
+            f'[engine]\nstrokes = 4\ncylinders = 4\nkind = "automotive"\n\n' + "\n".join(regimes))
+    written["toml"] = out / f"lab3_seed{seed}.toml"
+    written["toml"].write_text(toml, encoding="utf-8")
+    written["answer"] = out / "answer_key.json"
+    written["answer"].write_text(json.dumps({"seed": seed, "regimes": answers}, indent=1),
+                                 encoding="utf-8")
+    return written

@@ -1,0 +1,226 @@
+"""Lab 3: δ from sensor recordings, round trips through synthetic engines, warnings, bad files.
+
+The synthetic engine (:mod:`processing.synth.engine`) knows its true δ; the lab must recover
+it within the uncertainty it states, warn where its method fails and stay silent elsewhere,
+and refuse unreadable recordings with a located message.
+"""
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from labs import lab3_speed_irregularity as lab3
+from labs.cli import main
+from labs.registry import evaluate
+from processing.signals import write_csv, write_wav
+from processing.synth.engine import Engine, Sensor, ToothWheel, record, run_engine
+
+ROOT = Path(__file__).resolve().parents[1]
+SAMPLE = ROOT / "sample_data" / "lab3" / "engine_2regimes.toml"
+FAST = {"n_samples": 2000}
+
+
+def codes(result):
+    return {w.code for w in result.warnings}
+
+
+def measurement(folder: Path, regimes: list[str], *, z=60, missing=2, extra="") -> Path:
+    """A lab 3 file naming the given [[regime]] bodies."""
+    body = "".join(f"[[regime]]\n{r}\n" for r in regimes)
+    path = folder / "m.toml"
+    path.write_text(f'lab = "lab3"\n[wheel]\nz = {z}\nmissing = {missing}\n{extra}\n'
+                    f'[engine]\nstrokes = 4\nkind = "automotive"\n\n{body}', encoding="utf-8")
+    return path
+
+
+def recording(folder: Path, name: str, *, engine=None, cycles=12, wheel=None, sensor=None,
+              seed=1):
+    """A WAV recording of a synthetic engine; returns (file name, Recording)."""
+    run = run_engine(engine or Engine(), cycles + 1, seed=seed)
+    rec = record(run, wheel or ToothWheel(60, 2), sensor or Sensor(sample_rate=50e3, snr_db=30),
+                 seed=seed)
+    write_wav(folder / name, rec.signal, rec.sample_rate)
+    return name, rec
+
+
+def rpm(rec) -> int:
+    return round(rec.run.mean_angular_speed * 30 / np.pi)
+
+
+# ----------------------------------------------------------------------------- sample data
+
+@pytest.fixture(scope="module")
+def sample():
+    return evaluate(SAMPLE, **FAST)
+
+
+def test_sample_recovers_true_delta_within_its_uncertainty(sample):
+    key = json.loads((SAMPLE.parent / "answer_key.json").read_text())
+    for r, truth in enumerate(key["regimes"], start=1):
+        d = sample[f"delta_{r}"]
+        assert abs(d.value - truth["delta"]) < d.estimate.U
+        assert abs(d.value / truth["delta"] - 1) < 0.02
+        n = sample[f"omega_mean_{r}"]
+        assert n.value == pytest.approx(truth["mean_angular_speed"], rel=2e-4)
+
+
+def test_sample_is_silent_and_within_the_automotive_range(sample):
+    assert codes(sample) == set()
+    for r in (1, 2):
+        assert 0.01 <= sample[f"delta_{r}"].value <= 0.02
+    assert any("0.01–0.02" in line["en"] for line in sample.conclusion)
+
+
+def test_oscillogram_reading_is_compared_with_the_signal(sample):
+    pair = [c for c in sample.comparisons if c.a == "delta_osc_1"][0]
+    assert pair.b == "delta_1" and pair.agree
+    assert lab3.delta_oscillogram(0.0906, 0.0890, 0.0900) == pytest.approx(0.016 / 0.9)
+    assert sample["delta_osc_1"].value == pytest.approx(lab3.delta_oscillogram(90.6, 89.0, 90.0))
+
+
+def test_the_identity_of_the_two_definitions(sample):
+    for r in (1, 2):
+        lo, hi = sample[f"omega_min_{r}"].value, sample[f"omega_max_{r}"].value
+        mid = (hi + lo) / 2
+        assert sample[f"delta_mid_{r}"].value == pytest.approx((hi ** 2 - lo ** 2) / (2 * mid ** 2))
+
+
+def test_report_has_the_figures_and_tables(sample):
+    assert [f.name for f in sample.figures] == ["speed", "delta_cycles", "orders"]
+    assert len(sample.tables) == 2
+
+
+# ----------------------------------------------------------------------------- round trips
+
+@pytest.mark.parametrize("fmt", ["csv", "h5"])
+def test_synthetic_files_in_every_format_round_trip(tmp_path, fmt):
+    written = lab3.write_synthetic(tmp_path, seed=4, fmt=fmt, cycles=15, snr_db=35)
+    key = json.loads(written["answer"].read_text())
+    result = evaluate(written["toml"], **FAST)
+    for r, truth in enumerate(key["regimes"], start=1):
+        assert result[f"delta_{r}"].value == pytest.approx(truth["delta"], rel=0.02)
+    assert "pitch_error" not in codes(result)
+
+
+def test_counter_edge_times_are_reduced_like_a_recording(tmp_path):
+    run = run_engine(Engine(), 13, seed=2)
+    rec = record(run, ToothWheel(60, 2), Sensor(sample_rate=50e3, snr_db=np.inf), seed=2)
+    np.savetxt(tmp_path / "edges.csv", rec.edge_times, header="t", comments="")
+    result = evaluate(measurement(tmp_path, [f'edges = "edges.csv"\nn_tach = {rpm(rec)}']), **FAST)
+    # exact edge times: only the orders above z/3 are missing from the fitted curve
+    assert result["delta_1"].value == pytest.approx(run.delta, rel=2e-3)
+    assert codes(result) == set()
+
+
+# ----------------------------------------------------------------------------- warnings
+
+def test_too_few_samples_per_tooth_warns(tmp_path):
+    name, rec = recording(tmp_path, "slow.wav", sensor=Sensor(sample_rate=12e3, snr_db=40))
+    result = evaluate(measurement(tmp_path, [f'signal = "{name}"\nn_tach = {rpm(rec)}']), **FAST)
+    assert "too_few_samples_per_tooth" in codes(result)
+
+
+def test_wrong_gap_warns_gap_not_found(tmp_path):
+    name, rec = recording(tmp_path, "r.wav")
+    result = evaluate(measurement(tmp_path, [f'signal = "{name}"\nn_tach = {rpm(rec)}'],
+                                  missing=1), **FAST)
+    assert "gap_not_found" in codes(result)
+
+
+def test_missed_tooth_in_counter_data_warns(tmp_path):
+    run = run_engine(Engine(), 13, seed=3)
+    rec = record(run, ToothWheel(60, 2), Sensor(sample_rate=50e3, snr_db=np.inf), seed=3)
+    edges = np.delete(rec.edge_times, 500)
+    np.savetxt(tmp_path / "edges.csv", edges, header="t", comments="")
+    result = evaluate(measurement(tmp_path, [f'edges = "edges.csv"\nn_tach = {rpm(rec)}']), **FAST)
+    assert "teeth_miscounted" in codes(result)
+    assert result["delta_1"].value == pytest.approx(run.delta, rel=2e-3)
+
+
+def test_unsteady_regime_warns_unequal_cycles(tmp_path):
+    name, rec = recording(tmp_path, "ramp.wav", engine=Engine(speed_drift=0.1))
+    result = evaluate(measurement(tmp_path, [f'signal = "{name}"\nn_tach = {rpm(rec)}']), **FAST)
+    assert "unequal_cycles" in codes(result)
+
+
+def test_record_shorter_than_two_cycles_warns(tmp_path):
+    name, rec = recording(tmp_path, "short.wav", cycles=1)
+    result = evaluate(measurement(tmp_path, [f'signal = "{name}"\nn_tach = {rpm(rec)}']), **FAST)
+    assert "short_record" in codes(result)
+
+
+def test_uncalibrated_pitch_errors_warn_and_calibration_silences(tmp_path):
+    wheel = ToothWheel(60, 2, pitch_error=np.radians(0.05), seed=7)
+    name, rec = recording(tmp_path, "r.wav", wheel=wheel, cycles=20)
+    regime = [f'signal = "{name}"\nn_tach = {rpm(rec)}']
+    plain = evaluate(measurement(tmp_path, regime), **FAST)
+    assert "pitch_error" in codes(plain)
+    from processing.synth.engine import coast_run
+    coast = record(coast_run(rec.run.mean_angular_speed, 1.5), wheel, Sensor(sample_rate=50e3),
+                   seed=8)
+    write_wav(tmp_path / "coast.wav", coast.signal, coast.sample_rate)
+    calibrated = evaluate(measurement(tmp_path, regime, extra='calibration = "coast.wav"'), **FAST)
+    assert "pitch_error" not in codes(calibrated)
+    assert calibrated["delta_1"].value == pytest.approx(rec.run.delta, rel=0.01)
+    assert abs(plain["delta_1"].value / rec.run.delta - 1) > \
+        abs(calibrated["delta_1"].value / rec.run.delta - 1)
+
+
+def test_tachometer_disagreeing_with_the_signal_warns(tmp_path):
+    name, rec = recording(tmp_path, "r.wav")
+    result = evaluate(measurement(tmp_path, [f'signal = "{name}"\nn_tach = {rpm(rec) * 1.2:.0f}']),
+                      **FAST)
+    assert "inconsistent_input" in codes(result)
+
+
+# ----------------------------------------------------------------------------- bad files
+
+def bad_run(capsys, tmp_path, regime: str):
+    path = measurement(tmp_path, [regime])
+    code = main(["run", str(path), "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert code == 2 and not (tmp_path / "out").exists()
+    assert "Traceback" not in err and "Fix:" in err
+    return err
+
+
+def test_empty_recording_is_refused(capsys, tmp_path):
+    (tmp_path / "empty.csv").write_text("")
+    err = bad_run(capsys, tmp_path, 'signal = "empty.csv"\nn_tach = 1800')
+    assert "empty.csv" in err and "regime[0].signal" in err
+
+
+def test_one_column_without_a_rate_is_refused(capsys, tmp_path):
+    (tmp_path / "one.csv").write_text("\n".join(str(v) for v in np.sin(np.arange(500))))
+    err = bad_run(capsys, tmp_path, 'signal = "one.csv"\nn_tach = 1800')
+    assert "sample" in err and "one.csv" in err
+
+
+def test_nan_in_a_recording_is_refused(capsys, tmp_path):
+    x = np.sin(np.arange(2000) / 3.0)
+    x[1234] = np.nan
+    write_csv(tmp_path / "nan.csv", {"u": x}, sample_rate=50e3)
+    err = bad_run(capsys, tmp_path, 'signal = "nan.csv"\nn_tach = 1800')
+    assert "nan" in err.lower() and "nan.csv" in err
+
+
+def test_a_flat_signal_has_no_edges(capsys, tmp_path):
+    write_wav(tmp_path / "flat.wav", np.zeros(50000, np.int16), 50e3)
+    err = bad_run(capsys, tmp_path, 'signal = "flat.wav"\nn_tach = 1800')
+    assert "no tooth pulses" in err and "flat.wav" in err
+
+
+def test_neither_signal_nor_edges_is_refused(capsys, tmp_path):
+    err = bad_run(capsys, tmp_path, "n_tach = 1800")
+    assert "regime[0]" in err and "signal" in err
+
+
+def test_synth_command_writes_a_measurement_and_its_answer(capsys, tmp_path):
+    assert main(["synth", "lab3", "--seed", "2", "--out", str(tmp_path), "--format", "csv"]) == 0
+    out = capsys.readouterr().out
+    assert "answer_key.json" in out and (tmp_path / "lab3_seed2.toml").exists()
+    a = json.loads((tmp_path / "answer_key.json").read_text())
+    b = json.loads((lambda: (lab3.write_synthetic(tmp_path / "again", 2, fmt="csv")["answer"]
+                             .read_text()))())
+    assert a == b
