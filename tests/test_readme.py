@@ -29,13 +29,36 @@ def test_readme_toml_example_is_a_valid_lab1_file(tmp_path):
     from labs import lab1_inertia
     from processing.measurement import load
 
-    toml = _blocks("toml")[0]
+    toml = next(b for b in _blocks("toml") if 'lab = "lab1"' in b)
     path = tmp_path / "example.toml"
     path.write_text(toml, encoding="utf-8")
     inputs = load(path, lab1_inertia.SPEC)
     res = lab1_inertia.reduce(inputs, n_samples=2000)
     # the sample flywheel (sample_data/lab1): true J = 0.1712 kg·m²
     assert abs(res["J_trifilar"].value - 0.1712) < res["J_trifilar"].estimate.U
+
+
+def test_readme_lab3_example_reduces_with_the_sample_recordings(tmp_path):
+    import shutil
+
+    import numpy as np
+
+    from labs.registry import evaluate
+    from processing.edges import detect_edges
+    from processing.signals import open_channel
+
+    sample = ROOT / "sample_data" / "lab3"
+    for name in ("regime1.wav", "coast.wav"):
+        shutil.copy(sample / name, tmp_path / name)
+    second = open_channel(sample / "regime2.wav")
+    edges = detect_edges(second.read()) / second.sample_rate
+    np.savetxt(tmp_path / "edges2.csv", edges, header="t", comments="")
+    path = tmp_path / "example.toml"
+    path.write_text(next(b for b in _blocks("toml") if 'lab = "lab3"' in b), encoding="utf-8")
+    res = evaluate(path, n_samples=2000)
+    truth = [0.01853, 0.01747]      # sample_data/lab3/answer_key.json
+    for r, delta in enumerate(truth, start=1):
+        assert abs(res[f"delta_{r}"].value / delta - 1) < 0.03
 
 
 def test_kinematics_example_is_what_the_command_prints(capsys):
