@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from processing.angular_speed import (CycleSpeeds, Irregularity, fit_cycles, jackknife,
-                                      order_spectrum, tooth_cycles)
+                                      order_spectrum, pitch_uncertainty, tooth_cycles)
 from processing.diagnostics import (GapNotFoundWarning, InconsistentInputWarning, InputError,
                                     PitchErrorWarning, ShortRecordWarning, TeethMiscountedWarning,
                                     UndersampledWarning, UnequalCyclesWarning, collect_notices)
@@ -334,19 +334,23 @@ def _check_cycles(cycles: CycleSpeeds, label) -> None:
 
 def _pitch_bias(track, fourier, tooth, calibration, orders, revolutions) -> dict:
     """How much the wheel's pitch errors move δ: with a calibration, nominal versus calibrated
-    pitch; without, the tooth method versus the pitch errors that repeat every revolution."""
+    pitch; without, the tooth method versus the pitch errors that repeat every revolution.
+    ``u`` is the standard uncertainty of δ from the pitch errors left in the kept orders
+    (the calibration's own scatter, or the estimated errors of an uncalibrated wheel)."""
     if calibration is not None:
         nominal = {"revolutions": revolutions}
         f0 = fit_cycles(track, orders=orders, **nominal).mean_cycle.delta
         t0 = tooth_cycles(track, **nominal).mean_cycle.delta
         deviation = calibration.deviation
-        return {"source": "calibration", "fourier": float(f0 / fourier.mean_cycle.delta - 1),
+        return {"source": "calibration", "u": pitch_uncertainty(fourier, track.teeth),
+                "fourier": float(f0 / fourier.mean_cycle.delta - 1),
                 "tooth": float(t0 / tooth.mean_cycle.delta - 1),
                 "rms": float(np.sqrt(np.nanmean((deviation - np.nanmean(deviation)) ** 2)))}
     dev = fourier.pitch_deviation
     angles = np.arange(track.teeth) * track.pitch + np.nan_to_num(dev - dev[0])
     corrected = tooth_cycles(track, revolutions=revolutions, tooth_angles=angles).mean_cycle.delta
-    return {"source": "repeating", "tooth": float(tooth.mean_cycle.delta / corrected - 1),
+    return {"source": "repeating", "u": pitch_uncertainty(fourier, track.teeth),
+            "tooth": float(tooth.mean_cycle.delta / corrected - 1),
             "rms": float(np.sqrt(np.nanmean(dev ** 2)))}
 
 
@@ -376,8 +380,9 @@ def _result_names(r: int) -> dict:
     }
 
 
-def _jack(value, u, n) -> Measured:
-    return Measured(float(value), float(u) if np.isfinite(u) else 0.0, max(n - 1, 1))
+def _jack(value, u, n, u_b: float = 0.0) -> Measured:
+    """A mean-cycle quantity: jackknife u over the cycles (type A), plus a type B part."""
+    return Measured(float(value), float(u) if np.isfinite(u) else 0.0, max(n - 1, 1), u_b=u_b)
 
 
 def _signal_inputs(reg: Regime) -> dict[str, Measured]:
@@ -386,8 +391,8 @@ def _signal_inputs(reg: Regime) -> dict[str, Measured]:
     return {f"s{r}.omega_mean": Measured.from_readings(f.cycle_angle / f.duration),
             f"s{r}.omega_min": _jack(mc.omega_min, u.omega_min, n),
             f"s{r}.omega_max": _jack(mc.omega_max, u.omega_max, n),
-            f"s{r}.delta": _jack(mc.delta, u.delta, n),
-            f"s{r}.delta_mid": _jack(mc.delta_mid, u.delta_mid, n),
+            f"s{r}.delta": _jack(mc.delta, u.delta, n, reg.pitch_bias["u"]),
+            f"s{r}.delta_mid": _jack(mc.delta_mid, u.delta_mid, n, reg.pitch_bias["u"]),
             f"s{r}.delta_cycles": Measured.from_readings(f.per_cycle.delta),
             f"s{r}.delta_tooth": _jack(reg.tooth.mean_cycle.delta, reg.u_tooth.delta,
                                        reg.tooth.cycles)}
@@ -538,13 +543,15 @@ def _pitch_table(regimes) -> Table:
                      bi("errors repeating every revolution", "погрешности, повторяющиеся каждый оборот"),
                      "rms": f"{np.degrees(b['rms']):.4f}",
                      "fourier": f"{100 * b['fourier']:+.2f}" if "fourier" in b else "—",
-                     "tooth": f"{100 * b['tooth']:+.2f}"})
+                     "tooth": f"{100 * b['tooth']:+.2f}",
+                     "u": f"{100 * b['u'] / reg.fourier.mean_cycle.delta:.2f}"})
     cols = (("regime", bi("Regime", "Режим")), ("source", bi("Pitch known from", "Шаг определён")),
             ("rms", bi("pitch error rms, °", "ср. кв. погрешность шага, °")),
             ("fourier", bi("bias of δ (Fourier) with equal pitches, %",
                            "смещение δ (ряд Фурье) при равном шаге, %")),
             ("tooth", bi("bias of δ (tooth by tooth) with equal pitches, %",
-                         "смещение δ (по зубьям) при равном шаге, %")))
+                         "смещение δ (по зубьям) при равном шаге, %")),
+            ("u", bi("u(δ) from the pitch left, %", "u(δ) от остаточной погрешности шага, %")))
     return Table(bi("How much the wheel's tooth-pitch errors would bias δ",
                     "Влияние погрешностей шага зубьев на δ"), cols, rows)
 
