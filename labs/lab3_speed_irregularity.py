@@ -380,9 +380,10 @@ def _result_names(r: int) -> dict:
     }
 
 
-def _jack(value, u, n, u_b: float = 0.0) -> Measured:
-    """A mean-cycle quantity: jackknife u over the cycles (type A), plus a type B part."""
-    return Measured(float(value), float(u) if np.isfinite(u) else 0.0, max(n - 1, 1), u_b=u_b)
+def _jack(value, u, n, u_b: float = 0.0, limit: float = 0.0) -> Measured:
+    """A mean-cycle quantity: jackknife u over the cycles (type A), plus type B parts."""
+    return Measured(float(value), float(u) if np.isfinite(u) else 0.0, max(n - 1, 1),
+                    limit=limit, u_b=u_b)
 
 
 def _signal_inputs(reg: Regime) -> dict[str, Measured]:
@@ -391,8 +392,9 @@ def _signal_inputs(reg: Regime) -> dict[str, Measured]:
     return {f"s{r}.omega_mean": Measured.from_readings(f.cycle_angle / f.duration),
             f"s{r}.omega_min": _jack(mc.omega_min, u.omega_min, n),
             f"s{r}.omega_max": _jack(mc.omega_max, u.omega_max, n),
-            f"s{r}.delta": _jack(mc.delta, u.delta, n, reg.pitch_bias["u"]),
-            f"s{r}.delta_mid": _jack(mc.delta_mid, u.delta_mid, n, reg.pitch_bias["u"]),
+            f"s{r}.delta": _jack(mc.delta, u.delta, n, reg.pitch_bias["u"], f.selection),
+            f"s{r}.delta_mid": _jack(mc.delta_mid, u.delta_mid, n, reg.pitch_bias["u"],
+                                     f.selection),
             f"s{r}.delta_cycles": Measured.from_readings(f.per_cycle.delta),
             f"s{r}.delta_tooth": _jack(reg.tooth.mean_cycle.delta, reg.u_tooth.delta,
                                        reg.tooth.cycles)}

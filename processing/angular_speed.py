@@ -98,6 +98,10 @@ class CycleSpeeds(Record):
     unmodelled pitch error; 0 for the tooth method). [rad]"""
     orders: np.ndarray | None = None
     """Orders (per revolution) of the harmonics in the fitted curves. [1]"""
+    selection: float = 0.0
+    """How much the mean cycle's δ would change if every harmonic above the noise (χ² >
+    ``lenient``) were kept, the stray high ones too: the choice of harmonics' share of the
+    uncertainty (a limit, rectangular). [1]"""
     pitch_error: float = 0.0
     """σ of the tooth-angle errors counted when choosing the harmonics (estimated, or 0 for
     a calibrated wheel). [rad]"""
@@ -161,7 +165,8 @@ def _check_cycles(table, skipped):
 
 def fit_cycles(track: ToothTrack, *, revolutions: int = 2, orders: float | None = None,
                tooth_angles=None, pitch_error: float | None = None, points: int = 1440,
-               significance: float = 6.0, shrink: float = 2.0) -> CycleSpeeds:
+               significance: float | None = None, lenient: float = 2.0,
+               shrink: float = 2.0) -> CycleSpeeds:
     """ω(α) of every complete cycle by a least-squares Fourier fit of the edge times.
 
     Parameters
@@ -182,9 +187,14 @@ def fit_cycles(track: ToothTrack, *, revolutions: int = 2, orders: float | None 
         repeats every revolution.
     points : int
         Angles per cycle at which ω is returned.
-    significance : float
+    significance : float, optional
         χ²₂ threshold a harmonic of the mean cycle must exceed to be kept when ``orders``
-        is not given (6: a pure-noise harmonic passes one time in twenty).
+        is not given. Default 2 ln(H/0.05) for H harmonics tested (Bonferroni): a record of
+        pure noise lets a harmonic through one time in twenty, whatever H; a single stray
+        high order would spoil max − min.
+    lenient : float
+        χ²₂ a harmonic below the highest significant one must exceed to be kept (2: the
+        mean χ² of pure noise).
     shrink : float
         Each kept harmonic is scaled by 1 − shrink/χ² (2: the expected χ² of pure noise, so
         that the harmonic's power is estimated without the noise's share).
@@ -205,10 +215,11 @@ def fit_cycles(track: ToothTrack, *, revolutions: int = 2, orders: float | None 
     squares solve fits all cycles at once; ω_mean = 1/c₀ is exactly the cycle angle over the
     cycle duration. The residuals give the edge-timing noise σ, hence the covariance
     σ²(AᵀA)⁻¹/n of the mean cycle's coefficients; a harmonic is kept when
-    a²/var(a) + b²/var(b) exceeds ``significance`` and is shrunk by 1 − ``shrink``/χ².
-    Dropping and shrinking what is noise keeps max − min of the fitted curve from being
-    inflated by noise; dropping too much would flatten it (the benchmark's stability map
-    shows the balance).
+    χ² = a²/var(a) + b²/var(b) exceeds ``lenient`` and its order is at most the highest
+    order whose χ² exceeds ``significance``; it is shrunk by 1 − ``shrink``/χ². Dropping and
+    shrinking what is noise keeps max − min of the fitted curve from being inflated by noise,
+    and the strict test on the band's top keeps out a stray high order; dropping real small
+    harmonics flattens the curve a little (the benchmark's stability map shows the balance).
 
     Pitch errors of an uncalibrated wheel repeat every revolution, so no averaging removes
     them from the whole orders. Independent tooth errors of σ put into order k of the speed
@@ -244,13 +255,18 @@ def fit_cycles(track: ToothTrack, *, revolutions: int = 2, orders: float | None 
     angle = np.arange(points) * phi / points
     keep = np.ones(k.size, bool)
     gain = np.ones(k.size)
+    selection = 0.0
     if orders is None:
         var = sigma2 * np.diag(np.linalg.pinv(design.T @ design)) / n_cycles
         var_pitch = 2 * k ** 2 * pitch_error ** 2 / track.teeth * np.mean(c0) ** 2
         chi2 = (a.mean(axis=1) ** 2 / (var[2: 2 + k.size] + var_pitch)
                 + b.mean(axis=1) ** 2 / (var[2 + k.size:] + var_pitch))
-        keep = chi2 > significance
+        strict = chi2 > (2 * np.log(k.size / 0.05) if significance is None else significance)
+        band = k <= k[strict].max() if strict.any() else np.zeros(k.size, bool)
+        keep = band & (chi2 > lenient)
         gain = np.clip(1 - shrink / chi2, 0, 1)
+        selection = abs(_mean_delta(c0, a, b, k, gain * (chi2 > lenient), angle, omega)
+                        - _mean_delta(c0, a, b, k, gain * keep, angle, omega))
     ka = np.outer(k[keep], angle)
     g = gain[keep][:, None]
     u = c0[:, None] + (g * a[keep]).T @ np.cos(ka) + (g * b[keep]).T @ np.sin(ka)
@@ -260,8 +276,15 @@ def fit_cycles(track: ToothTrack, *, revolutions: int = 2, orders: float | None 
                        per_cycle=irregularity(speed, 1 / c0),
                        mean_cycle=irregularity(speed.mean(axis=0), omega),
                        skipped=skipped, residual=float(np.sqrt(sigma2) * omega),
-                       orders=k[keep].copy(), pitch_deviation=deviation,
+                       orders=k[keep].copy(), selection=selection, pitch_deviation=deviation,
                        pitch_error=float(pitch_error))
+
+
+def _mean_delta(c0, a, b, k, gain, angle, omega) -> float:
+    """δ of the curve 1/u from the cycles' mean coefficients, harmonics weighted by ``gain``."""
+    ka = np.outer(k, angle)
+    u = np.mean(c0) + (gain * a.mean(axis=1)) @ np.cos(ka) + (gain * b.mean(axis=1)) @ np.sin(ka)
+    return float(irregularity(1 / u, omega).delta)
 
 
 def _pitch_error(deviation, noise_var, teeth, top_order) -> float:
