@@ -1,0 +1,193 @@
+"""The benchmark harness on a toy family (rows, CSV, charts, targets), and the pulse-train
+families on small cases: a δ within the target, edges matched to the truth, and streamed
+edges equal to in-memory ones. Timings are never asserted here (ARCHITECTURE.md, Benchmarks).
+"""
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+from numpy.testing import assert_allclose
+
+from processing.bench import speed
+from processing.bench.__main__ import parse_args
+from processing.bench.harness import (
+    Case,
+    Family,
+    MapAxes,
+    Method,
+    Target,
+    peak_memory,
+    plot_error_time,
+    plot_map,
+    plot_time_size,
+    run_family,
+    summary,
+    time_call,
+    write_rows,
+    write_targets,
+)
+from processing.synth.engine import ToothWheel, record
+from processing.toothwheel import track_teeth
+
+PNG = b"\x89PNG\r\n\x1a\n"
+
+
+def _broken(x):
+    raise ArithmeticError("the toy method gives up")
+
+
+def _toy_family():
+    """Where is a constant in noise: mean, median, and a method that always fails."""
+    return Family("toy", [Method("mean", np.mean), Method("median", np.median, "plain"),
+                          Method("broken", _broken)],
+                  error=lambda estimate, truth: {"error": estimate / truth - 1},
+                  error_label="relative error", failures=(ArithmeticError,))
+
+
+def _toy_cases():
+    for n in (100, 1000, 10000):
+        for noise in (0.01, 0.1):
+            x = 1.0 + noise * np.random.default_rng(n).standard_normal(n)
+            yield Case({"noise": noise, "length": n}, x, 1.0, n)
+
+
+@pytest.fixture(scope="module")
+def toy_rows():
+    return run_family(_toy_family(), _toy_cases(), repeat=2, memory=True)
+
+
+# ----------------------------------------------------------------------------- the harness
+
+def test_rows_one_per_case_and_method(toy_rows):
+    assert len(toy_rows) == 6 * 3
+    first = toy_rows[0]
+    assert {"family", "method", "setting", "noise", "length", "samples", "seconds",
+            "samples_per_second", "error", "failed", "warnings", "peak_bytes"} <= set(first)
+    ok = [r for r in toy_rows if r["method"] != "broken"]
+    assert all(r["seconds"] > 0 and r["failed"] == "" for r in ok)
+    assert all(abs(r["error"]) < 0.05 for r in ok), "the mean of 1 + noise is near 1"
+    broken = [r for r in toy_rows if r["method"] == "broken"]
+    assert all(np.isnan(r["error"]) and r["failed"].startswith("ArithmeticError")
+               for r in broken)
+
+
+def test_csv_columns_and_summary(toy_rows, tmp_path):
+    frame = write_rows(toy_rows, tmp_path / "out" / "bench.csv")
+    back = pd.read_csv(tmp_path / "out" / "bench.csv")
+    assert list(back.columns) == list(frame.columns)
+    assert list(back.columns[:5]) == ["family", "method", "setting", "noise", "length"]
+    table = summary(frame).set_index("method")
+    assert table.loc["broken", "failed"] == 6 and table.loc["broken", "worst|err|"] == np.inf
+    assert table.loc["mean", "cases"] == 6 and table.loc["mean", "worst|err|"] < 0.05
+
+
+def test_charts_are_written(toy_rows, tmp_path):
+    frame = pd.DataFrame(toy_rows)
+    plot_error_time(frame, tmp_path / "error.png", {"toy": "relative error"})
+    plot_time_size(frame, tmp_path / "size.png", family="toy", target_rate=1e6)
+    plot_map(frame, tmp_path / "map.png",
+             MapAxes(x="length", y="noise", column="family"), threshold=0.01)
+    for name in ("error.png", "size.png", "map.png"):
+        assert (tmp_path / name).read_bytes().startswith(PNG), name
+
+
+def test_time_call_stops_at_its_budget():
+    calls = []
+    seconds, result = time_call(calls.append, 1, repeat=3, budget=10.0)
+    assert len(calls) == 3 and result is None and seconds >= 0
+    time_call(calls.append, 1, repeat=3, budget=0.0)
+    assert len(calls) == 4, "a zero budget times a single run"
+
+
+def test_peak_memory_sees_numpy_arrays():
+    peak, result = peak_memory(lambda n: np.ones(n).sum(), 10 ** 6)
+    assert result == 10 ** 6 and peak >= 8 * 10 ** 6
+
+
+def test_targets_pass_fail_and_json(tmp_path):
+    found = [Target("speed", 60.0, 50.0, "min", "MS/s"), Target("error", 0.02, 0.01),
+             Target("nothing measured", np.nan, 1.0)]
+    assert [t.passed for t in found] == [True, False, False]
+    assert found[0].line().startswith("PASS  speed: 60") and found[1].line().startswith("FAIL")
+    write_targets(found, tmp_path / "targets.json", {"cpus": 2})
+    saved = json.loads((tmp_path / "targets.json").read_text())
+    assert [t["passed"] for t in saved["targets"]] == [True, False, False]
+    assert saved["targets"][2]["value"] is None and saved["environment"] == {"cpus": 2}
+
+
+def test_command_line():
+    args = parse_args(["--quick", "--out", "here", "--large", "1e9"])
+    assert args.quick and str(args.out) == "here" and args.large == 10 ** 9
+    assert parse_args([]).large is None and str(parse_args([]).out) == "bench-results"
+    with pytest.raises(SystemExit):
+        parse_args(["--large", "0.5"])
+    with pytest.raises(SystemExit) as done:
+        parse_args(["--help"])
+    assert done.value.code == 0
+
+
+# ----------------------------------------------------------------------------- the families
+
+@pytest.fixture(scope="module")
+def clean_case():
+    """60−2 wheel, about 20 samples per tooth, SNR 40 dB: inside the target region."""
+    return speed.pulse_recording(60, 20, 40.0, seed=1)
+
+
+def test_sample_rate_gives_a_golden_fraction_per_cycle():
+    run = speed.engine_run()
+    rate = speed.sample_rate(run, 60, 20)
+    per_cycle = rate * 4 * np.pi / run.mean_angular_speed
+    assert_allclose(per_cycle, 2400 + speed.GOLDEN, rtol=1e-12,
+                    err_msg="2 revolutions × 60 pitches × 20 samples, plus 0.618…")
+
+
+def test_fourier_delta_within_target(clean_case):
+    rows = run_family(speed.delta_family(methods=["fourier"]),
+                      speed.delta_cases([(20, clean_case)]), repeat=1)
+    (row,) = rows
+    assert row["failed"] == "" and np.isfinite(row["error"])
+    # the benchmark's target: 1 % of δ in this region
+    assert abs(row["error"]) < speed.DELTA_TOLERANCE, row
+
+
+def test_edge_errors_count_misses_and_extras():
+    true = np.arange(10, 200, 10.0)
+    detected = np.concatenate([true[:5] + 0.1, true[6:] - 0.1, [205.0]])
+    err = speed.edge_errors(detected, speed.EdgeTruth(true, 220))
+    assert err["missed"] == 1 and err["extra"] == 1
+    assert_allclose(err["error"], 0.1, rtol=1e-9, err_msg="RMS of ±0.1 samples")
+    assert_allclose(err["bias"], 0.1 * (5 - 13) / 18, rtol=1e-9)
+
+
+def test_fit_edges_match_the_true_edges(clean_case):
+    (row,) = run_family(speed.edge_family(), speed.edge_cases([(20, clean_case)]),
+                        repeat=1)[-1:]
+    assert row["setting"] == "window=4"
+    assert row["missed"] == 0 and row["extra"] == 0
+    assert row["error"] < 0.05, "SNR 40 dB: a few hundredths of a sample"
+
+
+def test_spline_baseline_dips_at_the_gap(clean_case):
+    run = clean_case.run
+    gap = track_teeth(clean_case.edge_times, 60, 2)
+    # the gap's interval spans 3 pitches and is taken for one: ω/3 there, δ ≈ 2/3
+    assert speed.spline_delta(gap, smoothing=0).min() > 0.5
+    plain = record(run, ToothWheel(60), clean_case.sensor)
+    delta = speed.spline_delta(track_teeth(plain.edge_times, 60), smoothing=0)
+    assert_allclose(delta.mean(), run.delta, rtol=0.01,
+                    err_msg="true edges of a plain wheel: the interpolating spline is right")
+
+
+def test_streamed_edges_equal_in_memory(tmp_path):
+    cases = speed.throughput_cases([300_000], tmp_path)
+    case = next(cases)
+    assert case.data.path.exists()
+    rows = run_family(speed.throughput_family(), [case], repeat=1, memory=True)
+    assert [r["edges_equal"] for r in rows] == [True] * 3
+    assert all(r["edges"] > 400 for r in rows)
+    streamed = rows[2]
+    assert streamed["method"] == "streaming" and streamed["peak_bytes"] > 0
+    assert np.isfinite(rows[1]["error"]) and np.isnan(rows[0]["error"]), "δ only for edges → δ"
+    assert list(cases) == [] and not case.data.path.exists(), "the file is deleted"
