@@ -43,7 +43,7 @@ from processing.uncertainty import Measured, propagate
 REFERENCE_RANGES = {"automotive": (0.01, 0.02), "tractor": (0.003, 0.01)}
 """The manual's typical δ (lab 3): automotive 0.01–0.02, tractor 0.003–0.01."""
 
-MIN_SAMPLES_PER_TOOTH = 10.0
+MIN_SAMPLES_PER_TOOTH = 12.0
 """Below this the edges' sub-sample timing degrades fast (the benchmark's stability map)."""
 
 UNEQUAL_CYCLES = 0.01

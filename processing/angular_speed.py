@@ -165,7 +165,7 @@ def _check_cycles(table, skipped):
 
 def fit_cycles(track: ToothTrack, *, revolutions: int = 2, orders: float | None = None,
                tooth_angles=None, pitch_error: float | None = None, points: int = 1440,
-               significance: float | None = None, lenient: float = 2.0,
+               significance: float | None = None, lenient: float = 4.0,
                shrink: float = 2.0) -> CycleSpeeds:
     """ω(α) of every complete cycle by a least-squares Fourier fit of the edge times.
 
@@ -193,8 +193,8 @@ def fit_cycles(track: ToothTrack, *, revolutions: int = 2, orders: float | None 
         pure noise lets a harmonic through one time in twenty, whatever H; a single stray
         high order would spoil max − min.
     lenient : float
-        χ²₂ a harmonic below the highest significant one must exceed to be kept (2: the
-        mean χ² of pure noise).
+        χ²₂ a harmonic below the highest significant one must exceed to be kept (4: twice
+        the mean χ² of pure noise; one noise harmonic in seven passes).
     shrink : float
         Each kept harmonic is scaled by 1 − shrink/χ² (2: the expected χ² of pure noise, so
         that the harmonic's power is estimated without the noise's share).
