@@ -9,6 +9,7 @@ Tolerances: δ and speeds relative.
 
 import numpy as np
 import pytest
+from conftest import HARMONICS, OMEGA0, omega, times_at  # the shared ideal engine
 from numpy.testing import assert_allclose
 
 from processing.angular_speed import (
@@ -33,28 +34,6 @@ from processing.synth.engine import (
 from processing.toothwheel import calibrate_pitch, track_teeth
 
 PHI = 4 * np.pi           # four-stroke cycle
-OMEGA0 = 60 * np.pi       # 1800 min⁻¹
-HARMONICS = ((0.5, 0.003, 0.4), (2.0, 0.008, 1.1), (4.0, 0.0025, -0.7))  # order, rel. amp, phase
-_NODES, _WEIGHTS = np.polynomial.legendre.leggauss(8)
-
-
-def omega(theta):
-    """A four-stroke engine's speed with orders 0.5, 2 and 4 (δ ≈ 0.022). [rad/s]"""
-    return OMEGA0 * (1 + sum(a * np.cos(k * theta + p) for k, a, p in HARMONICS))
-
-
-def times_at(angles, theta0=0.0):
-    """t(θ) = ∫_{θ0}^{θ} dθ/ω at the given angles: Gauss–Legendre on a grid of ≤ 0.5° steps
-    through them (exact to rounding for this smooth ω). [s]"""
-    angles = np.asarray(angles, dtype=float)
-    nodes = np.union1d(np.arange(theta0, angles.max(), np.radians(0.5)), angles)
-    nodes = np.union1d([theta0], nodes)
-    half = np.diff(nodes) / 2
-    theta = (nodes[1:] + nodes[:-1])[:, None] / 2 + half[:, None] * _NODES
-    t = np.concatenate([[0.0], np.cumsum(half * (_WEIGHTS / omega(theta)).sum(axis=1))])
-    return t[np.searchsorted(nodes, angles)]
-
-
 def wheel_angles(teeth, missing, revolutions, *, first=0):
     """Angles of the present teeth of a wheel with tooth 0 at θ = 0, from edge ``first``."""
     tooth = np.arange(teeth - missing)
