@@ -32,7 +32,7 @@ from processing.diagnostics import (GapNotFoundWarning, InconsistentInputWarning
                                     PitchErrorWarning, ShortRecordWarning, TeethMiscountedWarning,
                                     UndersampledWarning, UnequalCyclesWarning, collect_notices)
 from processing.edges import METHODS as EDGE_METHODS
-from processing.edges import EdgeDetector
+from processing.edges import stream_edges
 from processing.measurement import Field, Inputs, LabSpec, Section, bi
 from processing.reporting.content import fmt_pm
 from processing.result import Figure, LabResult, Table, compare, flag_estimates, result_values
@@ -225,9 +225,8 @@ def _channel_key(text: str | None):
 
 
 def _edges_of(channel, method: str) -> np.ndarray:
-    det = EdgeDetector(method)
-    parts = [det.feed(chunk) for chunk in channel.chunks()]
-    return np.concatenate(parts + [det.finish()]) / channel.sample_rate
+    """Edge times of a channel, streamed chunk by chunk. [s]"""
+    return stream_edges(channel.chunks(), method) / channel.sample_rate
 
 
 def _signal_edges(inputs: Inputs, i: int, entry: dict, method: str):

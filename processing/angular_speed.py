@@ -267,10 +267,8 @@ def fit_cycles(track: ToothTrack, *, revolutions: int = 2, orders: float | None 
         gain = np.clip(1 - shrink / chi2, 0, 1)
         selection = abs(_mean_delta(c0, a, b, k, gain * (chi2 > lenient), angle, omega)
                         - _mean_delta(c0, a, b, k, gain * keep, angle, omega))
-    ka = np.outer(k[keep], angle)
     g = gain[keep][:, None]
-    u = c0[:, None] + (g * a[keep]).T @ np.cos(ka) + (g * b[keep]).T @ np.sin(ka)
-    speed = 1 / u
+    speed = 1 / (c0[:, None] + _harmonics((g * a[keep]).T, (g * b[keep]).T, k[keep], angle))
     return CycleSpeeds(method="fourier", cycle_angle=phi, angle=angle, speed=speed,
                        start_time=table[:, 0], duration=duration,
                        per_cycle=irregularity(speed, 1 / c0),
@@ -282,9 +280,14 @@ def fit_cycles(track: ToothTrack, *, revolutions: int = 2, orders: float | None 
 
 def _mean_delta(c0, a, b, k, gain, angle, omega) -> float:
     """δ of the curve 1/u from the cycles' mean coefficients, harmonics weighted by ``gain``."""
-    ka = np.outer(k, angle)
-    u = np.mean(c0) + (gain * a.mean(axis=1)) @ np.cos(ka) + (gain * b.mean(axis=1)) @ np.sin(ka)
+    u = np.mean(c0) + _harmonics(gain * a.mean(axis=1), gain * b.mean(axis=1), k, angle)
     return float(irregularity(1 / u, omega).delta)
+
+
+def _harmonics(a, b, k, angle) -> np.ndarray:
+    """Σ a_m cos k_mα + b_m sin k_mα at ``angle``; rows of ``a``, ``b`` are separate curves."""
+    ka = np.outer(k, angle)
+    return a @ np.cos(ka) + b @ np.sin(ka)
 
 
 def _pitch_error(deviation, noise_var, teeth, top_order) -> float:
@@ -330,9 +333,7 @@ def pitch_uncertainty(cycles: CycleSpeeds, teeth: int, *, draws: int = 400,
     rng = np.random.default_rng(seed)
     sd = np.sqrt(2 / teeth) * whole * cycles.pitch_error
     ca, sa = (rng.standard_normal((draws, whole.size)) * sd for _ in range(2))
-    ka = np.outer(whole, cycles.angle)
-    pattern = ca @ np.cos(ka) + sa @ np.sin(ka)
-    speed = cycles.mean_speed * (1 + pattern)
+    speed = cycles.mean_speed * (1 + _harmonics(ca, sa, whole, cycles.angle))
     delta = irregularity(speed, cycles.mean_cycle.omega_mean).delta
     return float(np.std(delta, ddof=1))
 

@@ -263,8 +263,7 @@ def detect_edges(x, method: str = "fit", **options) -> np.ndarray:
     numpy.ndarray
         Edge positions in samples (divide by the sample rate for seconds).
     """
-    det = EdgeDetector(method, **options)
-    return np.concatenate([det.feed(x), det.finish()])
+    return stream_edges([x], method, **options)
 
 
 def stream_edges(chunks: Iterable, method: str = "fit", **options) -> np.ndarray:
