@@ -12,7 +12,13 @@ import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
 from processing.diagnostics import InputError
-from processing.edges import METHODS, EdgeDetector, detect_edges, stream_edges
+from processing.edges import (
+    METHODS,
+    EdgeDetector,
+    detect_edges,
+    fit_window,
+    stream_edges,
+)
 from processing.synth.engine import (
     Engine,
     Sensor,
@@ -87,6 +93,23 @@ def test_fit_beats_linear_in_noise(run, noisy):
         assert rms[method] < 0.3, f"{method}: RMS {rms[method]:.3f} samples"
         assert abs(np.mean(error)) < 0.03, f"{method}: unbiased"
     assert rms["fit"] < 0.85 * rms["linear"], f"fitting averages the noise: {rms}"
+
+
+def test_fit_window_follows_the_pulse_and_nears_the_bound(run):
+    """At 200 kHz (111 samples per tooth) and 20 dB the window widens with the pulse; the
+    timing noise falls toward the Cramér–Rao bound of the whole pulse, √(σ_n²/Σu'²) per edge
+    (the window's middle part of the pulse holds about a third of that information)."""
+    rec = record(run, WHEEL, Sensor(sample_rate=200e3, snr_db=20), seed=2)
+    window = fit_window(rec.signal[:2 ** 16])
+    assert 12 <= window <= 20, "0.3 of the 56-sample peak-to-trough distance"
+    truth = rec.edge_times * rec.sample_rate
+    clean = record(run, WHEEL, Sensor(sample_rate=200e3, snr_db=np.inf)).signal.astype(float)
+    sigma_n = _rms(rec.signal - clean)
+    bound = sigma_n / np.sqrt(np.sum(np.gradient(clean) ** 2) / truth.size)
+    auto = _rms(_compare(detect_edges(rec.signal), truth))
+    fixed = _rms(_compare(detect_edges(rec.signal, window=4), truth))
+    assert auto < 0.5 * fixed, f"auto {auto:.3f}, 8-sample window {fixed:.3f} samples"
+    assert bound < auto < 2 * bound, f"auto {auto:.3f}, bound {bound:.3f} samples"
 
 
 @pytest.mark.parametrize("method", METHODS)

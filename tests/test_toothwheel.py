@@ -175,7 +175,9 @@ def test_calibrate_pitch_recovers_tooth_errors(coast):
     run, sensor = coast
     true = _true_deviation(WHEEL)
     assert np.degrees(np.std(true)) > 0.03, "the wheel's errors are there to be found"
-    for snr, tol in ((np.inf, 1e-4), (sensor.snr_db, 0.005)):
+    # noise-free, what is left is the edge fit's shape error next to off-pitch teeth
+    # (edges.FIT_SPAN): 0.2 % of the 0.05° errors found
+    for snr, tol in ((np.inf, 2e-4), (sensor.snr_db, 0.005)):
         rec = record(run, WHEEL, Sensor(sample_rate=sensor.sample_rate, snr_db=snr))
         track = track_teeth(detect_edges(rec.signal) / rec.sample_rate, 60, 2)
         cal = calibrate_pitch(track)
