@@ -27,6 +27,7 @@ from processing.bench.harness import (
     write_rows,
     write_targets,
 )
+from processing.edges import detect_edges
 from processing.synth.engine import ToothWheel, record
 from processing.toothwheel import track_teeth
 
@@ -164,9 +165,32 @@ def test_edge_errors_count_misses_and_extras():
 def test_fit_edges_match_the_true_edges(clean_case):
     (row,) = run_family(speed.edge_family(), speed.edge_cases([(20, clean_case)]),
                         repeat=1)[-1:]
-    assert row["setting"] == "window=4"
+    assert row["setting"] == "window=auto"
     assert row["missed"] == 0 and row["extra"] == 0
     assert row["error"] < 0.05, "SNR 40 dB: a few hundredths of a sample"
+
+
+def test_timing_bound_is_below_the_detected_edges_error(clean_case):
+    """The Cramér–Rao bound is the floor the fitted edges approach (within 2×)."""
+    bound = speed.timing_bound(clean_case) * clean_case.sample_rate
+    edges = speed.edge_errors(detect_edges(clean_case.signal),
+                              speed.EdgeTruth(clean_case.edge_times * clean_case.sample_rate,
+                                              clean_case.signal.size))["error"]
+    assert 0.4 * edges < bound < edges, f"bound {bound:.4f}, fit {edges:.4f} samples"
+    (row,) = run_family(speed.bound_family(), speed.delta_cases([(20, clean_case)]), repeat=1)
+    assert row["cycles"] == speed.CYCLES and abs(row["error"]) < speed.DELTA_TOLERANCE
+
+
+def test_delta_target_per_record_length():
+    rows = [{"family": family, "method": "fourier", "teeth": 60, "samples_per_tooth": 20,
+             "snr_db": 20.0, "seed": seed, "cycles": cycles, "error": error, "failed": ""}
+            for family, cycles, seed, error in (
+                ("speed irregularity", 50, 1, -0.02), ("speed irregularity", 50, 2, 0.004),
+                ("timing bound", 50, 1, -0.015), ("speed irregularity", 150, 1, -0.006))]
+    found = speed.delta_targets(pd.DataFrame(rows))
+    assert [t.passed for t in found] == [False, True]
+    assert "50 cycles (3.3 s)" in found[0].name and found[0].value == pytest.approx(0.02)
+    assert "seed 1" in found[0].detail and "0.015" in found[0].detail
 
 
 def test_spline_baseline_dips_at_the_gap(clean_case):
