@@ -35,7 +35,7 @@ def figure_png(fig_spec, lang: str, dpi: int = 150) -> bytes:
     fig = Figure(figsize=fig_spec.size)
     fig_spec.draw(fig, lang)
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi)
+    fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight", pad_inches=0.1)
     return buf.getvalue()
 
 
