@@ -128,10 +128,12 @@ def _place(y: np.ndarray, method: str, window: int) -> np.ndarray:
     x = np.arange(2 * w, dtype=np.float64) - (w - 0.5)
     basis = np.vander(x, 4, increasing=True)
     coef = y @ np.linalg.pinv(basis).T
-    flat = _saturated(y)
-    rows = np.flatnonzero(flat.any(axis=1) & (np.sum(~flat, axis=1) >= 6))
+    rows = np.flatnonzero((y[:, 1:] == y[:, :-1]).any(axis=1))   # a value held: clipped?
+    flat = _saturated(y[rows])
+    usable = flat.any(axis=1) & (np.sum(~flat, axis=1) >= 6)
+    rows, flat = rows[usable], flat[usable]
     if rows.size:                       # a clipped input: fit the samples below the clip only
-        weighted = basis * (~flat[rows])[:, :, None]
+        weighted = basis * (~flat)[:, :, None]
         normal = np.einsum("rik,ril->rkl", weighted, weighted)
         right = np.einsum("rik,ri->rk", weighted, y[rows])[:, :, None]
         coef[rows] = np.linalg.solve(normal, right)[:, :, 0]
@@ -145,7 +147,7 @@ def _place(y: np.ndarray, method: str, window: int) -> np.ndarray:
 
 def _saturated(y: np.ndarray) -> np.ndarray:
     """Samples at a row's maximum or minimum where that value repeats (a clipped input or a
-    saturated ADC holds it for several samples)."""
+    saturated ADC holds it for several samples; only rows holding a value are passed)."""
     top, bottom = y.max(axis=1, keepdims=True), y.min(axis=1, keepdims=True)
     at_top, at_bottom = y == top, y == bottom
     return ((at_top & (at_top.sum(axis=1, keepdims=True) > 1))
