@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
+from processing.bench.speed import timing_bound
 from processing.diagnostics import InputError
 from processing.edges import (
     METHODS,
@@ -103,9 +104,7 @@ def test_fit_window_follows_the_pulse_and_nears_the_bound(run):
     window = fit_window(rec.signal[:2 ** 16])
     assert 12 <= window <= 20, "0.3 of the 56-sample peak-to-trough distance"
     truth = rec.edge_times * rec.sample_rate
-    clean = record(run, WHEEL, Sensor(sample_rate=200e3, snr_db=np.inf)).signal.astype(float)
-    sigma_n = _rms(rec.signal - clean)
-    bound = sigma_n / np.sqrt(np.sum(np.gradient(clean) ** 2) / truth.size)
+    bound = timing_bound(rec) * rec.sample_rate
     auto = _rms(_compare(detect_edges(rec.signal), truth))
     fixed = _rms(_compare(detect_edges(rec.signal, window=4), truth))
     assert auto < 0.5 * fixed, f"auto {auto:.3f}, 8-sample window {fixed:.3f} samples"
