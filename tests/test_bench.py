@@ -191,6 +191,17 @@ def test_delta_target_per_record_length():
     assert [t.passed for t in found] == [False, True]
     assert "50 cycles (3.3 s)" in found[0].name and found[0].value == pytest.approx(0.02)
     assert "seed 1" in found[0].detail and "0.015" in found[0].detail
+    assert "20 samples/tooth, SNR 20 dB" in found[1].name      # a corner-only record length
+
+
+def test_record_length_chart(tmp_path):
+    rows = [{"family": family, "method": "fourier", "teeth": 60, "samples_per_tooth": spt,
+             "snr_db": 20.0, "seed": seed, "cycles": cycles, "error": 0.01 / cycles ** 0.5,
+             "failed": ""}
+            for family in ("speed irregularity", "timing bound") for cycles in (50, 150, 450)
+            for seed in (1, 2) for spt in (20, 50)]
+    speed.plot_record_length(pd.DataFrame(rows), tmp_path / "length.png")
+    assert (tmp_path / "length.png").stat().st_size > 10_000
 
 
 def test_spline_baseline_dips_at_the_gap(clean_case):
