@@ -607,6 +607,7 @@ def plot_record_length(frame: pd.DataFrame, path) -> None:
         The PNG to write (nothing is written without rows at the corner).
     """
     from matplotlib.figure import Figure
+    from matplotlib.ticker import NullFormatter
 
     region = _region_errors(frame)
     region = region[region["method"] == "fourier"]
@@ -625,6 +626,9 @@ def plot_record_length(frame: pd.DataFrame, path) -> None:
         ax.plot(seconds, 100 * part.median(), "s--", color=f"C{i}", label=f"{label}: median")
     ax.axhline(100 * DELTA_TOLERANCE, color="k", lw=1, ls=":", label="target")
     ax.set_xscale("log")
+    lengths = np.sort(corner["cycles"].unique()) * cycle_time
+    ax.set_xticks(lengths, [f"{t:.3g}" for t in lengths])
+    ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("record length [s]")
     ax.set_ylabel("|δ/δ_true − 1| [%]")
     ax.set_title(f"δ at {corner['samples_per_tooth'].min():g} samples/tooth, "
