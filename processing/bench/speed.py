@@ -537,6 +537,11 @@ def _region_errors(frame: pd.DataFrame) -> pd.DataFrame:
     return region.assign(abs_error=abs_error(region))
 
 
+def record_seconds(cycles):
+    """Duration of ``cycles`` working cycles of the benchmark's engine. [s]"""
+    return cycles * 4 * np.pi / engine_run().mean_angular_speed
+
+
 def delta_targets(frame: pd.DataFrame) -> list[Target]:
     """The δ target for each record length: the worst ``fourier`` error from the samples in
     the target region, with where it occurs and what edges at the timing bound give."""
@@ -549,7 +554,7 @@ def delta_targets(frame: pd.DataFrame) -> list[Target]:
             continue
         worst = signal.loc[signal["abs_error"].idxmax()]
         bound = part.loc[part["family"] == "timing bound", "abs_error"]
-        seconds = cycles * 4 * np.pi / engine_run().mean_angular_speed
+        seconds = record_seconds(cycles)
         detail = (f"worst at {worst['samples_per_tooth']:g} samples/tooth, "
                   f"{worst['snr_db']:g} dB, seed {worst['seed']:g}")
         if not bound.empty:
@@ -616,18 +621,17 @@ def plot_record_length(frame: pd.DataFrame, path) -> None:
         return
     corner = region[(region["samples_per_tooth"] == region["samples_per_tooth"].min())
                     & (region["snr_db"] == region["snr_db"].min())]
-    cycle_time = 4 * np.pi / engine_run().mean_angular_speed
     fig = Figure(figsize=(7, 4.8))
     ax = fig.add_subplot(1, 1, 1)
     for i, (family, label) in enumerate((("speed irregularity", "samples → fit edges → fourier"),
                                          ("timing bound", "true edges + Cramér–Rao jitter"))):
         part = corner[corner["family"] == family].groupby("cycles")["abs_error"]
-        seconds = part.max().index * cycle_time
+        seconds = record_seconds(part.max().index)
         ax.plot(seconds, 100 * part.max(), "o-", color=f"C{i}", label=f"{label}: worst")
         ax.plot(seconds, 100 * part.median(), "s--", color=f"C{i}", label=f"{label}: median")
     ax.axhline(100 * DELTA_TOLERANCE, color="k", lw=1, ls=":", label="target")
     ax.set_xscale("log")
-    lengths = np.sort(corner["cycles"].unique()) * cycle_time
+    lengths = record_seconds(np.sort(corner["cycles"].unique()))
     ax.set_xticks(lengths, [f"{t:.3g}" for t in lengths])
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("record length [s]")
