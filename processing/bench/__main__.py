@@ -1,9 +1,10 @@
 """``python -m processing.bench [--quick] [--out DIR] [--large N]``: run the benchmarks.
 
 Writes ``bench.csv``, ``error_vs_time.png``, ``time_vs_size.png``, ``stability_map.png``,
-``delta_vs_record.png`` and ``targets.json`` to ``--out`` (default ``bench-results/``), prints a summary and one PASS/FAIL
-line per target, and exits with 1 if a target fails. Timings are taken on one core: the
-BLAS/OpenMP thread counts are set to 1 here, before numpy is first imported.
+``delta_vs_record.png`` and ``targets.json`` to ``--out`` (default ``bench-results/``),
+prints a summary and one PASS/FAIL line per target, and exits with 1 if a target fails.
+Timings are taken on one core: the BLAS/OpenMP thread counts are set to 1 here, before numpy
+is first imported.
 """
 import os
 

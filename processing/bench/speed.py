@@ -142,6 +142,11 @@ class Plan:
     and the lowest SNR of the grid), for ``fourier`` and the ``timing bound``: how long a
     record the δ target needs there."""
 
+    @property
+    def corner(self) -> tuple[float, float]:
+        """The target region's hardest case: the fewest samples per tooth, the lowest SNR."""
+        return min(self.samples_per_tooth), min(self.snr_db)
+
 
 FULL = Plan(samples_per_tooth=(20, 35, 50, 111), snr_db=(20, 30, 40, np.inf),
             seeds=(1, 2, 3, 4, 5), cycles=(CYCLES, 3 * CYCLES), corner_cycles=(9 * CYCLES,),
@@ -214,7 +219,7 @@ def accuracy_recordings(plan: Plan, cycles: int = CYCLES, *,
     per tooth and the lowest finite SNR of the plan)."""
     spt, snr = plan.samples_per_tooth, plan.snr_db
     if corner:
-        spt, snr = spt[:1], (min(snr),)
+        spt, snr = ((value,) for value in plan.corner)
     return [(s, pulse_recording(60, s, r, seed, cycles))
             for s, r, seed in itertools.product(spt, snr, plan.seeds)]
 
@@ -697,8 +702,8 @@ def run(out, *, quick: bool = False, large: int | None = None,
         rows += run_family(bound_family(), delta_cases(recordings), repeat=1)
         del recordings
     for cycles in plan.corner_cycles:
-        log(f"target corner: {cycles} working cycles at {plan.samples_per_tooth[0]} "
-            f"samples/tooth, {min(plan.snr_db)} dB")
+        log(f"target corner: {cycles} working cycles at {plan.corner[0]} samples/tooth, "
+            f"{plan.corner[1]} dB")
         recordings = accuracy_recordings(plan, cycles, corner=True)
         rows += run_family(delta_family(methods=("fourier",)), delta_cases(recordings),
                            repeat=1)
