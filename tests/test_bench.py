@@ -194,6 +194,23 @@ def test_delta_target_per_record_length():
     assert "20 samples/tooth, SNR 20 dB" in found[1].name      # a corner-only record length
 
 
+def test_delta_target_says_where_it_holds():
+    def found(errors):
+        rows = [{"family": "speed irregularity", "method": "fourier", "teeth": 60,
+                 "samples_per_tooth": spt, "snr_db": snr, "seed": 1, "cycles": 150,
+                 "error": error, "failed": ""} for (spt, snr), error in errors.items()]
+        return speed.delta_targets(pd.DataFrame(rows))[0].detail
+
+    detail = found({(20, 20): 0.03, (20, 40): -0.005, (50, 20): 0.02, (50, 40): 0.004,
+                    (111, 20): -0.009, (111, 40): 0.001})
+    assert "within tolerance at SNR ≥ 40 dB (any samples/tooth)" in detail
+    assert "at ≥ 111 samples/tooth (any SNR)" in detail
+    # a failure at the highest SNR leaves no SNR band; the samples per tooth still have one
+    detail = found({(20, 20): 0.003, (20, 40): 0.02, (50, 20): 0.004, (50, 40): 0.001})
+    assert "SNR ≥" not in detail and "at ≥ 50 samples/tooth (any SNR)" in detail
+    assert "no SNR and no samples" in found({(20, 20): 0.03, (50, 40): 0.02})
+
+
 def test_record_length_chart(tmp_path):
     rows = [{"family": family, "method": "fourier", "teeth": 60, "samples_per_tooth": spt,
              "snr_db": 20.0, "seed": seed, "cycles": cycles, "error": 0.01 / cycles ** 0.5,

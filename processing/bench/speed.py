@@ -565,13 +565,32 @@ def delta_targets(frame: pd.DataFrame) -> list[Target]:
         if not bound.empty:
             detail += f"; true edges + Cramér–Rao jitter: worst {bound.max():.4g}"
         spt, snr = part["samples_per_tooth"].unique(), part["snr_db"].unique()
-        where = (f"{spt[0]:g} samples/tooth, SNR {snr[0]:g} dB" if spt.size == snr.size == 1
+        corner = spt.size == snr.size == 1
+        where = (f"{spt[0]:g} samples/tooth, SNR {snr[0]:g} dB" if corner
                  else "≥ 20 samples/tooth, SNR ≥ 20 dB")
+        if not corner:
+            detail += f"; {_holds(signal)}"
         out.append(Target(f"δ, fit edges + fourier, 60−2, {where}, "
                           f"{cycles:g} cycles ({seconds:.1f} s), worst case",
                           float(worst["abs_error"]), DELTA_TOLERANCE, unit="relative",
                           detail=detail))
     return out
+
+
+def _holds(rows: pd.DataFrame) -> str:
+    """Where the δ target holds among ``rows`` (one record length): the lowest SNR from
+    which up every case is within the tolerance, whatever its samples per tooth, and the
+    fewest samples per tooth from which up it is, whatever the SNR."""
+    parts = []
+    for column, unit, other in (("snr_db", "SNR ≥ {:g} dB", "any samples/tooth"),
+                                ("samples_per_tooth", "≥ {:g} samples/tooth", "any SNR")):
+        worst = rows.groupby(column)["abs_error"].max()
+        failing = worst.index[worst > DELTA_TOLERANCE]
+        passing = worst.index[worst.index > failing.max()] if failing.size else worst.index
+        if passing.size:
+            parts.append(f"{unit.format(passing.min())} ({other})")
+    return ("every case within tolerance at " + " and at ".join(parts) if parts
+            else "no SNR and no samples per tooth of the region has every case within tolerance")
 
 
 def targets(frame: pd.DataFrame) -> list[Target]:
