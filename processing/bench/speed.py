@@ -582,13 +582,13 @@ def _holds(rows: pd.DataFrame) -> str:
     which up every case is within the tolerance, whatever its samples per tooth, and the
     fewest samples per tooth from which up it is, whatever the SNR."""
     parts = []
-    for column, unit, other in (("snr_db", "SNR ≥ {:g} dB", "any samples/tooth"),
+    for column, label, other in (("snr_db", "SNR ≥ {:g} dB", "any samples/tooth"),
                                 ("samples_per_tooth", "≥ {:g} samples/tooth", "any SNR")):
         worst = rows.groupby(column)["abs_error"].max()
         failing = worst.index[worst > DELTA_TOLERANCE]
         passing = worst.index[worst.index > failing.max()] if failing.size else worst.index
         if passing.size:
-            parts.append(f"{unit.format(passing.min())} ({other})")
+            parts.append(f"{label.format(passing.min())} ({other})")
     return ("every case within tolerance at " + " and at ".join(parts) if parts
             else "no SNR and no samples per tooth of the region has every case within tolerance")
 
