@@ -583,7 +583,7 @@ def _holds(rows: pd.DataFrame) -> str:
     fewest samples per tooth from which up it is, whatever the SNR."""
     parts = []
     for column, label, other in (("snr_db", "SNR ≥ {:g} dB", "any samples/tooth"),
-                                ("samples_per_tooth", "≥ {:g} samples/tooth", "any SNR")):
+                                 ("samples_per_tooth", "≥ {:g} samples/tooth", "any SNR")):
         worst = rows.groupby(column)["abs_error"].max()
         failing = worst.index[worst > DELTA_TOLERANCE]
         passing = worst.index[worst.index > failing.max()] if failing.size else worst.index
