@@ -21,8 +21,8 @@ Families
     (:func:`~processing.angular_speed.tooth_cycles`), and the common baseline
     :func:`spline_delta` with the default smoothing (``spline``) and none (``interp``).
     Same cases, recorded for :data:`CYCLES` and, in the full plan, 3 × as many working cycles
-    (δ's noise falls as 1/√cycles), and 9 × as many at the target region's corner only
-    (``fourier``; :func:`plot_record_length`); error δ/δ_true − 1. The time per call covers
+    (δ's noise falls as 1/√cycles), and 9 × and 36 × as many (30 s, 2 min) at the target
+    region's corner only (``fourier``; :func:`plot_record_length`); error δ/δ_true − 1. The time per call covers
     the whole chain from samples (timed once on the longer records).
 ``timing bound``
     The reference that separates edge timing from the information a record holds: the true
@@ -149,7 +149,8 @@ class Plan:
 
 
 FULL = Plan(samples_per_tooth=(20, 35, 50, 111), snr_db=(20, 30, 40, np.inf),
-            seeds=(1, 2, 3, 4, 5), cycles=(CYCLES, 3 * CYCLES), corner_cycles=(9 * CYCLES,),
+            seeds=(1, 2, 3, 4, 5), cycles=(CYCLES, 3 * CYCLES),
+            corner_cycles=(9 * CYCLES, 36 * CYCLES),
             lengths=(10 ** 6, 3 * 10 ** 6, 10 ** 7, 3 * 10 ** 7, 10 ** 8),
             map_snr_db=(10, 15, 20, 30, 40), map_samples_per_tooth=(5, 8, 12, 20, 40),
             map_seeds=(1, 2, 3), repeat=3)
@@ -728,6 +729,7 @@ def run(out, *, quick: bool = False, large: int | None = None,
                            repeat=1)
         rows += run_family(bound_family(), delta_cases(recordings), repeat=1)
         del recordings
+    engine_run.cache_clear()            # the long runs hold hundreds of MB
     log(f"stability map: z {plan.map_teeth} x samples/tooth {plan.map_samples_per_tooth} x SNR "
         f"{plan.map_snr_db} dB x seeds {plan.map_seeds}")
     rows += run_family(delta_family("δ stability", ("fourier", "tooth")), map_cases(plan),
