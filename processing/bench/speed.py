@@ -22,8 +22,9 @@ Families
     :func:`spline_delta` with the default smoothing (``spline``) and none (``interp``).
     Same cases, recorded for :data:`CYCLES` and, in the full plan, 3 × as many working cycles
     (δ's noise falls as 1/√cycles), and 9 × and 36 × as many (30 s, 2 min) at the target
-    region's corner only (``fourier``; :func:`plot_record_length`); error δ/δ_true − 1. The time per call covers
-    the whole chain from samples (timed once on the longer records).
+    region's corner only (``fourier``; :func:`plot_record_length`); error δ/δ_true − 1.
+    The time per call covers the whole chain from samples (timed once on the longer
+    records).
 ``timing bound``
     The reference that separates edge timing from the information a record holds: the true
     edge times jittered by the Cramér–Rao bound of the recording's pulses
