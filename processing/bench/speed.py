@@ -12,8 +12,9 @@ Families
 ``edge timing``
     :func:`processing.edges.detect_edges` with ``linear``, ``cubic`` and ``fit`` (window 2,
     4 and :func:`~processing.edges.fit_window`, the default) on a 60−2 wheel at about 20,
-    35, 50 and 111 samples per tooth (the last is a 200 kHz ADC) and SNR 20, 30, 40 dB and no noise. Error: RMS of detected − true edge time
-    [samples], each true edge matched to the nearest detected one (:func:`edge_errors`).
+    35, 50 and 111 samples per tooth (the last is a 200 kHz ADC) and SNR 20, 30, 40 dB and
+    no noise. Error: RMS of detected − true edge time [samples], each true edge matched to
+    the nearest detected one (:func:`edge_errors`).
 ``speed irregularity``
     δ from the signal: :func:`~processing.edges.detect_edges` (``fit``) / f_s →
     :func:`~processing.toothwheel.track_teeth` (60, 2) → ``fourier``
