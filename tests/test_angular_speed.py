@@ -220,3 +220,20 @@ def test_pitch_errors_calibrated_and_estimated(engine_run, rough_wheel):
     ratio = plain.pitch_error / np.radians(0.05)
     assert 1 / 1.5 < ratio < 1.5, f"estimated pitch error {np.degrees(plain.pitch_error):.3f}°"
     assert pitch_uncertainty(plain, 60) > 0
+
+
+def test_matched_edges_on_a_calibrated_rough_wheel(engine_run, rough_wheel):
+    """Matched edges move with their neighbours' pitch errors, so the coast-down calibration
+    must be made with them too; then δ is within 1 % as with fit edges. Calibrated with fit
+    edges instead, the two definitions of a tooth's place differ by far more than δ allows."""
+    wheel, fit_calibration = rough_wheel
+    coast = record(coast_run(150.0, 1.0, deceleration=20.0), wheel,
+                   Sensor(sample_rate=100e3, snr_db=40), seed=10)
+    calibration = calibrate_pitch(
+        track_teeth(detect_edges(coast.signal, "matched") / coast.sample_rate, 60, 2))
+    rec = record(engine_run, wheel, Sensor(sample_rate=50e3, snr_db=40), seed=0)
+    track = track_teeth(detect_edges(rec.signal, "matched") / rec.sample_rate, 60, 2)
+    same = fit_cycles(track, tooth_angles=calibration.angles).mean_cycle.delta
+    assert abs(same / engine_run.delta - 1) < 0.01
+    mixed = fit_cycles(track, tooth_angles=fit_calibration.angles).mean_cycle.delta
+    assert abs(mixed / engine_run.delta - 1) > 0.05
