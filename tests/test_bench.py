@@ -163,11 +163,13 @@ def test_edge_errors_count_misses_and_extras():
 
 
 def test_fit_edges_match_the_true_edges(clean_case):
-    (row,) = run_family(speed.edge_family(), speed.edge_cases([(20, clean_case)]),
-                        repeat=1)[-1:]
-    assert row["setting"] == "window=auto"
-    assert row["missed"] == 0 and row["extra"] == 0
-    assert row["error"] < 0.05, "SNR 40 dB: a few hundredths of a sample"
+    rows = run_family(speed.edge_family(), speed.edge_cases([(20, clean_case)]), repeat=1)
+    fit, matched = (next(r for r in rows if (r["method"], r["setting"]) == key)
+                    for key in (("fit", "window=auto"), ("matched", "")))
+    for row in (fit, matched):
+        assert row["missed"] == 0 and row["extra"] == 0
+    assert fit["error"] < 0.05, "SNR 40 dB: a few hundredths of a sample"
+    assert matched["error"] < 0.8 * fit["error"], "the whole pulse holds more information"
 
 
 def test_timing_bound_is_below_the_detected_edges_error(clean_case):
@@ -182,16 +184,24 @@ def test_timing_bound_is_below_the_detected_edges_error(clean_case):
 
 
 def test_delta_target_per_record_length():
-    rows = [{"family": family, "method": "fourier", "teeth": 60, "samples_per_tooth": 20,
+    rows = [{"family": family, "method": method, "teeth": 60, "samples_per_tooth": 20,
              "snr_db": 20.0, "seed": seed, "cycles": cycles, "error": error, "failed": ""}
-            for family, cycles, seed, error in (
-                ("speed irregularity", 50, 1, -0.02), ("speed irregularity", 50, 2, 0.004),
-                ("timing bound", 50, 1, -0.015), ("speed irregularity", 150, 1, -0.006))]
-    found = speed.delta_targets(pd.DataFrame(rows))
-    assert [t.passed for t in found] == [False, True]
+            for family, method, cycles, seed, error in (
+                ("speed irregularity", "fourier", 50, 1, -0.02),
+                ("speed irregularity", "fourier", 50, 2, 0.004),
+                ("timing bound", "fourier", 50, 1, -0.015),
+                ("speed irregularity", "fourier-matched", 50, 1, 0.012),
+                ("speed irregularity", "tooth", 50, 1, 0.3),
+                ("speed irregularity", "fourier", 150, 1, -0.006))]
+    frame = pd.DataFrame(rows)
+    found = speed.delta_targets(frame, stated=50)
+    assert [t.passed for t in found] == [False, False], "one target per method from samples"
+    assert "fit edges" in found[0].name and "matched edges" in found[1].name
     assert "50 cycles (3.3 s)" in found[0].name and found[0].value == pytest.approx(0.02)
     assert "seed 1" in found[0].detail and "0.015" in found[0].detail
-    assert "20 samples/tooth, SNR 20 dB" in found[1].name      # a corner-only record length
+    (other,) = speed.delta_findings(frame, stated=50)       # measured, not a target
+    assert other.startswith("within") and "150 cycles" in other
+    assert "20 samples/tooth, SNR 20 dB" in other            # a corner-only record length
 
 
 def test_delta_target_says_where_it_holds():
@@ -199,7 +209,7 @@ def test_delta_target_says_where_it_holds():
         rows = [{"family": "speed irregularity", "method": "fourier", "teeth": 60,
                  "samples_per_tooth": spt, "snr_db": snr, "seed": 1, "cycles": 150,
                  "error": error, "failed": ""} for (spt, snr), error in errors.items()]
-        return speed.delta_targets(pd.DataFrame(rows))[0].detail
+        return speed.delta_targets(pd.DataFrame(rows), stated=150)[0].detail
 
     detail = found({(20, 20): 0.03, (20, 40): -0.005, (50, 20): 0.02, (50, 40): 0.004,
                     (111, 20): -0.009, (111, 40): 0.001})
@@ -237,9 +247,13 @@ def test_streamed_edges_equal_in_memory(tmp_path):
     case = next(cases)
     assert case.data.path.exists()
     rows = run_family(speed.throughput_family(), [case], repeat=1, memory=True)
-    assert [r["edges_equal"] for r in rows] == [True] * 3
-    assert all(r["edges"] > 400 for r in rows)
-    streamed = rows[2]
+    chains = [r["setting"] for r in rows]
+    assert chains == ["edges", "edges → δ", "matched edges → δ", "edges"]
+    # the reference is the in-memory fit edges: the matched ones differ from them by design
+    assert [r["edges_equal"] for r in rows] == [True, True, False, True]
+    assert all(r["edges"] > 400 for r in rows) and rows[2]["edges"] == rows[0]["edges"]
+    streamed = rows[3]
     assert streamed["method"] == "streaming" and streamed["peak_bytes"] > 0
-    assert np.isfinite(rows[1]["error"]) and np.isnan(rows[0]["error"]), "δ only for edges → δ"
+    assert np.isnan(rows[0]["error"]), "δ only for edges → δ"
+    assert all(abs(r["error"]) < 0.05 for r in rows[1:3])
     assert list(cases) == [] and not case.data.path.exists(), "the file is deleted"
