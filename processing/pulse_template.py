@@ -172,10 +172,10 @@ def learn_template(y, edges) -> PulseTemplate | None:
     Notes
     -----
     h is half the median edge interval (one tooth period is fitted), at most
-    :data:`MAX_HALF_WIDTH`. The pulses used are those of :func:`steady` edges. They are scaled to unit half peak-to-peak and the shape is
-    the least-squares cubic spline through all their samples, against their time from the
-    crossing (knots every max(2, h/12) samples: two samples at least, so a sampling locked to
-    the teeth still determines it).
+    :data:`MAX_HALF_WIDTH`. The pulses used are those of :func:`steady` edges. They are
+    scaled to unit half peak-to-peak and the shape is the least-squares cubic spline through
+    all their samples, against their time from the crossing (knots every max(2, h/12)
+    samples: two samples at least, so a sampling locked to the teeth still determines it).
     """
     y = np.asarray(y, dtype=np.float64)
     edges = np.asarray(edges, dtype=np.float64)
@@ -212,4 +212,5 @@ def learn_template(y, edges) -> PulseTemplate | None:
     _, _, phase, index = windows(use, h, y.size)
     noise = float(np.median(_fit(operator, gram, y[index], phase)[1]))
     tiny = 1e-12 * float(np.median(scale)) ** 2
-    return PulseTemplate(half_width=h, period=period, operator=operator, gram=gram, noise=max(noise, tiny))
+    return PulseTemplate(half_width=h, period=period, operator=operator, gram=gram,
+                         noise=max(noise, tiny))
