@@ -305,8 +305,13 @@ class EdgeDetector:
         return self.template.half_width + self.window // 2 + 3
 
     @property
+    def _fit_left(self) -> int:
+        """Samples the crossing's own fit needs before it."""
+        return self.window + 2
+
+    @property
     def _left(self) -> int:
-        return max(self.window + 2, self._reach)
+        return max(self._fit_left, self._reach)
 
     @property
     def _right(self) -> int:
@@ -348,7 +353,7 @@ class EdgeDetector:
         n = raw.size
         # the record's first samples have no tail before them: the fit's own margin will do
         # there (an edge too near the start for the template keeps its fit crossing)
-        first = self._left if self._tail is not None else self.window + 2
+        first = self._left if self._tail is not None else self._fit_left
         stop = n - self._right
         # a crossing at c: below the level at c and c+1, not at c-1
         cross = np.flatnonzero(below[1:-1] & below[2:] & ~below[:-2]) + 1
