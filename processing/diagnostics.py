@@ -189,7 +189,7 @@ class InputError(ValueError):
         where = ", ".join(p for p in (self.file, f"field '{self.field}'" if self.field else None) if p)
         return f"{where + ': ' if where else ''}{self.problem}. Fix: {self.fix}"
 
-    def located(self, file: str) -> "InputError":
+    def located(self, file: str) -> InputError:
         """The same error, attributed to ``file`` if it had no file yet."""
         return InputError(self.problem, self.fix, file=self.file or file, field=self.field)
 

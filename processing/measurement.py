@@ -24,9 +24,10 @@ import difflib
 import math
 import tomllib
 import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 from .diagnostics import InputError, SingleReadingWarning
 from .uncertainty import Measured

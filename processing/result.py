@@ -7,8 +7,9 @@ stable: teachers' checks key on them.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, fields
-from typing import Any, Callable, Mapping
+from typing import Any
 
 from .diagnostics import Notice
 from .uncertainty import Estimate, Propagation
@@ -128,7 +129,7 @@ class LabResult:
     source: str = ""
 
     @classmethod
-    def of(cls, inputs, results: dict[str, ResultValue], **parts) -> "LabResult":
+    def of(cls, inputs, results: dict[str, ResultValue], **parts) -> LabResult:
         """The result of reducing ``inputs`` (a :class:`~processing.measurement.Inputs`): the
         title block, goal, input table and source come from the file and its lab's spec."""
         spec = inputs.spec

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Callable, Mapping
+from collections.abc import Callable, Mapping
 
 import numpy as np
 from scipy import stats
@@ -63,7 +63,7 @@ class Measured:
     readings: tuple = ()
 
     @classmethod
-    def from_readings(cls, readings, *, limit: float = 0.0, u_b: float = 0.0) -> "Measured":
+    def from_readings(cls, readings, *, limit: float = 0.0, u_b: float = 0.0) -> Measured:
         """Mean of repeated readings with type A u = s/√n (n − 1 degrees of freedom)."""
         x = np.asarray(readings, dtype=float)
         n = x.size
@@ -86,7 +86,7 @@ class Measured:
             return math.inf
         return self.u**4 / (self.u_a**4 / self.dof_a)
 
-    def scaled(self, factor: float) -> "Measured":
+    def scaled(self, factor: float) -> Measured:
         """The same measurement multiplied by a known constant (e.g. a unit factor)."""
         f = abs(factor)
         return Measured(self.value * factor, self.u_a * f, self.dof_a, self.limit * f, self.u_b * f,
@@ -209,7 +209,7 @@ class Propagation:
 
 
 def propagate(model: Callable[..., Mapping[str, np.ndarray]],
-              inputs: Mapping[str, "Measured | float | int | str"], *,
+              inputs: Mapping[str, Measured | float | int | str], *,
               n_samples: int = 20000, seed: int = 20031,
               rel_step: float = 1e-3) -> Propagation:
     """Propagate input uncertainties through a vectorised model.

@@ -26,7 +26,7 @@ name                          meaning                                     SI uni
 from __future__ import annotations
 
 import re
-from functools import lru_cache
+from functools import cache
 
 import pint
 
@@ -48,7 +48,7 @@ def _dimension_name(dim) -> str:
     return names.get(key, f"a quantity of dimension {dim}")
 
 
-@lru_cache(maxsize=None)
+@cache
 def si_factor(unit: str) -> float:
     """Factor converting a value in ``unit`` to SI base units (degrees → radians).
 
@@ -58,7 +58,7 @@ def si_factor(unit: str) -> float:
     return float(ureg.Quantity(1.0, unit).to_base_units().magnitude)
 
 
-@lru_cache(maxsize=None)
+@cache
 def si_unit(unit: str) -> str:
     """The SI unit, written compactly, of a quantity declared in ``unit``.
 

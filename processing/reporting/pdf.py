@@ -5,7 +5,7 @@ The font is DejaVu Sans, which matplotlib ships: no system font is needed.
 from __future__ import annotations
 
 import io
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 
 from .content import build
@@ -13,7 +13,7 @@ from .content import build
 _FONT, _BOLD = "DejaVuSans", "DejaVuSans-Bold"
 
 
-@lru_cache(maxsize=None)
+@cache
 def _register_fonts() -> None:
     import matplotlib
     from reportlab.lib.fonts import addMapping
