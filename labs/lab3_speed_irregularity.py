@@ -341,14 +341,14 @@ def _pitch_bias(track, fourier, tooth, calibration, orders, revolutions) -> dict
         f0 = fit_cycles(track, orders=orders, **nominal).mean_cycle.delta
         t0 = tooth_cycles(track, **nominal).mean_cycle.delta
         deviation = calibration.deviation
-        return {"source": "calibration", "u": pitch_uncertainty(fourier, track.teeth),
+        return {"source": "calibration", "u": pitch_uncertainty(fourier),
                 "fourier": float(f0 / fourier.mean_cycle.delta - 1),
                 "tooth": float(t0 / tooth.mean_cycle.delta - 1),
                 "rms": float(np.sqrt(np.nanmean((deviation - np.nanmean(deviation)) ** 2)))}
     dev = fourier.pitch_deviation
     angles = np.arange(track.teeth) * track.pitch + np.nan_to_num(dev - dev[0])
     corrected = tooth_cycles(track, revolutions=revolutions, tooth_angles=angles).mean_cycle.delta
-    return {"source": "repeating", "u": pitch_uncertainty(fourier, track.teeth),
+    return {"source": "repeating", "u": pitch_uncertainty(fourier),
             "tooth": float(tooth.mean_cycle.delta / corrected - 1),
             "rms": float(np.sqrt(np.nanmean(dev ** 2)))}
 

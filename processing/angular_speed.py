@@ -22,6 +22,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import stats
 
 from .diagnostics import InputError
 from .result import Record
@@ -109,6 +110,10 @@ class CycleSpeeds(Record):
     """The edge-time residual that repeats every revolution, as an angle per tooth position
     (NaN where a tooth is missing), zero mean: the wheel's pitch errors above the fitted
     orders (those below are inseparable from the engine's own speed fluctuation). [rad]"""
+    pitch_response: np.ndarray | None = None
+    """How the kept harmonics of u = 1/ω (cos and sin parts, shape (2, kept orders, z)) move
+    per radian of angle error of each tooth position: the fit's own linear map, gap and
+    fitted orders included. [s/rad²]"""
 
     @property
     def mean_speed(self) -> np.ndarray:
@@ -237,30 +242,39 @@ def fit_cycles(track: ToothTrack, *, revolutions: int = 2, orders: float | None 
     kt = np.outer(theta, k)
     design = np.column_stack([np.ones_like(theta), theta, np.sin(kt) / k, (1 - np.cos(kt)) / k])
     rel = table - table[:, :1]
-    coef, *_ = np.linalg.lstsq(design, rel.T, rcond=None)
+    solve = np.linalg.pinv(design)
+    coef = solve @ rel.T
     resid = rel.T - design @ coef
     n_cycles = table.shape[0]
     duration = table[:, -1] - table[:, 0]
     omega = phi / duration.mean()
     noise = resid - resid.mean(axis=1, keepdims=True)
     sigma2 = float(np.sum(noise ** 2) / max(noise.size - coef.size - theta.size, 1))
-    deviation = _repeating_residual(track, theta, resid, omega)
-    if pitch_error is None:
-        pitch_error = 0.0 if tooth_angles is not None else _pitch_error(
-            deviation, sigma2 * omega ** 2 / (n_cycles * revolutions), track.teeth, k[-1])
+    wheel = _WheelMaps.of(design, solve, theta, track)
+    deviation = wheel.deviation(resid.mean(axis=1) * omega)
+    pitch_dof = np.inf                  # a calibration's σ is stated, not estimated here
+    if pitch_error is None and tooth_angles is not None:
+        pitch_error = 0.0
+    elif pitch_error is None:
+        pitch_error, pitch_dof = wheel.pitch_error(deviation, sigma2 * omega ** 2 / n_cycles)
     c0, a, b = coef[1], coef[2: 2 + k.size], coef[2 + k.size:]
+    response = np.mean(c0) * wheel.response[2:].reshape(2, k.size, track.teeth)
     angle = np.arange(points) * phi / points
     keep = np.ones(k.size, bool)
     selection = 0.0
     if orders is None:
-        var = sigma2 * np.diag(np.linalg.pinv(design.T @ design)) / n_cycles
-        var_pitch = 2 * k ** 2 * pitch_error ** 2 / track.teeth * np.mean(c0) ** 2
-        chi2 = (a.mean(axis=1) ** 2 / (var[2: 2 + k.size] + var_pitch)
-                + b.mean(axis=1) ** 2 / (var[2 + k.size:] + var_pitch))
-        strict = chi2 > (2 * np.log(k.size / 0.05) if significance is None else significance)
+        var = sigma2 * np.sum(solve ** 2, axis=1) / n_cycles
+        var_pitch = pitch_error ** 2 * np.sum(response ** 2, axis=2)
+        total = var.reshape(-1)[2:].reshape(2, k.size) + var_pitch
+        chi2 = a.mean(axis=1) ** 2 / total[0] + b.mean(axis=1) ** 2 / total[1]
+        share = var_pitch.sum(axis=0) / total.sum(axis=0)
+        dof = np.where(share > 0, pitch_dof / np.maximum(share, 1e-300) ** 2, np.inf)
+        strict = chi2 > _threshold(
+            2 * np.log(k.size / 0.05) if significance is None else significance, dof)
+        above = chi2 > _threshold(lenient, dof)
         band = k <= k[strict].max() if strict.any() else np.zeros(k.size, bool)
-        keep = band & (chi2 > lenient)
-        selection = abs(_mean_delta(c0, a, b, k, chi2 > lenient, angle, omega)
+        keep = band & above
+        selection = abs(_mean_delta(c0, a, b, k, above, angle, omega)
                         - _mean_delta(c0, a, b, k, keep, angle, omega))
     speed = 1 / (c0[:, None] + _harmonics(a[keep].T, b[keep].T, k[keep], angle))
     return CycleSpeeds(method="fourier", cycle_angle=phi, angle=angle, speed=speed,
@@ -269,7 +283,17 @@ def fit_cycles(track: ToothTrack, *, revolutions: int = 2, orders: float | None 
                        mean_cycle=irregularity(speed.mean(axis=0), omega),
                        skipped=skipped, residual=float(np.sqrt(sigma2) * omega),
                        orders=k[keep].copy(), selection=selection, pitch_deviation=deviation,
-                       pitch_error=float(pitch_error))
+                       pitch_error=float(pitch_error), pitch_response=response[:, keep])
+
+
+def _threshold(chi2, dof) -> np.ndarray:
+    """The χ²₂ threshold ``chi2`` for a harmonic whose variance is known to ``dof`` degrees
+    of freedom only: 2·F(2, ν) at the same tail probability e^(−χ²/2) (χ²₂ where ν = ∞)."""
+    dof = np.asarray(dof, dtype=float)
+    out = np.full(dof.shape, float(chi2))
+    finite = np.isfinite(dof)
+    out[finite] = 2 * stats.f.isf(np.exp(-chi2 / 2), 2, dof[finite])
+    return out
 
 
 def _mean_delta(c0, a, b, k, keep, angle, omega) -> float:
@@ -284,28 +308,93 @@ def _harmonics(a, b, k, angle) -> np.ndarray:
     return a @ np.cos(ka) + b @ np.sin(ka)
 
 
-def _pitch_error(deviation, noise_var, teeth, top_order) -> float:
-    """σ of the wheel's tooth-angle errors from the part of them above the fitted orders.
-
-    Independent errors of σ spread evenly over the orders 1…z/2; the repeating residual
-    holds those above ``top_order`` (less the timing noise left after averaging)."""
-    above = np.nanvar(deviation) - noise_var
-    share = max(1 - top_order / (teeth / 2), 1 / teeth)
-    return float(np.sqrt(max(above, 0.0) / share))
+PITCH_SIGNIFICANCE = 0.01
+"""How often a wheel without pitch errors is taken for a rough one: the repeating residual
+must exceed the timing noise's share of it at this level before σ is estimated from it (an
+estimate made of noise would only take real harmonics out of the fit)."""
 
 
-def pitch_uncertainty(cycles: CycleSpeeds, teeth: int, *, draws: int = 400,
-                      seed: int = 20031) -> float:
-    """Standard uncertainty of the mean cycle's δ from tooth-pitch errors of σ = ``cycles.pitch_error``
-    in the whole orders that were kept (those below the fit's top order cannot be separated
-    from the engine's own fluctuation).
+@dataclass(frozen=True)
+class _WheelMaps:
+    """The fit's linear maps of the wheel's tooth-angle errors e (one per tooth position).
+
+    An edge whose tooth sits e off its nominal angle comes e/ω late, so the edge times of a
+    cycle, taken from its reference edge, move by S e / ω, with S the tooth position of each
+    edge less that of the reference. The fitted coefficients move by P S e / ω (P the
+    least-squares solve) and the residual by (I − D P) S e / ω. These maps replace the
+    full-wheel formula (independent errors put 2k²σ²/z into each part of order k): beside a
+    gap, and with the orders above the fitted ones leaking in, a 60−2 wheel's errors move the
+    fitted orders by 1.2–1.7 times that variance.
+    """
+
+    response: np.ndarray
+    """Coefficients per unit ω·e: P S, shape (coefficients, z)."""
+    average: np.ndarray
+    """Per tooth position: the mean over the revolutions of a quantity given per edge (the
+    cycle's closing edge left out), less its mean over the present positions; shape (z,
+    edges), zero rows where no tooth is."""
+    wheel: np.ndarray
+    """The repeating residual per unit e: A (I − D P) S, shape (z, z)."""
+    noise: np.ndarray
+    """The repeating residual per unit residual: A (I − D P), shape (z, edges)."""
+
+    @classmethod
+    def of(cls, design, solve, theta, track: ToothTrack) -> _WheelMaps:
+        tooth = np.mod(np.rint(theta / track.pitch).astype(int), track.teeth)
+        edges = np.arange(theta.size)
+        shift = np.zeros((theta.size, track.teeth))
+        shift[edges, tooth] += 1.0
+        shift[:, tooth[0]] -= 1.0
+        count = np.bincount(tooth[:-1], minlength=track.teeth)
+        average = np.zeros((track.teeth, theta.size))
+        average[tooth[:-1], edges[:-1]] = 1.0 / count[tooth[:-1]]
+        present = count > 0
+        average[present] -= average[present].mean(axis=0)
+        noise = average - (average @ design) @ solve
+        return cls(solve @ shift, average, noise @ shift, noise)
+
+    @property
+    def present(self) -> np.ndarray:
+        return np.any(self.average != 0, axis=1)
+
+    def deviation(self, residual) -> np.ndarray:
+        """The repeating residual per tooth position of the mean cycle's residual (an angle;
+        NaN where no tooth is). [rad]"""
+        return np.where(self.present, self.average @ residual, np.nan)
+
+    def pitch_error(self, deviation, noise_var) -> tuple[float, float]:
+        """σ of independent tooth-angle errors from the repeating residual, and the degrees
+        of freedom of σ² (0 and ∞ when the residual does not stand out of the timing noise
+        at :data:`PITCH_SIGNIFICANCE`).
+
+        The residual's expected sum of squares is σ²‖W‖² + σ_n²‖N‖² (W = A(I − DP)S,
+        N = A(I − DP), σ_n² = ``noise_var`` the variance of the cycles' mean residual per
+        edge, as an angle), so σ̂² = (Σdev² − σ_n²‖N‖²)/‖W‖²; as a quadratic form in normal
+        variables of covariance C = σ²WWᵀ + σ_n²NNᵀ it has the variance 2 tr C²/‖W‖⁴, hence
+        ν = σ⁴‖W‖⁴/tr C² (with σ̂ for σ; about 20 on a 60−2 wheel: the orders above the
+        fitted ones are all that tell the wheel from the engine). [rad], [1]"""
+        present = self.present
+        wheel, noise = self.wheel[present], self.noise[present]
+        norm = np.sum(wheel ** 2)
+        total = np.sum(deviation[present] ** 2)
+        expected = noise_var * np.sum(noise ** 2)
+        null_dof = np.sum(noise ** 2) ** 2 / np.sum((noise @ noise.T) ** 2)
+        if total <= expected * stats.chi2.isf(PITCH_SIGNIFICANCE, null_dof) / null_dof:
+            return 0.0, np.inf
+        sigma2 = (total - expected) / norm
+        cov = sigma2 * wheel @ wheel.T + noise_var * noise @ noise.T
+        return float(np.sqrt(sigma2)), float(sigma2 ** 2 * norm ** 2 / np.sum(cov ** 2))
+
+
+def pitch_uncertainty(cycles: CycleSpeeds, *, draws: int = 400, seed: int = 20031) -> float:
+    """Standard uncertainty of the mean cycle's δ from tooth-pitch errors of σ =
+    ``cycles.pitch_error`` in the harmonics that were kept (an uncalibrated wheel's errors in
+    them cannot be separated from the engine's own fluctuation).
 
     Parameters
     ----------
     cycles : CycleSpeeds
         A :func:`fit_cycles` result.
-    teeth : int
-        z.
     draws : int
         Random pitch-error patterns tried.
     seed : int
@@ -317,29 +406,20 @@ def pitch_uncertainty(cycles: CycleSpeeds, teeth: int, *, draws: int = 400,
 
     Notes
     -----
-    Independent tooth errors e_j ~ N(0, σ²) add to the measured speed the relative pattern
-    −de/dθ, whose harmonic of order k has cos and sin parts of variance 2k²σ²/z. The kept
-    whole orders of such patterns are added to the mean cycle; the spread of δ is u.
+    Independent tooth errors e_j ~ N(0, σ²) move the kept harmonics of 1/ω by
+    :attr:`CycleSpeeds.pitch_response` @ e (mostly the whole orders: the half orders of a
+    four-stroke cycle see the same tooth in both revolutions). Each pattern is added to the
+    mean cycle; the spread of δ is u.
     """
-    whole = cycles.orders[np.isclose(cycles.orders, np.rint(cycles.orders))]
-    if cycles.pitch_error == 0 or whole.size == 0:
+    response = cycles.pitch_response
+    if cycles.pitch_error == 0 or response is None or response.shape[1] == 0:
         return 0.0
     rng = np.random.default_rng(seed)
-    sd = np.sqrt(2 / teeth) * whole * cycles.pitch_error
-    ca, sa = (rng.standard_normal((draws, whole.size)) * sd for _ in range(2))
-    speed = cycles.mean_speed * (1 + _harmonics(ca, sa, whole, cycles.angle))
+    error = rng.normal(0.0, cycles.pitch_error, (draws, response.shape[2]))
+    du = _harmonics(error @ response[0].T, error @ response[1].T, cycles.orders, cycles.angle)
+    speed = 1 / (1 / cycles.mean_speed + du)
     delta = irregularity(speed, cycles.mean_cycle.omega_mean).delta
     return float(np.std(delta, ddof=1))
-
-
-def _repeating_residual(track: ToothTrack, theta, resid, omega_mean) -> np.ndarray:
-    """Mean residual per tooth position over all cycles and revolutions, as an angle."""
-    tooth = np.mod(np.rint(theta / track.pitch).astype(int), track.teeth)[:-1]
-    per_column = resid[:-1].mean(axis=1) * omega_mean
-    n = np.bincount(tooth, minlength=track.teeth)
-    with np.errstate(invalid="ignore"):
-        dev = np.bincount(tooth, per_column, minlength=track.teeth) / n
-    return dev - np.nanmean(dev)
 
 
 def jackknife(cycles: CycleSpeeds) -> Irregularity:
