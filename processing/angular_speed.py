@@ -225,10 +225,13 @@ def fit_cycles(track: ToothTrack, *, revolutions: int = 2, orders: float | None 
 
     Pitch errors of an uncalibrated wheel repeat every revolution, so no averaging removes
     them from the whole orders. Independent tooth errors of σ put into order k of the speed
-    a relative pattern of variance 2k²σ²/z per part, growing with k while the engine's own
-    harmonics fall off; counting it in var(a), var(b) keeps the orders where the wheel, not
-    the engine, dominates out of the curve. (Half orders of a four-stroke cycle are immune
-    in the speed, but not quite in the integrated edge times, so they are tested alike.)
+    a relative pattern of variance about 2k²σ²/z per part (exactly: through the fit's own
+    linear map, :class:`_WheelMaps`), growing with k while the engine's own harmonics fall
+    off; counting it in var(a), var(b) keeps the orders where the wheel, not the engine,
+    dominates out of the curve. An estimated σ has few degrees of freedom ν, so the
+    thresholds are then those of 2·F(2, ν) at the same tail probability. (Half orders of a
+    four-stroke cycle are immune in the speed, but not quite in the integrated edge times,
+    so they are tested alike.)
     """
     limit = track.teeth / 3
     if orders is not None and not 0 < orders <= limit:
