@@ -62,7 +62,8 @@ def report(frame, targets) -> str:
              "Worst |δ/δ_true − 1| in the target region "
              "(60−2, ≥ 20 samples/tooth, ≥ 20 dB):",
              speed.region_worst(frame).to_string(float_format=fmt), "",
-             f"δ on records other than the target's ({speed.TARGET_CYCLES} working cycles):",
+             f"δ findings (other record lengths than the target's {speed.TARGET_CYCLES} "
+             "working cycles, and matched edges):",
              *speed.delta_findings(frame), ""]
     return "\n".join(lines + [t.line() for t in targets])
 
