@@ -268,7 +268,7 @@ def fit_cycles(track: ToothTrack, *, revolutions: int = 2, orders: float | None 
     if orders is None:
         var = sigma2 * np.sum(solve ** 2, axis=1) / n_cycles
         var_pitch = pitch_error ** 2 * np.sum(response ** 2, axis=2)
-        total = var.reshape(-1)[2:].reshape(2, k.size) + var_pitch
+        total = var[2:].reshape(2, k.size) + var_pitch
         chi2 = a.mean(axis=1) ** 2 / total[0] + b.mean(axis=1) ** 2 / total[1]
         share = var_pitch.sum(axis=0) / total.sum(axis=0)
         dof = np.where(share > 0, pitch_dof / np.maximum(share, 1e-300) ** 2, np.inf)
