@@ -72,7 +72,7 @@ SPEC = LabSpec(
                           kind="count", allow_zero=True, default=0),
                     Field("calibration", bi("record of the wheel coasting smoothly (pitch "
                                             "calibration), a file", "запись выбега (калибровка "
-                                            "шага зубьев), файл"), kind="text", required=False),
+                                            "шага зубьев), файл"), kind="file", required=False),
                     Field("calibration_channel", bi("channel of the calibration record",
                                                     "канал записи выбега"),
                           kind="text", required=False),
@@ -95,7 +95,7 @@ SPEC = LabSpec(
         Section("regime", bi("Regime", "Режим"), many=True, required=True, fields=(
             Field("signal", bi("sensor recording: CSV, WAV or HDF5 file",
                                "запись датчика: файл CSV, WAV или HDF5"),
-                  kind="text", required=False, example="regime1.wav"),
+                  kind="file", required=False, example="regime1.wav"),
             Field("channel", bi("channel (column, dataset or WAV channel number)",
                                 "канал (столбец, набор данных или номер канала WAV)"),
                   kind="text", required=False),
@@ -107,7 +107,7 @@ SPEC = LabSpec(
                   unit="kHz", required=False, symbol="f_s"),
             Field("edges", bi("or: tooth edge times from a counter (CSV, s)",
                               "или: моменты фронтов от счётчика (CSV, с)"),
-                  kind="text", required=False),
+                  kind="file", required=False),
             Field("n_tach", bi("tachometer reading", "показание тахометра"), unit="rpm",
                   limit="5 rpm", symbol="n", example=1800),
             Field("h_max", bi("oscillogram: highest point of the speed trace",
@@ -215,11 +215,6 @@ class Regime:
     pitch_bias: dict
 
 
-def _path(inputs: Inputs, name: str) -> Path:
-    p = Path(name)
-    return p if p.is_absolute() else Path(inputs.file).parent / p
-
-
 def _channel_key(text: str | None):
     return int(text) if text is not None and text.strip().isdigit() else text
 
@@ -233,13 +228,13 @@ def _signal_edges(inputs: Inputs, i: int, entry: dict, method: str):
     """Edge times of a regime, its TDC marks and the samples per tooth (None for counters)."""
     where = f"regime[{i}]"
     if "edges" in entry:
-        return read_edge_times(_path(inputs, entry["edges"]), field=f"{where}.edges"), None, None
+        return read_edge_times(entry["edges"], field=f"{where}.edges"), None, None
     if "signal" not in entry:
         raise inputs.error("neither a recording nor edge times are given",
                            "add signal = \"file.wav\" (or .csv, .h5) or edges = \"edges.csv\"",
                            where)
     rate = entry["sample_rate"].value if "sample_rate" in entry else None
-    path = _path(inputs, entry["signal"])
+    path = entry["signal"]
     channel = open_channel(path, channel=_channel_key(entry.get("channel")), sample_rate=rate,
                            field=f"{where}.signal")
     times = _edges_of(channel, method)
@@ -260,7 +255,7 @@ def _calibration(inputs: Inputs, method: str):
     wheel = inputs["wheel"]
     if "calibration" not in wheel:
         return None
-    path = _path(inputs, wheel["calibration"])
+    path = wheel["calibration"]
     channel = open_channel(path, channel=_channel_key(wheel.get("calibration_channel")),
                            field="wheel.calibration")
     track = track_teeth(_edges_of(channel, method), wheel["z"], wheel["missing"])

@@ -22,8 +22,11 @@ def lab_module(lab_id: str, file: str | None = None):
     return LABS[lab_id]
 
 
-def evaluate(path: str | Path, **options) -> LabResult:
-    """Read, validate and reduce one measurement file; warnings of both steps are kept."""
+def evaluate(path: str | Path, *, confine: bool = False, **options) -> LabResult:
+    """Read, validate and reduce one measurement file; warnings of both steps are kept.
+
+    ``confine`` keeps every file the measurement names inside its folder (see
+    :func:`processing.measurement.load`)."""
     data = read_toml(path)
     lab_id = data.get("lab")
     if lab_id is None:
@@ -32,7 +35,7 @@ def evaluate(path: str | Path, **options) -> LabResult:
                          file=str(path), field="lab")
     module = lab_module(str(lab_id), str(path))
     with collect_notices() as notices:
-        inputs = load(path, module.SPEC, data)
+        inputs = load(path, module.SPEC, data, confine=confine)
     result = module.reduce(inputs, **options)
     result.warnings = notices + [w for w in result.warnings if w not in notices]
     return result

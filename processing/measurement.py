@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import difflib
 import math
+import os
 import tomllib
 import warnings
 from collections.abc import Mapping
@@ -68,7 +69,9 @@ class Field:
         How the report prints it (``R₁``); defaults to ``name``.
     limit : str, optional
         The usual instrument's limit of error ("0.5 mm"), used when the file gives none.
-    kind : {"quantity", "count", "choice", "text", "flag"}
+    kind : {"quantity", "count", "choice", "text", "flag", "file"}
+        A ``file`` is a path relative to the measurement file (a recording, an image); it
+        is read as a :class:`~pathlib.Path` resolved against the file's folder.
     required : bool
         Must be present (within its section).
     default : optional
@@ -175,7 +178,10 @@ class Inputs:
                 where = f"{sec.name}[{i}]" if sec.many else sec.name
                 for f in sec.fields:
                     if f.name in entry:
-                        rows.append(_row(where, sec, f, entry[f.name]))
+                        v = entry[f.name]
+                        if isinstance(v, Path):  # as written, relative to the file's folder
+                            v = os.path.relpath(v, Path(self.file).parent)
+                        rows.append(_row(where, sec, f, v))
         return rows
 
     def error(self, problem: str, fix: str, field: str) -> InputError:
@@ -225,7 +231,8 @@ def _did_you_mean(word: str, options) -> str:
     return f"did you mean '{close[0]}'?" if close else f"known keys: {', '.join(options)}"
 
 
-def load(path: str | Path, spec: LabSpec, data: dict | None = None) -> Inputs:
+def load(path: str | Path, spec: LabSpec, data: dict | None = None, *,
+         confine: bool = False) -> Inputs:
     """Read and validate a measurement file for the lab ``spec``.
 
     Parameters
@@ -236,6 +243,9 @@ def load(path: str | Path, spec: LabSpec, data: dict | None = None) -> Inputs:
         The lab's declaration.
     data : dict, optional
         The already-parsed TOML document.
+    confine : bool
+        Keep every file the measurement names inside the measurement file's folder (a
+        teacher checking a class folder: one submission may not read another's data).
 
     Raises
     ------
@@ -250,6 +260,8 @@ def load(path: str | Path, spec: LabSpec, data: dict | None = None) -> Inputs:
                          _did_you_mean(key, ["lab", "meta"] + [s.name for s in spec.sections]),
                          file=file, field=key)
     meta = _load_meta(data.get("meta", {}), file)
+    folder = Path(path).parent
+    where = _Where(file, folder, folder.resolve() if confine else None)
     sections: dict[str, Any] = {}
     for sec in spec.sections:
         raw = data.get(sec.name)
@@ -267,14 +279,14 @@ def load(path: str | Path, spec: LabSpec, data: dict | None = None) -> Inputs:
                 raise InputError(f"[[{sec.name}]] must be one or more tables",
                                  f"write each entry as a [[{sec.name}]] table", file=file,
                                  field=sec.name)
-            sections[sec.name] = [_load_section(sec, r, file, f"{sec.name}[{i}]")
+            sections[sec.name] = [_load_section(sec, r, where, f"{sec.name}[{i}]")
                                   for i, r in enumerate(raw)]
         else:
             if not isinstance(raw, dict):
                 raise InputError(f"'{sec.name}' must be a table [{sec.name}]",
                                  f"write the values under a line [{sec.name}]", file=file,
                                  field=sec.name)
-            sections[sec.name] = _load_section(sec, raw, file, sec.name)
+            sections[sec.name] = _load_section(sec, raw, where, sec.name)
     return Inputs(spec.id, file, meta, sections, spec)
 
 
@@ -289,7 +301,17 @@ def _load_meta(raw, file: str) -> dict[str, str]:
     return {k: str(v) for k, v in raw.items()}
 
 
-def _load_section(sec: Section, raw: dict, file: str, where: str) -> dict:
+@dataclass(frozen=True)
+class _Where:
+    """The measurement file, its folder, and the folder files must stay in (or None)."""
+
+    file: str
+    folder: Path
+    root: Path | None
+
+
+def _load_section(sec: Section, raw: dict, src: _Where, where: str) -> dict:
+    file = src.file
     names = [f.name for f in sec.fields]
     for key in raw:
         if key not in names:
@@ -300,19 +322,19 @@ def _load_section(sec: Section, raw: dict, file: str, where: str) -> dict:
         path = f"{where}.{f.name}"
         if f.name not in raw:
             if f.default is not None:
-                out[f.name] = _convert(f, f.default, file, path)
+                out[f.name] = _convert(f, f.default, src, path)
             elif f.required:
                 raise InputError(f"'{f.name}' ({f.label['en']}) is missing",
                                  f"add a line {f.name} = ... in [{sec.name}]"
                                  + (f", in {f.unit}" if f.unit else ""), file=file, field=path)
             continue
-        out[f.name] = _convert(f, raw[f.name], file, path)
+        out[f.name] = _convert(f, raw[f.name], src, path)
     return out
 
 
-def _convert(f: Field, raw, file: str, path: str):
+def _convert(f: Field, raw, src: _Where, path: str):
     def fail(problem, fix):
-        return InputError(problem, fix, file=file, field=path)
+        return InputError(problem, fix, file=src.file, field=path)
 
     if raw == "" or raw == []:
         raise fail(f"'{f.name}' ({f.label['en']}) is empty",
@@ -320,6 +342,8 @@ def _convert(f: Field, raw, file: str, path: str):
                                                        f"'12.5 {f.unit}')" if f.unit else ""))
     if f.kind == "text":
         return str(raw)
+    if f.kind == "file":
+        return _file(f, raw, src, fail)
     if f.kind == "flag":
         if not isinstance(raw, bool):
             raise fail(f"'{f.name}' must be true or false, got {raw!r}", "write true or false")
@@ -336,6 +360,19 @@ def _convert(f: Field, raw, file: str, path: str):
                        "write the count as a whole number, e.g. 20")
         return raw
     return _measured(f, raw, fail)
+
+
+def _file(f: Field, raw, src: _Where, fail) -> Path:
+    """A file named by the measurement, resolved against its folder (and kept in it)."""
+    if not isinstance(raw, str):
+        raise fail(f"'{f.name}' must be a file name in quotes, got {raw!r}",
+                   f"write e.g. {f.name} = \"record.csv\" (relative to this file's folder)")
+    target = src.folder / Path(raw).expanduser()
+    if src.root is not None and not target.resolve().is_relative_to(src.root):
+        raise fail(f"'{raw}' lies outside the submission's folder {src.root}",
+                   "copy the file into the folder of the measurement file and name it "
+                   "relative to it (files outside are not read in confined mode)")
+    return target
 
 
 def _measured(f: Field, raw, fail) -> Measured:
