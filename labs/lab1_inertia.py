@@ -547,6 +547,14 @@ def _check_physics(inputs: Inputs, prop) -> None:
     for sec in ("trifilar", "pendulum"):
         if sec in inputs and "amplitude" in inputs[sec]:
             check_amplitude(inputs[sec]["amplitude"].value, SPEC.section(sec).label["en"])
+    if "analytic" in inputs and min(prop["J_analytic"].value, prop["m_analytic"].value) <= 0:
+        holes = [i for i, p in enumerate(inputs["analytic"]) if p["hole"]]
+        largest = max(holes, key=lambda i: abs(prop[f"J_part_{i}"].value), default=0)
+        raise inputs.error(
+            f"the parts add up to m = {prop['m_analytic'].value:.4g} kg and J = "
+            f"{prop['J_analytic'].value:.4g} kg·m²: the holes remove more than the solid parts "
+            f"hold", "a hole must fit inside a solid part: check its radii, height and count, "
+            "and that hole = true is set only on holes", f"analytic[{largest}]")
     if "trifilar" in inputs and prop["J_trifilar"].value <= 0:
         raise inputs.error(f"the part's J comes out {prop['J_trifilar'].value:.4g} kg·m² ≤ 0 after "
                            f"the empty platform is subtracted", "the platform with the part must "

@@ -131,6 +131,18 @@ class FlywheelNotNeededWarning(DynlabWarning):
     code = "flywheel_not_needed"
 
 
+class ImplausibleValueWarning(DynlabWarning):
+    """An input's magnitude lies outside what a lab bench usually measures."""
+
+    code = "implausible_value"
+
+
+class TextTruncatedWarning(DynlabWarning):
+    """A text (notes, a name) too long for a report was cut."""
+
+    code = "text_truncated"
+
+
 @dataclass(frozen=True)
 class Notice:
     """A warning as it is stored in a result and printed in a report."""

@@ -30,9 +30,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .diagnostics import InputError, SingleReadingWarning
+from .diagnostics import (ImplausibleValueWarning, InputError, SingleReadingWarning,
+                          TextTruncatedWarning)
 from .uncertainty import Measured
-from .units import parse_quantity, si_factor, si_unit, to_si
+from .units import magnitude_verdict, parse_quantity, si_factor, si_unit, to_si
 
 def bi(en: str, ru: str) -> dict[str, str]:
     """A text in English and Russian."""
@@ -44,9 +45,18 @@ def bi(en: str, ru: str) -> dict[str, str]:
 MASS = dict(unit="kg", limit="1 g")
 LENGTH = dict(unit="mm", limit="0.5 mm")
 STOPWATCH = dict(unit="s", limit="0.01 s", repeated=True)
-AMPLITUDE = dict(unit="deg", limit="1 deg", required=False, symbol="θ₀")
+AMPLITUDE = dict(unit="deg", limit="1 deg", required=False, symbol="θ₀", maximum="90 deg")
 COUNT = dict(kind="count", symbol="n")
 GRAVITY = dict(unit="m/s^2", default="9.81 ± 0.02 m/s^2")
+
+MAX_FILE_BYTES = 1 << 20
+"""Largest measurement file read [bytes]: a lab sheet is a few kB; series belong in recordings."""
+
+MAX_READINGS = 1000
+"""Most repeated readings one field takes; longer series belong in a recording (CSV)."""
+
+MAX_TEXT = 2000
+"""Longest text (notes, names) carried into a report [characters]; longer text is cut."""
 
 META_KEYS = ("student", "group", "date", "rig", "teacher", "university", "department", "notes")
 _TABLE_KEYS = ("value", "readings", "unit", "limit", "u")
@@ -84,6 +94,9 @@ class Field:
         Allowed values of a ``choice``.
     example : optional
         A typical value, shown in the template's comment.
+    maximum : str, optional
+        The largest value that makes physical sense ("90 deg" for a swing amplitude);
+        larger values are refused.
     """
 
     name: str
@@ -98,6 +111,7 @@ class Field:
     allow_zero: bool = False
     choices: tuple[str, ...] = ()
     example: Any = None
+    maximum: str | None = None
 
     @property
     def display_symbol(self) -> str:
@@ -207,7 +221,13 @@ def read_toml(path: str | Path) -> dict:
     """Read a TOML file, turning every failure into an :class:`InputError`."""
     path = Path(path)
     try:
-        text = path.read_bytes().decode("utf-8")
+        size = path.stat().st_size
+        if size > MAX_FILE_BYTES and path.is_file():
+            raise InputError(f"the file is {size / 2**20:.1f} MiB; a measurement file is a "
+                             f"lab sheet of a few kB (at most {MAX_FILE_BYTES >> 20} MiB)",
+                             "keep long series in a recording (CSV, WAV, HDF5) named by the "
+                             "measurement file, and long notes short", file=str(path))
+        text = path.read_bytes().decode("utf-8-sig")
     except FileNotFoundError:
         raise InputError("file not found", "check the path", file=str(path)) from None
     except IsADirectoryError:
@@ -298,7 +318,17 @@ def _load_meta(raw, file: str) -> dict[str, str]:
         if key not in META_KEYS:
             raise InputError(f"unknown key '{key}' in [meta]", _did_you_mean(key, META_KEYS),
                              file=file, field=f"meta.{key}")
-    return {k: str(v) for k, v in raw.items()}
+    return {k: _short_text(str(v), f"meta.{k}") for k, v in raw.items()}
+
+
+def _short_text(text: str, where: str) -> str:
+    """``text``, cut to :data:`MAX_TEXT` characters with a warning if longer."""
+    if len(text) <= MAX_TEXT:
+        return text
+    warnings.warn(TextTruncatedWarning(
+        f"'{where}' holds {len(text)} characters; the report shows the first {MAX_TEXT}",
+        f"'{where}' содержит {len(text)} символов; в отчёт вошли первые {MAX_TEXT}"))
+    return text[:MAX_TEXT] + " …"
 
 
 @dataclass(frozen=True)
@@ -341,7 +371,7 @@ def _convert(f: Field, raw, src: _Where, path: str):
                    "fill in the value you measured" + (f" (in {f.unit}, or a string like "
                                                        f"'12.5 {f.unit}')" if f.unit else ""))
     if f.kind == "text":
-        return str(raw)
+        return _short_text(str(raw), path)
     if f.kind == "file":
         return _file(f, raw, src, fail)
     if f.kind == "flag":
@@ -396,6 +426,10 @@ def _measured(f: Field, raw, fail) -> Measured:
     if isinstance(body, list):
         if not body:
             raise fail(f"'{f.name}' has an empty list of readings", "write at least one reading")
+        if len(body) > MAX_READINGS:
+            raise fail(f"'{f.name}' has {len(body)} readings; at most {MAX_READINGS} are taken",
+                       "repeat a reading a few times (the manual asks for three); a long "
+                       "series belongs in a recording file")
         pairs = [_scalar(f, b, unit, fail) for b in body]
         values = [p[0] for p in pairs]
         limits = [p[1] for p in pairs if p[1] is not None]
@@ -454,12 +488,38 @@ def _scalar(f: Field, raw, unit, fail, *, what: str = "value", allow_zero: bool 
     if not math.isfinite(value):
         raise fail(f"the {what} of '{f.name}' is not a finite number ({raw!r})",
                    "write the number you read")
+    _check_magnitude(f, value, raw, unit, fail, what)
     if value < 0 or (value == 0 and not allow_zero):
         bound = "≥ 0" if allow_zero else "> 0"
         raise fail(f"'{f.name}' ({f.label['en']}) must be {bound}, got {raw!r}",
                    "check the sign and the reading" if value < 0 else
                    "a zero reading cannot be right here: check the value")
     return value, limit
+
+
+def _check_magnitude(f: Field, value: float, raw, unit: str, fail, what: str) -> None:
+    """Refuse a value no bench can measure; warn about one outside the plausible range."""
+    if f.maximum is not None and what == "value":
+        top = parse_quantity(f.maximum, f.unit)[0]
+        if value > top:
+            raise fail(f"'{f.name}' ({f.label['en']}) is {raw!r}, above {f.maximum}, "
+                       f"where the method makes no sense",
+                       f"check the reading and its unit (the value must stay below {f.maximum})")
+    verdict, plausible = magnitude_verdict(value, unit)
+    if verdict == "ok":
+        return
+    k = si_factor(unit)
+    shown = (f"{plausible[0] / k:.3g} to {plausible[1] / k:.3g} {unit}" if plausible
+             else "any measurable size")
+    if verdict == "refused":
+        raise fail(f"the {what} of '{f.name}' ({f.label['en']}) is {raw!r}, far outside what a "
+                   f"lab bench measures ({shown})", f"check the number, its exponent and its "
+                   f"unit (the unit of a plain number here is {unit})")
+    warnings.warn(ImplausibleValueWarning(
+        f"'{f.name}' ({f.label['en']}) = {raw!r} lies outside the usual {shown}: check the "
+        f"number and its unit",
+        f"'{f.name}' ({f.label['ru']}) = {raw!r} вне обычного диапазона {shown}: проверьте "
+        f"число и единицы"))
 
 
 def template(spec: LabSpec, lang: str = "en") -> str:

@@ -53,10 +53,16 @@ class ResultValue:
 
     def to_dict(self) -> dict:
         e = self.estimate
-        return {"value": e.value, "u": e.u, "U": e.U, "k": 2, "unit": self.unit,
-                "relative_U": e.relative_U if math.isfinite(e.relative_U) else None, "interval95": list(e.interval95),
-                "dof": e.dof if math.isfinite(e.dof) else None, "nonlinear": e.nonlinear,
+        return {"value": e.value, "u": _finite(e.u), "U": _finite(e.U), "k": 2, "unit": self.unit,
+                "relative_U": _finite(e.relative_U),
+                "interval95": [_finite(x) for x in e.interval95],
+                "dof": _finite(e.dof), "nonlinear": e.nonlinear,
                 "symbol": self.symbol, "label": dict(self.label)}
+
+
+def _finite(x: float) -> float | None:
+    """``x``, or None (JSON null) where it is infinite or undefined."""
+    return x if math.isfinite(x) else None
 
 
 @dataclass(frozen=True)
@@ -138,6 +144,18 @@ class LabResult:
 
     def __getitem__(self, name: str) -> ResultValue:
         return self.results[name]
+
+    def check_finite(self) -> None:
+        """Raise :class:`~processing.diagnostics.InputError` if a result is not a finite
+        number: its inputs lie where the lab's formulas do not hold."""
+        from .diagnostics import InputError
+
+        for name, r in self.results.items():
+            if not math.isfinite(r.value):
+                raise InputError(f"{name} ({r.label['en']}) cannot be computed from these "
+                                 f"inputs (it comes out {r.value})",
+                                 "check the inputs' values and units against the template "
+                                 f"('dynlab template {self.lab}')", file=self.source)
 
     def __contains__(self, name: str) -> bool:
         return name in self.results

@@ -48,6 +48,63 @@ def _dimension_name(dim) -> str:
     return names.get(key, f"a quantity of dimension {dim}")
 
 
+PLAUSIBLE = {
+    "[mass]": (1e-9, 1e6, "kg"),
+    "[length]": (1e-9, 1e3, "m"),
+    "[time]": (1e-9, 1e5, "s"),
+    "1 / [time]": (1e-4, 1e8, "1/s"),
+    "[length] / [time] ** 2": (1e-6, 1e6, "m/s^2"),
+    "[mass] / [length] / [time] ** 2": (1e-3, 1e13, "Pa"),
+    "[mass] / [length] ** 3": (1e-3, 1e5, "kg/m^3"),
+    "[length] ** 2 * [mass]": (1e-15, 1e7, "kg*m^2"),
+    "[length] * [mass] / [time] ** 2": (1e-6, 1e9, "N"),
+    "[length] ** 2 * [mass] / [time] ** 2": (1e-9, 1e9, "J or N*m"),
+    "[mass] / [time] ** 2": (1e-3, 1e13, "N/m"),
+    "[length] ** 3": (1e-15, 1e3, "m^3"),
+    "[length] ** 2": (1e-15, 1e4, "m^2"),
+    "[current] * [length] ** 2 * [mass] / [time] ** 3": (1e-9, 1e6, "V"),
+}
+"""What a lab bench can measure, by dimension: (least, greatest, SI unit) of a magnitude.
+Outside it a value is suspect (a warning); :data:`REJECT_FACTOR` beyond it, it is refused."""
+
+REJECT_FACTOR = 1e3
+"""How far beyond the plausible range a magnitude is refused rather than warned about."""
+
+ANY_MAGNITUDE = (1e-30, 1e30)
+"""Magnitudes refused whatever the dimension: beyond them products of inputs overflow."""
+
+
+def magnitude_verdict(value: float, unit: str) -> tuple[str, tuple[float, float, str] | None]:
+    """Whether a nonzero SI ``value`` of a quantity declared in ``unit`` is plausible.
+
+    Returns
+    -------
+    verdict : {"ok", "suspect", "refused"}
+    plausible : tuple or None
+        ``(least, greatest, SI unit)`` of its dimension (:data:`PLAUSIBLE`), if known.
+
+    Examples
+    --------
+    >>> magnitude_verdict(11.8, "kg")[0], magnitude_verdict(2e6, "kg")[0]
+    ('ok', 'suspect')
+    >>> magnitude_verdict(1e308, "kg")[0], magnitude_verdict(1e-320, "g")[0]
+    ('refused', 'refused')
+    """
+    size = abs(value)
+    if value == 0.0:
+        return "ok", None
+    key = str(ureg.Quantity(1.0, unit).dimensionality) if unit else "dimensionless"
+    plausible = PLAUSIBLE.get(key)
+    if not ANY_MAGNITUDE[0] <= size <= ANY_MAGNITUDE[1]:
+        return "refused", plausible
+    if plausible is None:
+        return "ok", None
+    lo, hi, _ = plausible
+    if not lo / REJECT_FACTOR <= size <= hi * REJECT_FACTOR:
+        return "refused", plausible
+    return ("ok" if lo <= size <= hi else "suspect"), plausible
+
+
 @cache
 def si_factor(unit: str) -> float:
     """Factor converting a value in ``unit`` to SI base units (degrees → radians).
@@ -124,7 +181,10 @@ def parse_quantity(text: str, expected_unit: str) -> tuple[float, float | None]:
     if tol is not None:
         if _is_number(tol):
             tol = f"{tol} {_unit_of(main) or expected_unit}"
-        limit = abs(_to_si(tol, expected_unit, text))
+        limit = _to_si(tol, expected_unit, text)
+        if limit < 0:
+            raise ValueError(f"the ± limit in {text!r} is negative: a limit of error is a "
+                             f"half-width, ≥ 0")
     return value, limit
 
 

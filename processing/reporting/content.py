@@ -37,6 +37,26 @@ def _budget(r, lang: str, top: int = 3) -> str:
                      if c * c / total >= 0.005)
 
 
+SHOWN_READINGS = 10
+"""Readings of one input listed in a report; a longer series is shown by its ends."""
+
+
+def _readings(values, lang: str) -> str:
+    """Repeated readings as a report cell: all of them, or the first and last few and n.
+
+    >>> _readings([1, 2, 3], "en")
+    '1, 2, 3'
+    >>> _readings(range(100), "en")
+    '0, 1, 2, 3, 4, …, 95, 96, 97, 98, 99 (n = 100)'
+    """
+    values = list(values)
+    if len(values) <= SHOWN_READINGS:
+        return ", ".join(f"{x:g}" for x in values)
+    half = SHOWN_READINGS // 2
+    return (", ".join(f"{x:g}" for x in values[:half]) + ", …, "
+            + ", ".join(f"{x:g}" for x in values[-half:]) + f" (n = {len(values)})")
+
+
 def _cell(value, lang: str) -> str:
     return value[lang] if isinstance(value, dict) else str(value)
 
@@ -71,7 +91,7 @@ def build(res, lang: str = "en") -> dict:
     for row in res.inputs:
         if "u" in row:
             v, u = fmt_pm(row["value"], row["u"])
-            readings = ", ".join(f"{x:g}" for x in row.get("readings", []))
+            readings = _readings(row.get("readings", []), lang)
         else:
             v, u, readings = str(row["value"]), "", ""
         inputs.append({"section": row["section"], "symbol": row["symbol"],
