@@ -158,7 +158,19 @@ class Channel:
     def _blocks(self, size: int, start: int, stop: int) -> Iterator[np.ndarray]:
         with self._opener() as read:
             for a in range(start, stop, size):
-                block = read(a, min(a + size, stop))
+                b = min(a + size, stop)
+                try:
+                    block = read(a, b)
+                except (OSError, ValueError) as exc:
+                    raise InputError(f"channel '{self.name}' cannot be read at samples {a}–"
+                                     f"{b - 1}: the file is damaged or cut short ({exc})",
+                                     "copy the recording again from the recorder, or export "
+                                     "it anew", file=self.path, field=self.field) from None
+                if len(block) != b - a:
+                    raise InputError(f"channel '{self.name}' ends at sample {a + len(block)}, "
+                                     f"before the {self.length} samples its header announces: "
+                                     "the file is cut short", "copy the recording again whole",
+                                     file=self.path, field=self.field)
                 self._check_finite(block, a)
                 yield block
 
@@ -541,6 +553,12 @@ class _Table:
                                     decimal=decimal, comment="#", skipinitialspace=True,
                                     index_col=False, low_memory=False)
         except (pd.errors.ParserError, pd.errors.ParserWarning, ValueError) as exc:
+            if sep == "," and re.search(r"\d,\d", data_line[1]) and header and \
+                    len(_split(data_line[1], sep)) > len(_split(first[1], sep)):
+                raise src.error("the rows have more cells than the header: the numbers seem to "
+                                "use decimal commas while commas also separate the columns",
+                                "export the table with ';' (or tabs) between the columns, or "
+                                "with '.' as the decimal point") from None
             raise src.error(f"not a regular table ({exc})".replace("\n", " "),
                             "give every row the same number of cells, and every column a name "
                             "in the header") from None
@@ -582,12 +600,17 @@ class _Table:
 
 
 def _read_text(src: _Source) -> str:
+    """The table's text: UTF-8, else Windows-1251 (Russian Excel); binary data refused."""
     raw = src.path.read_bytes()
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError:
-        text = raw.decode("cp1251")
-    if "\x00" in text:
+        try:
+            text = raw.decode("cp1251")
+        except UnicodeDecodeError:
+            text = "\x00"
+    controls = sum(ch < " " and ch not in "\t\r\n" for ch in text[:65536])
+    if "\x00" in text or controls > 0.01 * min(len(text), 65536):
         raise src.error("not a text table (binary data)",
                         "give a .csv/.txt table of numbers, or the recording's real extension")
     return text
@@ -717,8 +740,18 @@ def _wav_layout(src: _Source) -> tuple[int, _WavOpener]:
     except ValueError as exc:
         if "container size" in str(exc):
             return _packed_layout(src)
+        if "mmap length is greater than file size" in str(exc):
+            raise src.error(f"the file is cut short: its header announces more samples than "
+                            f"its {src.path.stat().st_size} bytes hold",
+                            "copy the recording again whole from the recorder") from None
         raise src.error(f"not a readable WAV file ({exc})",
                         "export the recording as a PCM (8/16/24/32-bit) or float WAV") from None
+    except (struct.error, EOFError):
+        raise src.error("the WAV header is cut short or damaged",
+                        "copy the recording again whole, or export it anew") from None
+    except ZeroDivisionError:
+        raise src.error("the WAV header says the file has no channels",
+                        "export the recording again as a mono or stereo WAV") from None
     count = 1 if data.ndim == 1 else data.shape[1]
     return rate, _WavOpener(src.path, data.offset, data.shape[0], count, data.dtype.itemsize,
                             data.dtype)
