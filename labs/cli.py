@@ -1,6 +1,6 @@
 """The ``dynlab`` command: a thin layer over the library.
 
-    dynlab run FILE... [--out DIR] [--format html,pdf,json] [--lang en|ru] [--json]
+    dynlab run FILE... [--out DIR] [--format html,pdf,json] [--lang en|ru] [--json] [--confine]
     dynlab list
     dynlab template LAB [--lang en|ru] [-o FILE]
     dynlab demo [--out DIR] [--lang en|ru]
@@ -50,18 +50,48 @@ def _write(result, out: Path, stem: str, formats, lang: str) -> list[Path]:
 
 
 def _stems(files) -> list[str]:
-    """Report names: the file's stem, prefixed by its folder where two files share a stem."""
-    stems = [Path(f).stem for f in files]
-    return [f"{Path(f).parent.name}-{s}" if stems.count(s) > 1 else s
-            for f, s in zip(files, stems)]
+    """Report names, one per file and all different: the file's stem, prefixed by as many of
+    its folders as it takes to tell files of the same stem apart.
+
+    >>> _stems(["a/x/rod.toml", "b/x/rod.toml", "flywheel.toml"])
+    ['a-x-rod', 'b-x-rod', 'flywheel']
+    """
+    paths = [Path(f).resolve() for f in files]
+    stems = []
+    for p in paths:
+        rivals = [q for q in paths if q.stem == p.stem and q != p]
+        depth = 0
+        while rivals and depth < len(p.parts) - 1:
+            depth += 1
+            rivals = [q for q in rivals if q.parts[-depth - 1:-1] == p.parts[-depth - 1:-1]]
+        stems.append("-".join([*p.parts[len(p.parts) - 1 - depth:-1], p.stem]))
+    return stems
 
 
-def _run_files(files, out: Path, formats, lang: str, as_json: bool) -> int:
+def _unique(files) -> list[str]:
+    """The files, each once (a file given twice is reduced once, and the user told)."""
+    seen, kept = set(), []
+    for f in files:
+        key = Path(f).resolve()
+        if key in seen:
+            print(f"note: {f} is given more than once; it is reduced once", file=sys.stderr)
+            continue
+        seen.add(key)
+        kept.append(f)
+    return kept
+
+
+def _run_files(files, out: Path | None, formats, lang: str, as_json: bool,
+               confine: bool = False) -> int:
+    """Reduce each file; write its reports to ``out`` (None: write nothing)."""
     failures, documents = 0, []
+    files = _unique(files)
     for path, stem in _progress(list(zip(files, _stems(files))), "reducing"):
         try:
-            result = evaluate(path)
-            written = _write(result, out, stem, formats, lang)
+            result = evaluate(path, confine=confine)
+            replaced = [p for p in (out / f"{stem}.{f}" for f in formats) if p.exists()] \
+                if out is not None else []
+            written = _write(result, out, stem, formats, lang) if out is not None else []
         except InputError as exc:
             print(f"error: {exc}", file=sys.stderr)
             failures += 1
@@ -70,10 +100,18 @@ def _run_files(files, out: Path, formats, lang: str, as_json: bool) -> int:
             documents.append(to_json(result))
         else:
             print(to_terminal(result, lang))
-            print("  → " + ", ".join(str(p) for p in written))
+            print("  → " + ", ".join(str(p) + (" (replaced)" if p in replaced else "")
+                                     for p in written))
     if documents:
         print(documents[0] if len(files) == 1 else "[\n" + ",\n".join(documents) + "\n]")
     return EXIT_INPUT if failures else 0
+
+
+def _run(args) -> int:
+    writes = not args.json or args.out is not None or args.format is not None
+    out = Path(args.out or "reports") if writes else None
+    return _run_files(args.files, out, args.format or FORMATS, args.lang, args.json,
+                      args.confine)
 
 
 def _sample_dir(given: str | None) -> Path:
@@ -160,12 +198,16 @@ def parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True)
     run = sub.add_parser("run", help="reduce measurement files into reports")
     run.add_argument("files", nargs="+", metavar="FILE")
-    run.add_argument("--out", default="reports", help="folder for the reports (default: reports)")
-    run.add_argument("--format", type=_formats, default=FORMATS,
+    run.add_argument("--out", help="folder for the reports (default: reports; with --json "
+                     "alone nothing is written)")
+    run.add_argument("--format", type=_formats,
                      help="comma list of html,pdf,json (default: all)")
     run.add_argument("--lang", choices=LANGS, default="en")
     run.add_argument("--json", action="store_true", help="print the result JSON to stdout")
-    run.set_defaults(func=lambda a: _run_files(a.files, Path(a.out), a.format, a.lang, a.json))
+    run.add_argument("--confine", action="store_true",
+                     help="read no file outside each measurement file's folder (for checking "
+                          "a class's submissions)")
+    run.set_defaults(func=_run)
     sub.add_parser("list", help="list the labs").set_defaults(func=_list)
     tpl = sub.add_parser("template", help="write a blank measurement file for a lab")
     tpl.add_argument("lab")
