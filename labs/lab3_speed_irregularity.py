@@ -37,7 +37,7 @@ from processing.measurement import Field, Inputs, LabSpec, Section, bi
 from processing.reporting.content import fmt_pm
 from processing.result import Figure, LabResult, Table, compare, flag_estimates, result_values
 from processing.signals import open_channel, read_edge_times
-from processing.toothwheel import ToothTrack, calibrate_pitch, track_teeth
+from processing.toothwheel import ToothTrack, calibrate_pitch, recurring_gap, track_teeth
 from processing.uncertainty import Measured, propagate
 
 REFERENCE_RANGES = {"automotive": (0.01, 0.02), "tractor": (0.003, 0.01)}
@@ -251,6 +251,25 @@ def _signal_edges(inputs: Inputs, i: int, entry: dict, method: str):
     return times, tdc, channel.sample_rate * float(np.median(np.diff(times)))
 
 
+def _track(inputs: Inputs, times, field: str, path, tdc=None) -> ToothTrack:
+    """The teeth of a record numbered, with the wheel the file describes checked against the
+    gap the record shows; every failure located at the record and its field."""
+    wheel = inputs["wheel"]
+    seen = recurring_gap(times)
+    if seen is not None and seen != (wheel["z"], wheel["missing"]):
+        z, missing = seen
+        wrong = "wheel.missing" if z == wheel["z"] or missing != wheel["missing"] else "wheel.z"
+        raise InputError(f"the record shows a gap of {missing} missing teeth every {z - missing} "
+                         f"pulses, a {z}−{missing} wheel, but the file describes z = {wheel['z']} "
+                         f"with {wheel['missing']} missing", f"write z = {z} and missing = "
+                         f"{missing} in [wheel] (z counts the missing teeth too)",
+                         file=inputs.file, field=wrong)
+    try:
+        return track_teeth(times, wheel["z"], wheel["missing"], reference_times=tdc)
+    except InputError as exc:
+        raise InputError(exc.problem, exc.fix, file=str(path), field=field) from None
+
+
 def _calibration(inputs: Inputs, method: str):
     wheel = inputs["wheel"]
     if "calibration" not in wheel:
@@ -258,7 +277,7 @@ def _calibration(inputs: Inputs, method: str):
     path = wheel["calibration"]
     channel = open_channel(path, channel=_channel_key(wheel.get("calibration_channel")),
                            field="wheel.calibration")
-    track = track_teeth(_edges_of(channel, method), wheel["z"], wheel["missing"])
+    track = _track(inputs, _edges_of(channel, method), "wheel.calibration", path)
     try:
         return calibrate_pitch(track)
     except InputError as exc:
@@ -277,7 +296,8 @@ def _regime(inputs: Inputs, i: int, entry: dict, calibration) -> Regime:
             "edge times lose their sub-sample accuracy; record at a higher sample rate",
             f"{label['ru']}: {spt:.1f} отсчётов на зуб (меньше {MIN_SAMPLES_PER_TOOTH:.0f}): "
             "точность моментов фронтов падает; увеличьте частоту дискретизации"))
-    track = track_teeth(times, wheel["z"], wheel["missing"], reference_times=tdc)
+    track = _track(inputs, times, f"regime[{i}].{'edges' if 'edges' in entry else 'signal'}",
+                   entry.get("edges", entry.get("signal")), tdc)
     _check_track(track, label)
     angles = None if calibration is None else calibration.angles
     options = {"revolutions": revolutions, "tooth_angles": angles}
@@ -394,6 +414,28 @@ def _signal_inputs(reg: Regime) -> dict[str, Measured]:
                                        reg.tooth.cycles)}
 
 
+def _check_inputs(inputs: Inputs) -> None:
+    """What the file says, checked before any recording is read."""
+    engine, wheel = inputs["engine"], inputs["wheel"]
+    if engine["strokes"] not in (2, 4):
+        raise inputs.error(f"strokes = {engine['strokes']}", "write 4 (four-stroke) or 2",
+                           "engine.strokes")
+    if wheel["z"] < 3:
+        raise inputs.error(f"a wheel of z = {wheel['z']} tooth pitches cannot time a revolution",
+                           "z is the number of tooth pitches, the missing teeth included "
+                           "(60 for a 60−2 wheel)", "wheel.z")
+    if wheel["missing"] >= wheel["z"] // 2:
+        raise inputs.error(f"a wheel of {wheel['z']} teeth with {wheel['missing']} missing is "
+                           "not usable", f"missing counts the teeth removed at the reference "
+                           f"gap (2 on a 60−2 wheel); it must be below {wheel['z'] // 2}",
+                           "wheel.missing")
+    orders = inputs.sections.get("analysis", {}).get("orders")
+    if orders is not None and orders > wheel["z"] / 3:
+        raise inputs.error(f"{orders} orders cannot be resolved by a {wheel['z']}-tooth wheel",
+                           f"use at most {wheel['z'] // 3} orders (a third of the teeth), or "
+                           "leave orders out to let the noise choose", "analysis.orders")
+
+
 def _model(regimes: list[Regime], entries: list[dict]):
     def model(**x):
         out = {}
@@ -430,10 +472,7 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
         mean cycle, Fourier fit), ``delta_mid_r``, ``delta_cycles_r``, ``delta_tooth_r``,
         ``omega_tach_r`` and, with oscillogram readings, ``delta_osc_r``.
     """
-    engine = inputs["engine"]
-    if engine["strokes"] not in (2, 4):
-        raise inputs.error(f"strokes = {engine['strokes']}", "write 4 (four-stroke) or 2",
-                           "engine.strokes")
+    _check_inputs(inputs)
     with collect_notices() as notices:
         method = inputs.sections.get("analysis", {"edge_method": "fit"})["edge_method"]
         calibration = _calibration(inputs, method)
@@ -453,7 +492,7 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
         # the tooth method is biased up by timing noise by design: only the student's
         # oscillogram reading is flagged when it disagrees with the signal
         flag_estimates(results, [c for c in comparisons if c.a.startswith("delta_osc")])
-    kind = engine.get("kind")
+    kind = inputs["engine"].get("kind")
     return LabResult.of(inputs, results, comparisons=comparisons,
                         tables=[_regime_table(regimes, results, entries), _pitch_table(regimes)],
                         figures=_figures(regimes, kind), formulas=FORMULAS,

@@ -180,6 +180,48 @@ def track_teeth(edge_times, teeth: int, missing: int = 0, *, reference: str | No
                       reference_offset=offset)
 
 
+def recurring_gap(edge_times) -> tuple[int, int] | None:
+    """The wheel a record shows: (z, missing) when one gap recurs at a fixed tooth count.
+
+    Parameters
+    ----------
+    edge_times : array_like
+        Increasing edge times. [s]
+
+    Returns
+    -------
+    tuple of int or None
+        ``(z, missing)`` — pitches per revolution and teeth missing at the gap — when at least
+        three gaps of one size stand the same number of edges apart, nine times in ten (a
+        missed tooth here and there does not hide the wheel); None when the record shows no
+        such gap (a plain wheel, or too few revolutions).
+
+    Examples
+    --------
+    >>> pitch = np.arange(5 * 60)
+    >>> times = pitch[pitch % 60 < 58] * 1e-3       # a 60−2 wheel turning at a steady speed
+    >>> recurring_gap(times)
+    (60, 2)
+    """
+    t = np.asarray(edge_times, dtype=float)
+    if t.size < 16:
+        return None
+    intervals = np.diff(t)
+    steps = np.maximum(np.rint(intervals / _typical_interval(intervals)), 1).astype(int)
+    big = np.flatnonzero(steps > 1)
+    if big.size < 3:
+        return None
+    size = int(np.bincount(steps[big]).argmax())
+    gaps = big[steps[big] == size]
+    spacings = np.diff(gaps)
+    if spacings.size < 2:
+        return None
+    spacing = int(np.bincount(spacings).argmax())
+    if np.mean(spacings == spacing) < 0.9 or gaps.size < 0.9 * big.size:
+        return None
+    return spacing + size - 1, size - 1
+
+
 def _gap_starts(steps: np.ndarray, teeth: int, missing: int) -> np.ndarray:
     """Indices of the edges just after the gap (tooth 0 of each revolution)."""
     candidates = np.flatnonzero(steps == missing + 1) + 1

@@ -13,6 +13,7 @@ import pytest
 from labs import lab3_speed_irregularity as lab3
 from labs.cli import main
 from labs.registry import evaluate
+from processing.diagnostics import InputError
 from processing.signals import write_csv, write_wav
 from processing.synth.engine import Engine, Sensor, ToothWheel, record, run_engine
 
@@ -167,10 +168,22 @@ def test_too_few_samples_per_tooth_warns(tmp_path):
     assert "too_few_samples_per_tooth" in codes(result)
 
 
-def test_wrong_gap_warns_gap_not_found(tmp_path):
+@pytest.mark.parametrize("z, missing, field", [(60, 1, "wheel.missing"),
+                                                (60, 0, "wheel.missing"),
+                                                (58, 2, "wheel.z")])
+def test_wheel_unlike_the_record_names_the_field_and_the_wheel_seen(tmp_path, z, missing, field):
     name, rec = recording(tmp_path, "r.wav")
-    result = evaluate(measurement(tmp_path, [f'signal = "{name}"\nn_tach = {rpm(rec)}'],
-                                  missing=1), **FAST)
+    path = measurement(tmp_path, [f'signal = "{name}"\nn_tach = {rpm(rec)}'], z=z,
+                       missing=missing)
+    with pytest.raises(InputError, match="a 60−2 wheel.*Fix: write z = 60 and missing = 2") as exc:
+        evaluate(path, **FAST)
+    assert exc.value.field == field, exc.value
+
+
+def test_gap_missing_from_the_record_warns_gap_not_found(tmp_path):
+    name, rec = recording(tmp_path, "r.wav", wheel=ToothWheel(60, 0))
+    result = evaluate(measurement(tmp_path, [f'signal = "{name}"\nn_tach = {rpm(rec)}']),
+                      **FAST)
     assert "gap_not_found" in codes(result)
 
 
