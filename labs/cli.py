@@ -24,6 +24,13 @@ from .registry import LABS, evaluate, lab_module
 EXIT_INPUT = 2
 
 
+def _seed(text: str) -> int:
+    """A seed of the random generators: a whole number ≥ 0."""
+    if not text.isdigit():
+        raise argparse.ArgumentTypeError(f"a seed is a whole number ≥ 0, got {text!r}")
+    return int(text)
+
+
 def _formats(text: str) -> tuple[str, ...]:
     fmts = tuple(f.strip() for f in text.split(",") if f.strip())
     bad = [f for f in fmts if f not in FORMATS]
@@ -229,7 +236,7 @@ def parser() -> argparse.ArgumentParser:
     kin.set_defaults(func=_kinematics)
     syn = sub.add_parser("synth", help="write a synthetic measurement with its answer key")
     syn.add_argument("lab", choices=("lab3",))
-    syn.add_argument("--seed", type=int, default=0)
+    syn.add_argument("--seed", type=_seed, default=0)
     syn.add_argument("--out", default="synthetic", help="folder to write (default: synthetic)")
     syn.add_argument("--format", choices=lab3_speed_irregularity.SYNTH_FORMATS, default="wav")
     syn.add_argument("--snr", type=float, default=30.0, help="sensor SNR, dB (default 30)")

@@ -285,7 +285,7 @@ def _calibration(inputs: Inputs, method: str):
 
 
 def _regime(inputs: Inputs, i: int, entry: dict, calibration) -> Regime:
-    wheel, engine = inputs["wheel"], inputs["engine"]
+    engine = inputs["engine"]
     analysis = inputs.sections.get("analysis", {"edge_method": "fit"})
     revolutions = engine["strokes"] // 2
     times, tdc, spt = _signal_edges(inputs, i, entry, analysis["edge_method"])

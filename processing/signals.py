@@ -545,6 +545,10 @@ class _Table:
         if data_line is None:
             raise src.error("no data: only a header row", "export the recording with its rows "
                             "of numbers")
+        if not any(_is_number(c) for c in _split(data_line[1], sep)):
+            raise src.error(f"row {data_line[0]} holds no number: this is text, not a table "
+                            "of readings", "give the recording exported as a table of numbers "
+                            "(a header row, then one row of numbers per sample)")
         decimal = "," if sep != "," and "," in data_line[1] else "."
         try:
             with warnings.catch_warnings():

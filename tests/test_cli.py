@@ -15,74 +15,8 @@ from pathlib import Path
 
 import pytest
 
+from cli_contract import LAB1, LAB2, assert_one_clear_error, dump_toml, run, sample
 from labs.cli import main
-
-ROOT = Path(__file__).resolve().parents[1]
-LAB1 = ROOT / "sample_data" / "lab1" / "flywheel.toml"
-LAB2 = ROOT / "sample_data" / "lab2" / "conrod.toml"
-SAMPLES = {"lab1": LAB1, "lab2": LAB2}
-
-
-# ----------------------------------------------------------------------------- helpers
-
-def run(capsys, *argv):
-    """``dynlab *argv`` in-process → (exit code, stdout, stderr)."""
-    code = main([str(a) for a in argv])
-    cap = capsys.readouterr()
-    return code, cap.out, cap.err
-
-
-def toml_value(v) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, float):
-        return "nan" if math.isnan(v) else ("inf" if v == math.inf else repr(v))
-    if isinstance(v, int):
-        return str(v)
-    if isinstance(v, str):
-        return json.dumps(v, ensure_ascii=False)  # a JSON string is a TOML basic string
-    if isinstance(v, list):
-        return "[" + ", ".join(toml_value(x) for x in v) + "]"
-    if isinstance(v, dict):
-        return "{ " + ", ".join(f"{k} = {toml_value(x)}" for k, x in v.items()) + " }"
-    raise TypeError(type(v))
-
-
-def dump_toml(data: dict) -> str:
-    """Just enough of a TOML writer for a measurement file: keys, [tables], [[arrays]]."""
-    lines = [f"{k} = {toml_value(v)}" for k, v in data.items()
-             if not isinstance(v, dict) and not (isinstance(v, list) and v
-                                                 and all(isinstance(x, dict) for x in v))]
-    for k, v in data.items():
-        if isinstance(v, dict):
-            lines += ["", f"[{k}]"] + [f"{kk} = {toml_value(vv)}" for kk, vv in v.items()]
-        elif isinstance(v, list) and v and all(isinstance(x, dict) for x in v):
-            for entry in v:
-                lines += ["", f"[[{k}]]"] + [f"{kk} = {toml_value(vv)}" for kk, vv in entry.items()]
-    return "\n".join(lines) + "\n"
-
-
-def sample(lab: str) -> dict:
-    return tomllib.loads(SAMPLES[lab].read_text(encoding="utf-8"))
-
-
-def assert_one_clear_error(code, out, err, file: Path, field, problem: str, out_dir: Path):
-    """The contract for bad input, with the whole output in every failure message."""
-    shown = f"\n--- stdout:\n{out}\n--- stderr:\n{err}"
-    assert code == 2, f"exit code {code}, expected 2{shown}"
-    assert "Traceback" not in out + err, f"a traceback reached the user{shown}"
-    lines = err.strip().splitlines()
-    assert len(lines) == 1, f"expected exactly one message on stderr, got {len(lines)}{shown}"
-    msg = lines[0]
-    assert msg.startswith("error: "), f"the message does not start with 'error: '{shown}"
-    assert file.name in msg, f"the message does not name the file {file.name}{shown}"
-    if field is not None:
-        assert f"field '{field}'" in msg, f"the message does not name the field {field!r}{shown}"
-    assert "Fix:" in msg and msg.split("Fix:", 1)[1].strip(), f"no fix is given{shown}"
-    assert re.search(problem, msg, flags=re.I), f"the message does not say {problem!r}{shown}"
-    assert out.strip() == "", f"nothing should be printed on stdout for a bad file{shown}"
-    left = sorted(p.name for p in out_dir.iterdir()) if out_dir.exists() else []
-    assert not left, f"report files were left in --out although the input is bad: {left}"
 
 
 # ----------------------------------------------------------------------- bad measurement files
