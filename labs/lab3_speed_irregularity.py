@@ -46,6 +46,14 @@ REFERENCE_RANGES = {"automotive": (0.01, 0.02), "tractor": (0.003, 0.01)}
 MIN_SAMPLES_PER_TOOTH = 12.0
 """Below this the edges' sub-sample timing degrades fast (the benchmark's stability map)."""
 
+MIN_CYCLES = 3
+"""Complete working cycles δ needs at all: its uncertainty comes from their scatter."""
+
+FEW_CYCLES = 8
+"""Below this many complete cycles δ of the mean cycle reads low by up to 10 % (the higher
+orders do not yet stand out of the noise, 2–7 cycles of synthetic and independent records)
+and the jackknife u over so few cycles does not cover it."""
+
 UNEQUAL_CYCLES = 0.01
 """Spread (max − min)/mean of the cycle durations above which the regime is not steady."""
 
@@ -296,8 +304,9 @@ def _regime(inputs: Inputs, i: int, entry: dict, calibration) -> Regime:
             "edge times lose their sub-sample accuracy; record at a higher sample rate",
             f"{label['ru']}: {spt:.1f} отсчётов на зуб (меньше {MIN_SAMPLES_PER_TOOTH:.0f}): "
             "точность моментов фронтов падает; увеличьте частоту дискретизации"))
-    track = _track(inputs, times, f"regime[{i}].{'edges' if 'edges' in entry else 'signal'}",
-                   entry.get("edges", entry.get("signal")), tdc)
+    kind = "edges" if "edges" in entry else "signal"
+    field, source = f"regime[{i}].{kind}", entry[kind]
+    track = _track(inputs, times, field, source, tdc)
     _check_track(track, label)
     angles = None if calibration is None else calibration.angles
     options = {"revolutions": revolutions, "tooth_angles": angles}
@@ -306,8 +315,8 @@ def _regime(inputs: Inputs, i: int, entry: dict, calibration) -> Regime:
         fourier = fit_cycles(track, orders=analysis.get("orders"), pitch_error=pitch_u, **options)
         tooth = tooth_cycles(track, **options)
     except InputError as exc:
-        raise inputs.error(exc.problem, exc.fix, f"regime[{i}]") from None
-    _check_cycles(fourier, label)
+        raise InputError(exc.problem, exc.fix, file=str(source), field=field) from None
+    _check_cycles(fourier, label, field, source)
     bias = _pitch_bias(track, fourier, tooth, calibration, analysis.get("orders"), revolutions)
     return Regime(i + 1, track, fourier, tooth, jackknife(fourier), jackknife(tooth), spt, bias)
 
@@ -330,13 +339,20 @@ def _check_track(track: ToothTrack, label) -> None:
             "проверьте зазор датчика и уровень сигнала"))
 
 
-def _check_cycles(cycles: CycleSpeeds, label) -> None:
-    if cycles.cycles < 2:
+def _check_cycles(cycles: CycleSpeeds, label, field: str, file) -> None:
+    if cycles.cycles < MIN_CYCLES:
+        raise InputError(f"{label['en']}: the record holds {cycles.cycles} complete working "
+                         f"cycle(s); δ and its uncertainty need at least {MIN_CYCLES}",
+                         f"record longer: {FEW_CYCLES} or more working cycles (better 20)",
+                         file=str(file), field=field)
+    if cycles.cycles < FEW_CYCLES:
         warnings.warn(ShortRecordWarning(
-            f"{label['en']}: only {cycles.cycles} complete working cycle: no cycle-to-cycle "
-            "statistics and no uncertainty; record at least 2 (better 20) cycles",
-            f"{label['ru']}: всего {cycles.cycles} полный рабочий цикл: нет статистики по "
-            "циклам и оценки погрешности; запишите не менее 2 (лучше 20) циклов"))
+            f"{label['en']}: only {cycles.cycles} complete working cycles: the higher orders of "
+            f"ω(α) do not yet stand out of the noise, so δ may read low by up to 10 %, more "
+            f"than its stated uncertainty; record at least {FEW_CYCLES} (better 20) cycles",
+            f"{label['ru']}: всего {cycles.cycles} полных рабочих цикла: высшие гармоники ω(α) "
+            f"ещё не выделяются из шума, δ может быть занижена до 10 %, больше указанной "
+            f"погрешности; запишите не менее {FEW_CYCLES} (лучше 20) циклов"))
     spread = np.ptp(cycles.duration) / cycles.duration.mean() if cycles.cycles > 1 else 0.0
     if spread > UNEQUAL_CYCLES:
         warnings.warn(UnequalCyclesWarning(

@@ -203,10 +203,18 @@ def test_unsteady_regime_warns_unequal_cycles(tmp_path):
     assert "unequal_cycles" in codes(result)
 
 
-def test_record_shorter_than_two_cycles_warns(tmp_path):
-    name, rec = recording(tmp_path, "short.wav", cycles=1)
+def test_record_of_two_cycles_is_refused(tmp_path):
+    name, rec = recording(tmp_path, "short.wav", cycles=2)
+    with pytest.raises(InputError, match="2 complete working cycle.*Fix: record longer") as exc:
+        evaluate(measurement(tmp_path, [f'signal = "{name}"\nn_tach = {rpm(rec)}']), **FAST)
+    assert exc.value.field == "regime[0].signal" and exc.value.file.endswith("short.wav")
+
+
+@pytest.mark.parametrize("cycles, warned", [(4, True), (7, True), (12, False)])
+def test_few_cycles_warn_that_delta_may_read_low(tmp_path, cycles, warned):
+    name, rec = recording(tmp_path, "short.wav", cycles=cycles)
     result = evaluate(measurement(tmp_path, [f'signal = "{name}"\nn_tach = {rpm(rec)}']), **FAST)
-    assert "short_record" in codes(result)
+    assert ("short_record" in codes(result)) == warned, codes(result)
 
 
 def test_uncalibrated_pitch_errors_warn_and_calibration_silences(tmp_path):
