@@ -531,14 +531,16 @@ def _check_tachometer(reg: Regime, entry: dict) -> None:
 
 
 def _check_pitch(reg: Regime) -> None:
-    bias = reg.pitch_bias
-    if bias["source"] == "repeating" and abs(bias["tooth"]) > PITCH_BIAS:
+    bias, sigma = reg.pitch_bias, reg.fourier.pitch_error
+    # only errors that stand out of the timing noise (σ̂ > 0) are the wheel's: on a perfect
+    # wheel the noise alone moves the tooth-by-tooth δ too
+    if bias["source"] == "repeating" and sigma > 0 and abs(bias["tooth"]) > PITCH_BIAS:
         warnings.warn(PitchErrorWarning(
-            f"regime {reg.number}: the wheel's pitch errors (≈ {np.degrees(bias['rms']):.3f}° "
+            f"regime {reg.number}: the wheel's pitch errors (≈ {np.degrees(sigma):.3f}° "
             f"rms) move the tooth-by-tooth δ by {100 * bias['tooth']:+.1f} %; the Fourier δ "
             "does not see them above its highest order, but below it they cannot be told from "
             "the engine: calibrate the wheel on a coast-down record ([wheel] calibration)",
-            f"режим {reg.number}: погрешности шага зубьев (≈ {np.degrees(bias['rms']):.3f}° "
+            f"режим {reg.number}: погрешности шага зубьев (≈ {np.degrees(sigma):.3f}° "
             f"ср. кв.) смещают δ по зубьям на {100 * bias['tooth']:+.1f} %; δ по ряду Фурье их "
             "не видит выше наибольшего порядка, ниже — их не отличить от двигателя: "
             "откалибруйте колесо по записи выбега ([wheel] calibration)"))

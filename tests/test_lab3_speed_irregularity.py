@@ -217,6 +217,16 @@ def test_few_cycles_warn_that_delta_may_read_low(tmp_path, cycles, warned):
     assert ("short_record" in codes(result)) == warned, codes(result)
 
 
+@pytest.mark.parametrize("snr, rate, seed", [(20, 50e3, 0), (20, 50e3, 1), (40, 10e3, 2)])
+def test_perfect_wheel_does_not_warn_of_pitch_errors(tmp_path, snr, rate, seed):
+    """Timing noise alone (20 dB, or 40 dB at 9 samples per tooth) moves the tooth-by-tooth δ
+    too; before σ̂ gated the warning it fired on 15 of 16 such records."""
+    name, rec = recording(tmp_path, "r.wav", seed=seed, wheel=ToothWheel(60, 2, pitch_error=0.0),
+                          sensor=Sensor(sample_rate=rate, snr_db=snr))
+    result = evaluate(measurement(tmp_path, [f'signal = "{name}"\nn_tach = {rpm(rec)}']), **FAST)
+    assert "pitch_error" not in codes(result)
+
+
 def test_uncalibrated_pitch_errors_warn_and_calibration_silences(tmp_path):
     wheel = ToothWheel(60, 2, pitch_error=np.radians(0.05), seed=7)
     name, rec = recording(tmp_path, "r.wav", wheel=wheel, cycles=20)
