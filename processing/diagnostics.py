@@ -143,6 +143,49 @@ class TextTruncatedWarning(DynlabWarning):
     code = "text_truncated"
 
 
+class GaugeBackwardsWarning(DynlabWarning):
+    """A dial gauge's reading falls as the load rises: it is mounted or read the wrong way."""
+
+    code = "gauge_backwards"
+
+
+class TableCurvatureWarning(DynlabWarning):
+    """A load–deflection table bends significantly: its straight-line slope is load-dependent."""
+
+    code = "table_curvature"
+
+
+class LargeHysteresisWarning(DynlabWarning):
+    """The loop between loading and unloading is wider than a sound rig shows."""
+
+    code = "large_hysteresis"
+
+
+class AmplitudeDependentDampingWarning(DynlabWarning):
+    """A free decay's logarithmic decrement changes along the record: the damping depends on
+    the amplitude, and one δ for the whole record is an average over amplitudes."""
+
+    code = "amplitude_dependent_damping"
+
+
+class UnclosedLoopWarning(DynlabWarning):
+    """A load–deflection loop does not return to its start: a residual twist at zero load."""
+
+    code = "unclosed_loop"
+
+
+class BaselineDriftWarning(DynlabWarning):
+    """A record's baseline moves more than the fit's baseline follows (creep, drift)."""
+
+    code = "baseline_drift"
+
+
+class StiffnessRatioWarning(DynlabWarning):
+    """A dynamic stiffness out of its usual proportion to the static one."""
+
+    code = "stiffness_ratio"
+
+
 @dataclass(frozen=True)
 class Notice:
     """A warning as it is stored in a result and printed in a report."""
