@@ -190,9 +190,21 @@ def _list(_args) -> int:
 
 
 def _synth(args) -> int:
-    written = lab3_speed_irregularity.write_synthetic(
-        args.out, args.seed, fmt=args.format, snr_db=args.snr,
-        pitch_error_deg=args.pitch_error, sample_rate=args.sample_rate * 1e3)
+    """``write_synthetic`` of the lab, with the options it takes; an option it does not take
+    is bad input."""
+    import inspect
+
+    write = LABS[args.lab].write_synthetic
+    takes = inspect.signature(write).parameters
+    given = {name: value for name, value in
+             (("fmt", args.format), ("snr_db", args.snr), ("pitch_error_deg", args.pitch_error),
+              ("sample_rate", None if args.sample_rate is None else args.sample_rate * 1e3))
+             if value is not None}
+    foreign = [name for name in given if name not in takes]
+    if foreign:
+        raise InputError(f"dynlab synth {args.lab} takes no {', '.join(foreign)}",
+                         f"leave those options out for {args.lab}")
+    written = write(args.out, args.seed, **given)
     for path in written.values():
         print(path)
     return 0
@@ -235,14 +247,15 @@ def parser() -> argparse.ArgumentParser:
     kin.add_argument("--format", choices=("table", "csv"), default="table")
     kin.set_defaults(func=_kinematics)
     syn = sub.add_parser("synth", help="write a synthetic measurement with its answer key")
-    syn.add_argument("lab", choices=("lab3",))
+    syn.add_argument("lab", choices=[k for k, m in LABS.items() if hasattr(m, "write_synthetic")])
     syn.add_argument("--seed", type=_seed, default=0)
     syn.add_argument("--out", default="synthetic", help="folder to write (default: synthetic)")
-    syn.add_argument("--format", choices=lab3_speed_irregularity.SYNTH_FORMATS, default="wav")
-    syn.add_argument("--snr", type=float, default=30.0, help="sensor SNR, dB (default 30)")
-    syn.add_argument("--pitch-error", type=float, default=0.03,
-                     help="σ of the wheel's tooth angles, degrees (default 0.03)")
-    syn.add_argument("--sample-rate", type=float, default=48.0, help="kHz (default 48)")
+    syn.add_argument("--format", choices=lab3_speed_irregularity.SYNTH_FORMATS,
+                     help="lab 3: recording format (default wav)")
+    syn.add_argument("--snr", type=float, help="sensor SNR, dB")
+    syn.add_argument("--pitch-error", type=float,
+                     help="lab 3: σ of the wheel's tooth angles, degrees (default 0.03)")
+    syn.add_argument("--sample-rate", type=float, help="sample rate, kHz")
     syn.set_defaults(func=_synth)
     return p
 
