@@ -26,16 +26,16 @@ from pathlib import Path
 
 import numpy as np
 
+from labs import lab3_speed_irregularity_report as report
 from processing.angular_speed import (CycleSpeeds, Irregularity, fit_cycles, jackknife,
-                                      order_spectrum, pitch_uncertainty, tooth_cycles)
+                                      pitch_uncertainty, tooth_cycles)
 from processing.diagnostics import (GapNotFoundWarning, InconsistentInputWarning, InputError,
                                     PitchErrorWarning, ShortRecordWarning, TeethMiscountedWarning,
                                     UndersampledWarning, UnequalCyclesWarning, collect_notices)
 from processing.edges import METHODS as EDGE_METHODS
 from processing.edges import stream_edges
 from processing.measurement import Field, Inputs, LabSpec, Section, bi
-from processing.reporting.content import fmt_pm
-from processing.result import Figure, LabResult, Table, compare, flag_estimates, result_values
+from processing.result import LabResult, compare, flag_estimates, result_values
 from processing.signals import open_channel, read_edge_times
 from processing.toothwheel import ToothTrack, calibrate_pitch, recurring_gap, track_teeth
 from processing.uncertainty import Measured, propagate
@@ -400,8 +400,6 @@ def _result_names(r: int) -> dict:
                           f"степень неравномерности среднего цикла, режим {r}"), "δ", ""),
         f"delta_mid_{r}": (bi(f"the same relative to (ω_max + ω_min)/2, regime {r}",
                               f"то же относительно (ω_max + ω_min)/2, режим {r}"), "δ′", ""),
-        f"delta_cycles_{r}": (bi(f"mean of the cycles' δ, regime {r}",
-                                 f"среднее δ отдельных циклов, режим {r}"), "δ̄_c", ""),
         f"delta_tooth_{r}": (bi(f"δ tooth by tooth (mean cycle), regime {r}",
                                 f"δ по отдельным зубьям (средний цикл), режим {r}"), "δ_z", ""),
         f"delta_osc_{r}": (bi(f"δ read off the oscillogram, regime {r}",
@@ -425,7 +423,6 @@ def _signal_inputs(reg: Regime) -> dict[str, Measured]:
             f"s{r}.delta": _jack(mc.delta, u.delta, n, reg.pitch_bias["u"], f.selection),
             f"s{r}.delta_mid": _jack(mc.delta_mid, u.delta_mid, n, reg.pitch_bias["u"],
                                      f.selection),
-            f"s{r}.delta_cycles": Measured.from_readings(f.per_cycle.delta),
             f"s{r}.delta_tooth": _jack(reg.tooth.mean_cycle.delta, reg.u_tooth.delta,
                                        reg.tooth.cycles)}
 
@@ -458,7 +455,7 @@ def _model(regimes: list[Regime], entries: list[dict]):
         for reg, entry in zip(regimes, entries):
             r = reg.number
             for q in ("omega_mean", "omega_min", "omega_max", "delta", "delta_mid",
-                      "delta_cycles", "delta_tooth"):
+                      "delta_tooth"):
                 out[f"{q}_{r}"] = x[f"s{r}.{q}"]
             out[f"omega_tach_{r}"] = x[f"regime[{r - 1}].n_tach"]
             if "h_max" in entry and "h_min" in entry:
@@ -485,7 +482,7 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
     -------
     LabResult
         Per regime r: ``omega_mean_r``, ``omega_min_r``, ``omega_max_r``, ``delta_r`` (the
-        mean cycle, Fourier fit), ``delta_mid_r``, ``delta_cycles_r``, ``delta_tooth_r``,
+        mean cycle, Fourier fit), ``delta_mid_r``, ``delta_tooth_r``,
         ``omega_tach_r`` and, with oscillogram readings, ``delta_osc_r``.
     """
     _check_inputs(inputs)
@@ -509,11 +506,26 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
         # oscillogram reading is flagged when it disagrees with the signal
         flag_estimates(results, [c for c in comparisons if c.a.startswith("delta_osc")])
     kind = inputs["engine"].get("kind")
+    ranges = {k: v for k, v in REFERENCE_RANGES.items() if kind in (None, k)}
     return LabResult.of(inputs, results, comparisons=comparisons,
-                        tables=[_regime_table(regimes, results, entries), _pitch_table(regimes)],
-                        figures=_figures(regimes, kind), formulas=FORMULAS,
+                        tables=[report.regime_table(regimes, results, _scales(entries)),
+                                report.pitch_table(regimes)],
+                        figures=report.figures(regimes, ranges), formulas=FORMULAS,
                         references=REFERENCES, warnings=notices,
-                        conclusion=_conclusion(regimes, results, kind))
+                        conclusion=report.conclusion(regimes, results, ranges))
+
+
+def _scales(entries) -> dict[int, float | None]:
+    """The oscillogram's scale μ of each regime read off one [mm per min⁻¹]."""
+    out = {}
+    for r, entry in enumerate(entries, 1):
+        if "h_max" in entry and "h_min" in entry:
+            h_cp = entry["h_mean"].value if "h_mean" in entry else \
+                (entry["h_max"].value + entry["h_min"].value) / 2
+            out[r] = oscillogram_scale(h_cp, entry["n_tach"].value) * 1e3 * np.pi / 30
+        else:
+            out[r] = None
+    return out
 
 
 def _check_tachometer(reg: Regime, entry: dict) -> None:
@@ -544,173 +556,6 @@ def _check_pitch(reg: Regime) -> None:
             f"ср. кв.) смещают δ по зубьям на {100 * bias['tooth']:+.1f} %; δ по ряду Фурье их "
             "не видит выше наибольшего порядка, ниже — их не отличить от двигателя: "
             "откалибруйте колесо по записи выбега ([wheel] calibration)"))
-
-
-# ------------------------------------------------------------------------ report parts
-
-def _pm(results, name) -> str:
-    if name not in results:
-        return "—"
-    r = results[name]
-    return " ± ".join(fmt_pm(r.shown(r.value), r.shown(r.value + r.estimate.U) - r.shown(r.value)))
-
-
-def _regime_table(regimes, results, entries) -> Table:
-    rows = []
-    for reg, entry in zip(regimes, entries):
-        r = reg.number
-        row = {"regime": str(r), "cycles": f"{reg.fourier.cycles}",
-               "spt": "—" if reg.samples_per_tooth is None else f"{reg.samples_per_tooth:.1f}",
-               "n": _pm(results, f"omega_mean_{r}"), "n_t": _pm(results, f"omega_tach_{r}"),
-               "delta": _pm(results, f"delta_{r}"), "delta_c": _pm(results, f"delta_cycles_{r}"),
-               "delta_z": _pm(results, f"delta_tooth_{r}"),
-               "delta_osc": _pm(results, f"delta_osc_{r}")}
-        if "h_max" in entry and "h_min" in entry:
-            h_cp = entry["h_mean"].value if "h_mean" in entry else \
-                (entry["h_max"].value + entry["h_min"].value) / 2
-            mu = oscillogram_scale(h_cp, entry["n_tach"].value) * 1e3 * np.pi / 30
-            row["scale"] = f"{mu:.4f}"
-        else:
-            row["scale"] = "—"
-        rows.append(row)
-    cols = (("regime", bi("Regime", "Режим")), ("cycles", bi("Cycles", "Циклов")),
-            ("spt", bi("Samples per tooth", "Отсчётов на зуб")),
-            ("n_t", bi("n tachometer, min⁻¹", "n тахометр, мин⁻¹")),
-            ("n", bi("n signal, min⁻¹", "n по сигналу, мин⁻¹")),
-            ("delta", bi("δ mean cycle", "δ среднего цикла")),
-            ("delta_c", bi("δ of cycles, mean", "δ циклов, среднее")),
-            ("delta_z", bi("δ tooth by tooth", "δ по зубьям")),
-            ("delta_osc", bi("δ oscillogram", "δ по осциллограмме")),
-            ("scale", bi("μ, mm per min⁻¹", "μ, мм/мин⁻¹")))
-    return Table(bi("Speed irregularity by regime (± U, k = 2)",
-                    "Степень неравномерности по режимам (± U, k = 2)"), cols, rows)
-
-
-def _pitch_table(regimes) -> Table:
-    rows = []
-    for reg in regimes:
-        b = reg.pitch_bias
-        rows.append({"regime": str(reg.number),
-                     "source": bi("coast-down calibration", "калибровка по выбегу")
-                     if b["source"] == "calibration" else
-                     bi("errors repeating every revolution", "погрешности, повторяющиеся каждый оборот"),
-                     "rms": f"{np.degrees(b['rms']):.4f}",
-                     "fourier": f"{100 * b['fourier']:+.2f}" if "fourier" in b else "—",
-                     "tooth": f"{100 * b['tooth']:+.2f}",
-                     "u": f"{100 * b['u'] / reg.fourier.mean_cycle.delta:.2f}"})
-    cols = (("regime", bi("Regime", "Режим")), ("source", bi("Pitch known from", "Шаг определён")),
-            ("rms", bi("pitch error rms, °", "ср. кв. погрешность шага, °")),
-            ("fourier", bi("bias of δ (Fourier) with equal pitches, %",
-                           "смещение δ (ряд Фурье) при равном шаге, %")),
-            ("tooth", bi("bias of δ (tooth by tooth) with equal pitches, %",
-                         "смещение δ (по зубьям) при равном шаге, %")),
-            ("u", bi("u(δ) from the pitch left, %", "u(δ) от остаточной погрешности шага, %")))
-    return Table(bi("How much the wheel's tooth-pitch errors would bias δ",
-                    "Влияние погрешностей шага зубьев на δ"), cols, rows)
-
-
-def _rpm(omega):
-    return np.asarray(omega) * 30 / np.pi
-
-
-def _draw_speed(fig, regimes, lang):
-    axes = fig.subplots(len(regimes), 1, sharex=True, squeeze=False)[:, 0]
-    for ax, reg in zip(axes, regimes):
-        f = reg.fourier
-        ax.plot(np.degrees(reg.tooth.angle), _rpm(reg.tooth.speed.mean(axis=0)), ".", ms=2,
-                color="0.5", label="tooth by tooth (mean)" if lang == "en" else "по зубьям (среднее)")
-        for s in f.speed:
-            ax.plot(np.degrees(f.angle), _rpm(s), color="tab:blue", lw=0.4, alpha=0.25)
-        ax.plot(np.degrees(f.angle), _rpm(f.mean_speed), color="k", lw=1.5,
-                label="mean cycle" if lang == "en" else "средний цикл")
-        ax.set_ylabel(("n, min⁻¹ (regime {})" if lang == "en" else "n, мин⁻¹ (режим {})")
-                      .format(reg.number))
-        ax.legend(fontsize=7, loc="upper right")
-    axes[-1].set_xlabel("α from the reference tooth, °" if lang == "en"
-                        else "α от опорного зуба, °")
-
-
-def _draw_cycles(fig, regimes, kind, lang):
-    ax = fig.subplots()
-    for reg in regimes:
-        d = reg.fourier.per_cycle.delta
-        ax.plot(np.arange(1, d.size + 1), d, "o-", ms=3, lw=0.8,
-                label=("regime {}" if lang == "en" else "режим {}").format(reg.number))
-        ax.axhline(float(reg.fourier.mean_cycle.delta), lw=0.8, ls="--", color=ax.lines[-1].get_color())
-    for name, (lo, hi) in REFERENCE_RANGES.items():
-        if kind in (None, name):
-            ax.axhspan(lo, hi, alpha=0.12, color="tab:green" if name == "automotive" else "tab:orange",
-                       label={"automotive": bi("automotive 0.01–0.02", "автомобильные 0,01–0,02"),
-                              "tractor": bi("tractor 0.003–0.01", "тракторные 0,003–0,01")}[name][lang])
-    ax.set_xlabel("working cycle" if lang == "en" else "рабочий цикл")
-    ax.set_ylabel("δ")
-    ax.legend(fontsize=7)
-
-
-def _draw_orders(fig, regimes, lang):
-    ax = fig.subplots()
-    width = 0.8 / (2 * len(regimes))
-    for j, reg in enumerate(regimes):
-        t = reg.tooth
-        top = min(reg.track.teeth / 2, 12)
-        s = order_spectrum(t.angle, t.mean_speed, t.cycle_angle, max_order=top)
-        ax.bar(s.order + (j - (len(regimes) - 1) / 2) * width * 2, 100 * s.relative, width=width * 1.6,
-               label=("regime {}" if lang == "en" else "режим {}").format(reg.number))
-    ax.set_xlabel("order (harmonics per revolution)" if lang == "en"
-                  else "порядок (гармоник за оборот)")
-    ax.set_ylabel("amplitude of ω, % of ω_mean" if lang == "en" else "амплитуда ω, % от ω_ср")
-    ax.legend(fontsize=7)
-
-
-def _figures(regimes, kind) -> list[Figure]:
-    return [
-        Figure("speed", bi("ω(α) of every working cycle (thin), their mean (bold) and the "
-                           "tooth-by-tooth mean (dots)",
-                           "ω(α) каждого рабочего цикла (тонкие), их среднее (жирная) и среднее "
-                           "по зубьям (точки)"),
-               lambda fig, lang: _draw_speed(fig, regimes, lang),
-               size=(6.4, 2.6 * len(regimes))),
-        Figure("delta_cycles", bi("δ of each working cycle (dashed: the mean cycle) and the "
-                                  "manual's typical ranges",
-                                  "δ каждого рабочего цикла (штрих — средний цикл) и типичные "
-                                  "значения по методичке"),
-               lambda fig, lang: _draw_cycles(fig, regimes, kind, lang)),
-        Figure("orders", bi("Order spectrum of the mean cycle's tooth-by-tooth speed (half "
-                            "orders: four-stroke cycle; high integer orders: pitch errors)",
-                            "Порядковый спектр скорости среднего цикла по зубьям (полупорядки — "
-                            "четырёхтактный цикл; высокие целые порядки — погрешности шага)"),
-               lambda fig, lang: _draw_orders(fig, regimes, lang)),
-    ]
-
-
-def _conclusion(regimes, results, kind) -> list[dict]:
-    lines = []
-    for reg in regimes:
-        r = reg.number
-        d = results[f"delta_{r}"]
-        v, U = fmt_pm(d.value, d.estimate.U)
-        n = results[f"omega_mean_{r}"]
-        lines.append(bi(f"Regime {r}: n = {n.shown(n.value):.0f} min⁻¹, δ = {v} ± {U} "
-                        f"over {reg.fourier.cycles} working cycles",
-                        f"Режим {r}: n = {n.shown(n.value):.0f} мин⁻¹, δ = {v} ± {U} "
-                        f"по {reg.fourier.cycles} рабочим циклам"))
-        if f"delta_osc_{r}" in results:
-            o = results[f"delta_osc_{r}"]
-            lines.append(bi(f"Regime {r}: the oscillogram gives δ = {o.value:.4f} "
-                            f"({100 * (o.value / d.value - 1):+.1f} % against the signal)",
-                            f"Режим {r}: по осциллограмме δ = {o.value:.4f} "
-                            f"({100 * (o.value / d.value - 1):+.1f} % к значению по сигналу)"))
-    for name, (lo, hi) in REFERENCE_RANGES.items():
-        if kind in (None, name):
-            inside = [reg.number for reg in regimes
-                      if lo <= results[f"delta_{reg.number}"].value <= hi]
-            en = {"automotive": "automotive engines", "tractor": "tractor engines"}[name]
-            ru = {"automotive": "автомобильных двигателей", "tractor": "тракторных двигателей"}[name]
-            lines.append(bi(f"Typical δ of {en} is {lo}–{hi}: regimes within it: "
-                            f"{', '.join(map(str, inside)) or 'none'}",
-                            f"Типичное δ {ru} {lo}–{hi}: режимы в этих пределах: "
-                            f"{', '.join(map(str, inside)) or 'нет'}"))
-    return lines
 
 
 # ------------------------------------------------------------------------ synthetic files

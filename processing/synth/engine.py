@@ -409,9 +409,10 @@ class ToothWheel:
             raise InputError(f"missing must be an integer in [0, teeth - 2], got {self.missing!r}",
                              "give the teeth removed at the gap (0, 1 or 2)")
         if not 0 <= self.pitch_error < self.pitch / 20:
-            raise InputError(f"pitch_error must be in [0, pitch/20) = [0, {self.pitch / 20:.4g}) "
-                             f"rad, got {self.pitch_error!r}",
-                             "give the standard deviation of the tooth position error in rad")
+            raise InputError(f"pitch_error must be in [0, pitch/20) = [0, "
+                             f"{np.degrees(self.pitch / 20):.4g}°), got "
+                             f"{np.degrees(float(self.pitch_error)):.4g}°",
+                             "give the standard deviation of the tooth position error (≥ 0)")
 
     def _present(self) -> tuple[np.ndarray, np.ndarray]:
         """Centres of the present teeth in [0, 2π), increasing, and their tooth numbers."""
