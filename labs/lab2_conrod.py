@@ -26,7 +26,7 @@ from processing.measurement import (AMPLITUDE, COUNT, GRAVITY, LENGTH, MASS, STO
 from processing.oscillation import check_amplitude, pendulum_period_factor, period_from_total
 from processing.reporting.content import fmt_pm
 from processing.reporting.figures import histogram, method_chart
-from processing.result import Figure, LabResult, Table, compare, flag_estimates, result_values
+from processing.result import SIGNED, Figure, LabResult, Table, compare, flag_estimates, result_values
 from processing.uncertainty import Measured, propagate
 
 KATER_CONDITION_LIMIT = 10.0
@@ -227,7 +227,8 @@ RESULTS.update({
     "J_cm_swinging": (bi("moment of inertia about the centre of mass (swinging)",
                          "момент инерции относительно центра масс (качание)"), "J_c", "kg*m^2"),
     "dJ_third_condition": (bi("third condition residual J_c − m_sh l_shp l_shk",
-                              "невязка третьего условия J_c − m_ш l_шп l_шк"), "ΔJ", "kg*m^2"),
+                              "невязка третьего условия J_c − m_ш l_шп l_шк"), "ΔJ", "kg*m^2",
+                           SIGNED),
     "l_C_swinging": (bi("centre of mass from prism C", "центр масс от призмы C"), "l_C", "mm"),
     "l_D_swinging": (bi("centre of mass from prism D", "центр масс от призмы D"), "l_D", "mm"),
     "kappa_swinging": (bi("condition number of formula (10)", "число обусловленности формулы (10)"),

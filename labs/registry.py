@@ -37,6 +37,6 @@ def evaluate(path: str | Path, *, confine: bool = False, **options) -> LabResult
     with collect_notices() as notices:
         inputs = load(path, module.SPEC, data, confine=confine)
     result = module.reduce(inputs, **options)
-    result.check_finite()
+    result.check_sense()
     result.warnings = notices + [w for w in result.warnings if w not in notices]
     return result

@@ -13,7 +13,7 @@ from typing import Any
 
 from .diagnostics import Notice
 from .uncertainty import Estimate, Propagation
-from .units import convert, si_unit, unit_text
+from .units import convert, dimension, si_unit, unit_text
 
 
 class Record:
@@ -23,6 +23,16 @@ class Record:
     def to_dict(self) -> dict:
         return {f.name: (v.to_dict() if isinstance(v := getattr(self, f.name), Record) else v)
                 for f in fields(self)}
+
+
+POSITIVE = {dimension(u): name for u, name in (
+    ("kg", "mass"), ("kg*m^2", "moment of inertia"), ("N/m", "linear stiffness"),
+    ("kg/m^3", "density"))}
+"""Dimensions of results that cannot be negative by their nature (a torsional stiffness
+shares its dimension with a torque, which may be negative, and is left to the lab)."""
+
+SIGNED = "signed"
+"""Marks a declared result of a :data:`POSITIVE` dimension that may be negative (a residual)."""
 
 
 @dataclass(frozen=True)
@@ -38,6 +48,8 @@ class ResultValue:
     label: Mapping[str, str]
     symbol: str = ""
     display_unit: str = ""
+    signed: bool = False
+    """A difference or residual: may be negative whatever its dimension."""
 
     @property
     def value(self) -> float:
@@ -145,17 +157,23 @@ class LabResult:
     def __getitem__(self, name: str) -> ResultValue:
         return self.results[name]
 
-    def check_finite(self) -> None:
+    def check_sense(self) -> None:
         """Raise :class:`~processing.diagnostics.InputError` if a result is not a finite
-        number: its inputs lie where the lab's formulas do not hold."""
+        number, or is a mass, a moment of inertia, a linear stiffness or a density below zero
+        (:data:`POSITIVE`, unless declared :data:`SIGNED`): its inputs lie where the lab's
+        formulas do not hold. (Zero may mean "none", e.g. no flywheel needed.)"""
         from .diagnostics import InputError
 
+        fix = ("check the inputs' values and units against the template "
+               f"('dynlab template {self.lab}')")
         for name, r in self.results.items():
             if not math.isfinite(r.value):
                 raise InputError(f"{name} ({r.label['en']}) cannot be computed from these "
-                                 f"inputs (it comes out {r.value})",
-                                 "check the inputs' values and units against the template "
-                                 f"('dynlab template {self.lab}')", file=self.source)
+                                 f"inputs (it comes out {r.value})", fix, file=self.source)
+            if r.value < 0 and not r.signed and dimension(r.unit) in POSITIVE:
+                raise InputError(f"{name} ({r.label['en']}) comes out {r.value:.4g} {r.unit}: "
+                                 f"a {POSITIVE[dimension(r.unit)]} cannot be negative", fix,
+                                 file=self.source)
 
     def __contains__(self, name: str) -> bool:
         return name in self.results
@@ -195,11 +213,14 @@ def _input_json(row: dict) -> dict:
 def result_values(prop: Propagation, declared: Mapping[str, tuple]) -> dict[str, ResultValue]:
     """Wrap a propagation's outputs as :class:`ResultValue` s.
 
-    ``declared`` maps output name → ``(label dict, symbol, display unit)``; outputs not
-    declared are left out (they are internal, e.g. intermediate quantities).
+    ``declared`` maps output name → ``(label dict, symbol, display unit)``, with
+    :data:`SIGNED` as a fourth element for a difference or residual that may be negative
+    although its dimension is a mass's or an inertia's; outputs not declared are left out
+    (they are internal, e.g. intermediate quantities).
     """
-    return {name: ResultValue(name, prop[name], si_unit(disp) if disp else "", label, symbol, disp)
-            for name, (label, symbol, disp) in declared.items() if name in prop}
+    return {name: ResultValue(name, prop[name], si_unit(disp) if disp else "", label, symbol,
+                              disp, signed=SIGNED in rest)
+            for name, (label, symbol, disp, *rest) in declared.items() if name in prop}
 
 
 def compare(prop: Propagation, pairs) -> list[Comparison]:

@@ -37,33 +37,36 @@ _PLUS_MINUS = re.compile(r"\s*(?:±|\+/-|\+-)\s*")
 _PER_MINUTE = re.compile(r"(?:1\s*/\s*min\b|min\s*(?:\^|\*\*)\s*-1|min⁻¹|мин⁻¹|об/мин)")
 
 
-def _dimension_name(dim) -> str:
-    names = {
-        "[length]": "a length", "[mass]": "a mass", "[time]": "a time",
-        "": "a plain number or angle", "[length] / [time] ** 2": "an acceleration",
-        "[mass] / [length] / [time] ** 2": "a pressure or modulus",
-        "[length] ** 2 * [mass]": "a moment of inertia", "1 / [time]": "a frequency or speed",
-    }
-    key = str(dim) if str(dim) != "dimensionless" else ""
-    return names.get(key, f"a quantity of dimension {dim}")
+def dimension(unit: str) -> str:
+    """The dimension of ``unit``, its base dimensions in alphabetical order (whatever order
+    pint found them in): the key of :data:`PLAUSIBLE`.
+
+    Examples
+    --------
+    >>> dimension("g*cm^2") == dimension("kg*m^2"), dimension("N/m"), dimension("")
+    (True, '[mass] * [time] ** -2', 'dimensionless')
+    """
+    dims = ureg.Quantity(1.0, unit).dimensionality if unit else {}
+    return " * ".join(k if v == 1 else f"{k} ** {v:g}" for k, v in sorted(dims.items())) \
+        or "dimensionless"
 
 
-PLAUSIBLE = {
-    "[mass]": (1e-9, 1e6, "kg"),
-    "[length]": (1e-9, 1e3, "m"),
-    "[time]": (1e-9, 1e5, "s"),
-    "1 / [time]": (1e-4, 1e8, "1/s"),
-    "[length] / [time] ** 2": (1e-6, 1e6, "m/s^2"),
-    "[mass] / [length] / [time] ** 2": (1e-3, 1e13, "Pa"),
-    "[mass] / [length] ** 3": (1e-3, 1e5, "kg/m^3"),
-    "[length] ** 2 * [mass]": (1e-15, 1e7, "kg*m^2"),
-    "[length] * [mass] / [time] ** 2": (1e-6, 1e9, "N"),
-    "[length] ** 2 * [mass] / [time] ** 2": (1e-9, 1e9, "J or N*m"),
-    "[mass] / [time] ** 2": (1e-3, 1e13, "N/m"),
-    "[length] ** 3": (1e-15, 1e3, "m^3"),
-    "[length] ** 2": (1e-15, 1e4, "m^2"),
-    "[current] * [length] ** 2 * [mass] / [time] ** 3": (1e-9, 1e6, "V"),
-}
+_NAMES = {"m": "a length", "kg": "a mass", "s": "a time", "": "a plain number or angle",
+          "m/s^2": "an acceleration", "Pa": "a pressure or modulus",
+          "kg*m^2": "a moment of inertia", "1/s": "a frequency or speed"}
+
+
+def _dimension_name(unit: str) -> str:
+    names = {dimension(u): name for u, name in _NAMES.items()}
+    key = dimension(unit)
+    return names.get(key, f"a quantity of dimension {key}")
+
+
+PLAUSIBLE = {dimension(si): (lo, hi, si) for lo, hi, si in (
+    (1e-9, 1e6, "kg"), (1e-9, 1e3, "m"), (1e-9, 1e5, "s"), (1e-4, 1e8, "1/s"),
+    (1e-6, 1e6, "m/s^2"), (1e-3, 1e13, "Pa"), (1e-3, 1e5, "kg/m^3"), (1e-15, 1e7, "kg*m^2"),
+    (1e-6, 1e9, "N"), (1e-9, 1e9, "N*m"), (1e-3, 1e13, "N/m"), (1e-15, 1e3, "m^3"),
+    (1e-15, 1e4, "m^2"), (1e-9, 1e6, "V"))}
 """What a lab bench can measure, by dimension: (least, greatest, SI unit) of a magnitude.
 Outside it a value is suspect (a warning); :data:`REJECT_FACTOR` beyond it, it is refused."""
 
@@ -93,8 +96,7 @@ def magnitude_verdict(value: float, unit: str) -> tuple[str, tuple[float, float,
     size = abs(value)
     if value == 0.0:
         return "ok", None
-    key = str(ureg.Quantity(1.0, unit).dimensionality) if unit else "dimensionless"
-    plausible = PLAUSIBLE.get(key)
+    plausible = PLAUSIBLE.get(dimension(unit))
     if not ANY_MAGNITUDE[0] <= size <= ANY_MAGNITUDE[1]:
         return "refused", plausible
     if plausible is None:
@@ -219,7 +221,8 @@ def _to_si(s: str, expected_unit: str, whole: str) -> float:
     want = ureg.Quantity(1.0, expected_unit).dimensionality
     if q.dimensionality != want:
         raise ValueError(
-            f"{whole!r} is {_dimension_name(q.dimensionality)}, but {_dimension_name(want)} "
+            f"{whole!r} is {_dimension_name(str(q.units))}, but "
+            f"{_dimension_name(expected_unit)} "
             f"is expected (unit like '{expected_unit}')"
         )
     return float(q.to_base_units().magnitude)

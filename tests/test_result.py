@@ -1,0 +1,38 @@
+"""The last check before a result is reported: finite, and not negative where it cannot be."""
+import math
+
+import pytest
+
+from processing.diagnostics import InputError
+from processing.result import LabResult, ResultValue
+from processing.uncertainty import Estimate
+
+
+def _result(value, unit, *, signed=False):
+    label = {"en": "x", "ru": "x"}
+    rv = ResultValue("x", Estimate(value, 0.0, math.inf), unit, label, signed=signed)
+    return LabResult("lab0", "0", label, label, {}, [], {"x": rv}, source="in.toml")
+
+
+@pytest.mark.parametrize("unit, what", [("kg", "mass"), ("kg*m^2", "moment of inertia"),
+                                        ("N/m", "linear stiffness"), ("kg/m^3", "density")])
+def test_a_negative_mass_inertia_stiffness_or_density_is_refused(unit, what):
+    with pytest.raises(InputError, match=f"a {what} cannot be negative") as info:
+        _result(-0.5, unit).check_sense()
+    assert info.value.file == "in.toml" and "template" in info.value.fix
+
+
+@pytest.mark.parametrize("value, unit, signed", [
+    (0.0, "kg*m^2", False),       # "none", e.g. no flywheel needed
+    (-0.5, "kg*m^2", True),       # a residual
+    (-0.5, "N*m", False),         # a torque (shares a torsional stiffness's dimension)
+    (-0.5, "", False),
+])
+def test_zero_residuals_and_signed_quantities_pass(value, unit, signed):
+    _result(value, unit, signed=signed).check_sense()
+
+
+@pytest.mark.parametrize("value", [math.nan, math.inf])
+def test_a_result_that_is_not_finite_is_refused(value):
+    with pytest.raises(InputError, match="cannot be computed"):
+        _result(value, "kg").check_sense()
