@@ -121,6 +121,9 @@ def test_command_line():
     args = parse_args(["--quick", "--out", "here", "--large", "1e9"])
     assert args.quick and str(args.out) == "here" and args.large == 10 ** 9
     assert parse_args([]).large is None and str(parse_args([]).out) == "bench-results"
+    assert parse_args([]).topic is None and parse_args(["--topic", "speed"]).topic == ["speed"]
+    with pytest.raises(SystemExit):
+        parse_args(["--topic", "no-such-topic"])
     with pytest.raises(SystemExit):
         parse_args(["--large", "0.5"])
     with pytest.raises(SystemExit) as done:

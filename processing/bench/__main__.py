@@ -1,10 +1,13 @@
-"""``python -m processing.bench [--quick] [--out DIR] [--large N]``: run the benchmarks.
+"""``python -m processing.bench [--quick] [--out DIR] [--topic T ...] [--large N]``.
 
-Writes ``bench.csv``, ``error_vs_time.png``, ``time_vs_size.png``, ``stability_map.png``,
-``delta_vs_record.png`` and ``targets.json`` to ``--out`` (default ``bench-results/``),
-prints a summary and one PASS/FAIL line per target, and exits with 1 if a target fails.
-Timings are taken on one core: the BLAS/OpenMP thread counts are set to 1 here, before numpy
-is first imported.
+Runs the benchmark of every topic (or those named): each writes ``bench.csv``, its charts
+(error against time, stability maps) and ``targets.json`` to ``--out/<topic>/`` (default
+``bench-results/``). Prints each topic's summary and one PASS/FAIL line per target, and exits
+with 1 if a target fails. Timings are taken on one core: the BLAS/OpenMP thread counts are
+set to 1 here, before numpy is first imported.
+
+A topic is a module with ``run(out, quick) -> (DataFrame, list[Target])`` and
+``summary_lines(frame) -> list[str]``.
 """
 import os
 
@@ -17,7 +20,9 @@ import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
 
 from . import speed  # noqa: E402
-from .harness import summary  # noqa: E402
+
+TOPICS = {"speed": speed}
+"""The benchmark topics, by name."""
 
 
 def _count(text: str) -> int:
@@ -35,47 +40,32 @@ def parse_args(argv=None) -> argparse.Namespace:
     """The command line of ``python -m processing.bench``."""
     parser = argparse.ArgumentParser(
         prog="python -m processing.bench",
-        description="Time the pulse-train estimators against their accuracy on synthetic "
-                    "engine recordings; write a CSV, charts and the performance targets.")
+        description="Time the estimators against their accuracy on synthetic scenes whose "
+                    "truth is known; write a CSV, charts and the performance targets.")
     parser.add_argument("--quick", action="store_true",
-                        help="a coarse grid and short signals (under a minute)")
+                        help="coarse grids and short signals (a few minutes in all)")
+    parser.add_argument("--topic", action="append", choices=tuple(TOPICS),
+                        help="run only this topic (repeat for several; default: all)")
     parser.add_argument("--out", type=Path, default=Path("bench-results"),
                         help="output folder (default: bench-results)")
     parser.add_argument("--large", type=_count, metavar="N",
-                        help="also stream an N-sample HDF5 file (e.g. 1e9: 2 GB in the "
-                             "temporary folder, deleted afterwards)")
+                        help="speed: also stream an N-sample HDF5 file (e.g. 1e9: 2 GB in "
+                             "the temporary folder, deleted afterwards)")
     return parser.parse_args(argv)
-
-
-def report(frame, targets) -> str:
-    """The summary printed at the end: per-method table, δ by case, throughput by length,
-    the worst δ errors of the target region, δ on the other record lengths, the targets."""
-    def fmt(v):
-        return f"{v:.3g}"
-
-    lines = ["", "Summary (median over cases; |err|: edge timing in samples, δ relative):",
-             summary(frame).to_string(index=False, float_format=fmt), "",
-             "δ/δ_true − 1 [%] by case (60−2 wheel, median over seeds):",
-             speed.delta_table(frame).to_string(float_format=fmt), "",
-             "Throughput by signal length (one core):",
-             speed.throughput_table(frame).to_string(float_format=fmt), "",
-             "Worst |δ/δ_true − 1| in the target region "
-             "(60−2, ≥ 20 samples/tooth, ≥ 20 dB):",
-             speed.region_worst(frame).to_string(float_format=fmt), "",
-             f"δ findings (other record lengths than the target's {speed.TARGET_CYCLES} "
-             "working cycles, and matched edges):",
-             *speed.delta_findings(frame), ""]
-    return "\n".join(lines + [t.line() for t in targets])
 
 
 def main(argv=None) -> int:
     """Run the benchmarks; 0 if every target passes, else 1."""
     args = parse_args(argv)
-    frame, targets = speed.run(args.out, quick=args.quick, large=args.large)
-    print(report(frame, targets))
-    print(f"\nwritten to {args.out}/: bench.csv, error_vs_time.png, time_vs_size.png, "
-          "stability_map.png, delta_vs_record.png, targets.json")
-    return 0 if all(t.passed for t in targets) else 1
+    passed = True
+    for name in args.topic or TOPICS:
+        module, out = TOPICS[name], args.out / name
+        options = {"large": args.large} if name == "speed" else {}
+        frame, targets = module.run(out, quick=args.quick, **options)
+        print(f"\n=== {name} ===", *module.summary_lines(frame), "",
+              *(t.line() for t in targets), f"\nwritten to {out}/", sep="\n")
+        passed &= all(t.passed for t in targets)
+    return 0 if passed else 1
 
 
 if __name__ == "__main__":

@@ -91,6 +91,7 @@ from .harness import (
     plot_map,
     plot_time_size,
     run_family,
+    summary,
     write_rows,
     write_targets,
 )
@@ -731,6 +732,26 @@ def delta_table(frame: pd.DataFrame) -> pd.DataFrame:
 
 
 # --- the whole benchmark ---------------------------------------------------------------------
+
+def summary_lines(frame: pd.DataFrame) -> list[str]:
+    """The summary printed after the run: per-method table, δ by case, throughput by length,
+    the worst δ errors of the target region, δ on the other record lengths."""
+    def fmt(v):
+        return f"{v:.3g}"
+
+    return ["Summary (median over cases; |err|: edge timing in samples, δ relative):",
+            summary(frame).to_string(index=False, float_format=fmt), "",
+            "δ/δ_true − 1 [%] by case (60−2 wheel, median over seeds):",
+            delta_table(frame).to_string(float_format=fmt), "",
+            "Throughput by signal length (one core):",
+            throughput_table(frame).to_string(float_format=fmt), "",
+            "Worst |δ/δ_true − 1| in the target region "
+            "(60−2, ≥ 20 samples/tooth, ≥ 20 dB):",
+            region_worst(frame).to_string(float_format=fmt), "",
+            f"δ findings (other record lengths than the target's {TARGET_CYCLES} "
+            "working cycles, and matched edges):",
+            *delta_findings(frame)]
+
 
 def run(out, *, quick: bool = False, large: int | None = None,
         log: Callable[[str], None] = print) -> tuple[pd.DataFrame, list[Target]]:
