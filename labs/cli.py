@@ -14,6 +14,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from processing import __version__
 from processing.diagnostics import InputError
 from processing.reporting.i18n import LANGS
 from processing.reporting.render import FORMATS, to_json, to_terminal, write_reports
@@ -122,8 +123,11 @@ def _run(args) -> int:
 
 
 def _sample_dir(given: str | None) -> Path:
+    """The sample data: ``--data``, else ./sample_data, else the source tree's, else the copy
+    the wheel ships (``labs/sample_data``)."""
+    here = Path(__file__).resolve().parent
     candidates = [Path(given)] if given else [Path.cwd() / "sample_data",
-                                              Path(__file__).resolve().parents[1] / "sample_data"]
+                                              here.parent / "sample_data", here / "sample_data"]
     for c in candidates:
         if c.is_dir() and any(c.glob("*/*.toml")):
             return c
@@ -214,6 +218,7 @@ def parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="dynlab", description="Reduce engine-dynamics lab "
                                 "measurements into checked, standardised reports.")
     p.add_argument("--debug", action="store_true", help="show tracebacks of internal errors")
+    p.add_argument("--version", action="version", version=f"dynlab {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
     run = sub.add_parser("run", help="reduce measurement files into reports")
     run.add_argument("files", nargs="+", metavar="FILE")

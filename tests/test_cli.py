@@ -374,3 +374,20 @@ def test_installed_console_script_reports_bad_input(tmp_path):
     assert "field 'swinging.n_osk'" in proc.stderr and "did you mean 'n_osc'?" in proc.stderr, \
         proc.stderr
     assert not (tmp_path / "out").exists(), "reports were written for a bad file"
+
+
+def test_demo_finds_the_sample_data_from_any_folder(tmp_path, monkeypatch):
+    # installed from a wheel, the copy shipped in labs/sample_data; from the source tree, its own
+    from labs.cli import _sample_dir
+
+    monkeypatch.chdir(tmp_path)
+    found = _sample_dir(None)
+    source = Path(__file__).resolve().parents[1] / "sample_data"
+    assert sorted(p.relative_to(found) for p in found.rglob("*") if p.is_file()) == \
+        sorted(p.relative_to(source) for p in source.rglob("*") if p.is_file())
+
+
+def test_version(capsys):
+    with pytest.raises(SystemExit) as done:
+        main(["--version"])
+    assert done.value.code == 0 and re.fullmatch(r"dynlab \d+\.\d+\.\d+\S*\n", capsys.readouterr().out)
