@@ -7,10 +7,11 @@ from processing.diagnostics import InputError, collect_notices
 from processing.measurement import load, read_toml
 from processing.result import LabResult
 
-from . import dyncalc, lab1_inertia, lab2_conrod, lab3_speed_irregularity, lab8_balancing
+from . import (dyncalc, lab1_inertia, lab2_conrod, lab3_speed_irregularity, lab7_torsiograph,
+               lab8_balancing)
 
-LABS = {m.SPEC.id: m for m in (lab1_inertia, lab2_conrod, lab3_speed_irregularity, lab8_balancing,
-                                 dyncalc)}
+LABS = {m.SPEC.id: m for m in (lab1_inertia, lab2_conrod, lab3_speed_irregularity,
+                                 lab7_torsiograph, lab8_balancing, dyncalc)}
 
 
 def lab_module(lab_id: str, file: str | None = None):

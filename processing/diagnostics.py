@@ -186,6 +186,54 @@ class StiffnessRatioWarning(DynlabWarning):
     code = "stiffness_ratio"
 
 
+class LowConfidenceTraceWarning(DynlabWarning):
+    """A share of a trace read off a paper record's image is unreliable: lost, crossing
+    another trace, faint or blotted."""
+
+    code = "low_confidence_trace"
+
+
+class UnevenTimeBaseWarning(DynlabWarning):
+    """The time marks of a paper record are not evenly spaced: the paper's speed changed, or
+    the photograph's perspective is not fully taken out."""
+
+    code = "uneven_time_base"
+
+
+class BlurredMarksWarning(DynlabWarning):
+    """The pips of a paper record's time or TDC marks are blurred into single blobs: where
+    each mark rises, and so the marks' place against the trace, is uncertain."""
+
+    code = "blurred_marks"
+
+
+class TorsiographResponseWarning(DynlabWarning):
+    """A torsiograph's own natural frequency is not 5–10 times below the frequencies it
+    records: their amplitudes rest on its transfer function's correction."""
+
+    code = "torsiograph_response"
+
+
+class MixedOrdersWarning(DynlabWarning):
+    """A torsiogram is not dominated by one order: counting its oscillations (K = ν/n) does not
+    give the resonating order; the harmonic analysis does."""
+
+    code = "mixed_orders"
+
+
+class UnresolvedResonanceWarning(DynlabWarning):
+    """A resonance peak is narrower than the speed step between the records around it, or fell
+    between them: its speed and order are uncertain."""
+
+    code = "resonance_unresolved"
+
+
+class ResonanceBeyondSweepWarning(DynlabWarning):
+    """An order rises steeply at an end of a speed sweep: a resonance lies just beyond it."""
+
+    code = "resonance_beyond_sweep"
+
+
 @dataclass(frozen=True)
 class Notice:
     """A warning as it is stored in a result and printed in a report."""

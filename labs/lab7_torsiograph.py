@@ -1,0 +1,792 @@
+"""Lab 7. Torsional vibration of the crankshaft, recorded by a torsiograph.
+
+The manual's chapter: a seismic torsiograph (an inertia mass on a flat spring with strain
+gauges, its case on the crankshaft nose; its own natural frequency f_c 5–10 times below the
+recorded ones) records the nose's angular vibration, beside TDC marks and time marks, at idle,
+part and full load from the lowest to the highest speed every 200 min⁻¹, finer near the
+resonances. A static calibration turns the case by φ = h/R (a micrometer's rise h on a lever
+R) against the locked mass: the trace scale l follows (rad per mm of the oscillogram, or per
+volt). Per record: the speed n = 60 N/(z T_mark), the oscillation frequency
+ν = 60 N_k/(m T_mark), the amplitude A = l A_k and the peak amplitudes A_ij — each
+oscillation's half range with the baseline's drift taken out — whose largest is the design
+value; then the amplitude–speed curve, the resonant regimes and the resonating order
+K = ν/n; a harmonic analysis where the curve is not a sine.
+
+Here each record is a signal file (CSV, WAV or HDF5: the torsiograph's channel, the TDC
+marks, optionally the time marks). Its orders are fitted against the crank angle together
+with the drift (:mod:`processing.orders`), corrected for the instrument's transfer function
+(:mod:`processing.seismic`); the peak amplitudes are read the manual's way both on the
+record's single oscillations and on its mean working cycle, whose largest (free of the
+noise's upward bias) is the result (:mod:`processing.torsiogram`). Across the records each
+resonance is located between them with its order and the natural frequency it implies
+(:mod:`processing.resonance`), drawn on a Campbell diagram with the engine's major orders,
+and compared with an equivalent torsional chain's natural frequencies when the chain is
+given (:mod:`processing.torsion`).
+
+References
+----------
+.. [1] Dynamics of internal-combustion engines: lab manual, Vladimir State University, 2003,
+       lab 7 ("Экспериментальное исследование крутильных колебаний коленчатого вала").
+"""
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from labs import lab7_torsiograph_report as report
+from processing.diagnostics import InputError, collect_notices
+from processing.dynamics import firing_phases
+from processing.edges import detect_edges
+from processing.measurement import Field, Inputs, LabSpec, Section, bi
+from processing.regression import fit_line
+from processing.resonance import Resonance, SweepEdge, locate_resonances, major_orders, \
+    resonance_speed
+from processing.result import LabResult, compare, flag_estimates, result_values
+from processing.seismic import amplitude_ratio
+from processing.signals import open_channels
+from processing.torsion import natural_modes
+from processing.torsiogram_analysis import Torsiogram, analyse_trace
+from processing.uncertainty import Measured, propagate
+
+LOADS = ("idle", "part", "full")
+"""The manual's regimes: idle, part and full load."""
+
+RESPONSE_RATIO = 5.0
+"""Lowest recorded frequency over f_c below which the record leans on the transfer
+function's correction (the manual asks for 5–10)."""
+
+CARRYING_SHARE = 0.3
+"""An order carries a record when its amplitude is at least this share of the largest: the
+frequencies the manual's 5–10 × f_c concerns."""
+
+MIN_CYCLES = 2
+"""Working cycles a record needs at all: with fewer, a half order cannot be told from the
+drift (1.5 cycles: φ_max 10–20 % off, beyond its stated U, in the benchmark)."""
+
+FEW_CYCLES = 4
+"""Below this many working cycles a drift that reaches the lowest orders' frequencies is no
+longer seen in the residual (two cycles: φ_max up to 9 % off, beyond its U)."""
+
+CYCLE_SLACK = 0.1
+"""A record counts as spanning N working cycles from N less this (a record cut at N cycles
+holds a sample less)."""
+
+DRIFT_RATIO = 1.0
+"""Drift excursion over the mean cycle's range above which a drift that leaves φ_max
+uncertain by more than :data:`DRIFT_U` is named as the cause."""
+
+DRIFT_U = 0.02
+"""Relative standard uncertainty of φ_max that a large drift is warned about: beyond it φ_max
+is no longer known to 2 % (at 30 dB without drift u stays below 0.5 %; a slow drift three
+times the oscillation on records of four working cycles leaves about 1 %)."""
+
+SPEED_REFUSED = 0.15
+"""Relative disagreement between the TDC marks' speed and the stated n beyond which the marks
+(or n, or the marks per revolution) are wrong rather than the tachometer rough."""
+
+SPEED_WARNED = 0.03
+"""Relative disagreement (beyond 2 u of n) that is warned about."""
+
+MARK_PERIOD_TOLERANCE = 0.01
+"""Largest relative disagreement between the time marks' period on the record's clock and
+the stated T_mark."""
+
+RESONANCE_MODEL = 0.05
+"""Half-width, as a share of the largest speed step among the fitted records, of the
+rectangular type B uncertainty of a resonance's speed for the parabola's own error (the
+benchmark's errors stay within 0.025 of the step)."""
+
+SPEC = LabSpec(
+    id="lab7", number="7",
+    title=bi("Torsional vibration of the crankshaft (torsiograph)",
+             "Экспериментальное исследование крутильных колебаний коленчатого вала"),
+    goal=bi("To study the experimental methods for the torsional vibration of an engine's "
+            "crankshaft: calibrate a torsiograph, reduce its records to the speed, the "
+            "frequency and the peak amplitudes of the vibration, and find the resonant "
+            "regimes and their orders from the amplitude–speed curve.",
+            "Изучить методы экспериментального исследования крутильных колебаний коленчатого "
+            "вала двигателя: протарировать торсиограф, обработать торсиограммы (частота "
+            "вращения, частота и пиковые амплитуды колебаний), найти по амплитудно-частотной "
+            "характеристике резонансные режимы и порядки резонирующих гармоник."),
+    sections=(
+        Section("engine", bi("Engine", "Двигатель"), required=True, fields=(
+            Field("cylinders", bi("number of cylinders", "число цилиндров"), kind="count",
+                  symbol="i", example=4),
+            Field("strokes", bi("strokes per cycle (4 or 2)", "тактность (4 или 2)"),
+                  kind="count", default=4, symbol="τ"),
+            Field("firing_order", bi("firing order, e.g. 1-3-4-2 (default 1, 2, …, i)",
+                                     "порядок работы цилиндров, напр. 1-3-4-2"),
+                  kind="text", required=False),
+        )),
+        Section("torsiograph", bi("Torsiograph and recorder", "Торсиограф и регистратор"),
+                required=True, fields=(
+            Field("f_c", bi("natural frequency of the torsiograph's inertia mass",
+                            "частота собственных колебаний инерционной массы торсиографа"),
+                  unit="Hz", limit="0.1 Hz", symbol="f_c", example=7.5),
+            Field("zeta", bi("damping ratio of the torsiograph's inertia mass",
+                             "относительное демпфирование инерционной массы торсиографа"),
+                  unit="", default="0.2 ± 0.1", symbol="ζ"),
+            Field("tdc_per_revolution", bi("TDC marks per crankshaft revolution",
+                                           "отметок ВМТ за оборот коленчатого вала"),
+                  kind="count", default=1),
+            Field("mark_period", bi("period of the time marks", "период отметчика времени"),
+                  unit="ms", required=False, symbol="T_отм"),
+        )),
+        Section("calibration", bi("Static calibration", "Статическая тарировка"),
+                required=True, help=report.CALIBRATION_HELP, fields=(
+            Field("R", bi("lever radius", "длина рычага"), unit="mm", limit="0.5 mm",
+                  symbol="R", example=200),
+            Field("h", bi("micrometer rises", "подъёмы микрометрического винта"), unit="mm",
+                  limit="0.005 mm", allow_zero=True, symbol="h",
+                  example="[0, 0.5, 1.0, 1.5, 2.0]"),
+            Field("deflection", bi("the trace's deflection at each rise (in the record's unit: "
+                                   "V, or mm on paper)", "отклонение записи при каждом подъёме "
+                                   "(в единицах записи: В или мм на бумаге)"),
+                  unit="", allow_zero=True, symbol="A_k",
+                  example="[0.02, 0.65, 1.27, 1.90, 2.52]"),
+        )),
+        Section("chain", bi("Equivalent torsional system (optional)",
+                            "Эквивалентная крутильная система (необязательно)"),
+                help=report.CHAIN_HELP, fields=(
+            Field("J", bi("moments of inertia of the discs, from the nose",
+                          "моменты инерции масс, начиная с носка"), unit="kg*m^2",
+                  symbol="J", example="[0.05, 0.035, 0.035, 0.035, 0.035, 1.3]"),
+            Field("c", bi("torsional stiffnesses of the shafts between them",
+                          "крутильные жёсткости участков между ними"), unit="N*m/rad",
+                  symbol="c", example="[5.2e5, 7.8e5, 7.8e5, 7.8e5, 6.1e5]"),
+        )),
+        Section("record", bi("Record", "Торсиограмма"), many=True, required=True,
+                help=report.RECORD_HELP, fields=(
+            Field("signal", bi("torsiograph record: CSV, WAV or HDF5 file",
+                               "запись торсиографа: файл CSV, WAV или HDF5"),
+                  kind="file", example="r800.csv"),
+            Field("channel", bi("the torsiograph's channel (default: the first)",
+                                "канал торсиографа (по умолчанию первый)"),
+                  kind="text", required=False),
+            Field("tdc_channel", bi("channel of the TDC marks", "канал отметок ВМТ"),
+                  kind="text", default="tdc"),
+            Field("marks_channel", bi("channel of the time marks, if recorded",
+                                      "канал отметок времени, если записан"),
+                  kind="text", required=False),
+            Field("sample_rate", bi("sample rate, if the file does not say",
+                                    "частота дискретизации, если её нет в файле"),
+                  unit="kHz", required=False, symbol="f_s"),
+            Field("n", bi("speed by the tachometer", "частота вращения по тахометру"),
+                  unit="rpm", limit="5 rpm", required=False, symbol="n_t"),
+            Field("load", bi("load", "нагрузка"), kind="choice", choices=LOADS,
+                  default="full"),
+        )),
+    ),
+)
+
+
+# ------------------------------------------------------------------------ formulas
+
+def calibration_angle(h, R):
+    """Angle the calibration lever turns the torsiograph's case, the manual's φ = h/R.
+
+    .. math:: \\varphi = \\operatorname{tg}\\varphi \\approx \\frac{h}{R}
+
+    Parameters
+    ----------
+    h : float or ndarray
+        Rise of the micrometer screw. [m]
+    R : float or ndarray
+        Lever radius. [m]
+
+    Returns
+    -------
+    float or ndarray
+        [rad]
+
+    Examples
+    --------
+    >>> calibration_angle(0.5e-3, 0.2)
+    0.0025
+    """
+    return h / R
+
+
+def trace_scale(slope, R):
+    """The trace scale l: the case's angle per unit of the trace (manual, lab 7).
+
+    .. math:: l = \\frac{1}{R}\\,\\frac{dh}{dA_k}
+
+    with dh/dA_k the slope of the micrometer's rise against the trace's deflection over the
+    calibration (a straight line: the torsiograph is linear).
+
+    Parameters
+    ----------
+    slope : float or ndarray
+        dh/dA_k. [m per unit of the trace]
+    R : float or ndarray
+        Lever radius. [m]
+
+    Returns
+    -------
+    float or ndarray
+        l. [rad per unit of the trace]
+    """
+    return slope / R
+
+
+def amplitude(l, A_k):
+    """Angular amplitude from the trace's, the manual's A = l A_k.
+
+    Examples
+    --------
+    >>> round(amplitude(0.004, 1.5), 9)          # 0.004 rad/V, 1.5 V
+    0.006
+    """
+    return l * A_k
+
+
+def resonating_order(nu, omega):
+    """Oscillations per revolution, the manual's K = ν/n.
+
+    .. math:: K = \\frac{\\nu}{n} = \\frac{2\\pi\\,\\nu}{\\omega}
+
+    Parameters
+    ----------
+    nu : float or ndarray
+        Oscillation frequency. [Hz]
+    omega : float or ndarray
+        Crank speed. [rad/s]
+
+    Examples
+    --------
+    >>> round(resonating_order(200.0, 1500 * np.pi / 30), 9)     # 200 Hz at 1500 min⁻¹
+    8.0
+    """
+    return 2 * np.pi * nu / omega
+
+
+# ------------------------------------------------------------------------ one record
+
+@dataclass
+class Recorded:
+    """One record of the sweep and what it reduced to."""
+
+    number: int
+    load: str
+    source: Path
+    trace: Torsiogram
+    cycles: float
+    """Working cycles the record spans."""
+    speed: Measured
+    """Its speed: type A from the revolutions' scatter, type B from the marks' timing (half
+    a sample at either end of the span). [rad/s]"""
+
+
+def _key(text: str | None):
+    return int(text) if text is not None and text.strip().isdigit() else text
+
+
+def _marks(x, rate: float) -> np.ndarray:
+    """Times of the pulses of a mark channel (their falling edges, a local cubic through
+    each: :mod:`processing.edges`). [s]"""
+    return detect_edges(np.asarray(x, dtype=float), "fit") / rate
+
+
+def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
+    where = f"record[{i}]"
+    path = entry["signal"]
+    rate = entry["sample_rate"].value if "sample_rate" in entry else None
+    names = [_key(entry.get("channel")), _key(entry["tdc_channel"])]
+    if "marks_channel" in entry:
+        names.append(_key(entry["marks_channel"]))
+    channels = open_channels(path, names, sample_rate=rate, field=f"{where}.signal")
+    trace, tdc = (c.read().astype(float) * c.volts_per_code for c in channels[:2])
+    rate = channels[0].sample_rate
+    time = np.arange(trace.size) / rate
+
+    def refuse(problem: str, fix: str, field: str = "signal") -> InputError:
+        return InputError(problem, fix, file=str(path), field=f"{where}.{field}")
+
+    if len(channels) == 3:
+        _check_time_marks(inputs, channels[2], rate, refuse)
+    tdc_times = _marks(tdc, rate)
+    if tdc_times.size < 2:
+        raise refuse(f"channel '{channels[1].name}' holds {tdc_times.size} TDC mark(s)",
+                     "name the TDC channel (tdc_channel = ...) and check that it records a "
+                     "pulse every revolution", "tdc_channel")
+    settings = inputs["torsiograph"]
+    strokes = inputs["engine"]["strokes"]
+    try:
+        result = analyse_trace(time, trace, tdc_times,
+                               natural_frequency=settings["f_c"].value,
+                               damping_ratio=settings["zeta"].value,
+                               per_revolution=settings["tdc_per_revolution"], strokes=strokes)
+    except InputError as exc:
+        raise refuse(f"channel '{channels[0].name}': {exc.problem}", exc.fix) from None
+    cycles = trace.size / rate * result.revolution_frequency / (strokes // 2)
+    if cycles < MIN_CYCLES - CYCLE_SLACK:
+        raise refuse(f"the record spans {cycles:.1f} working cycle(s); its half orders and "
+                     f"drift need at least {MIN_CYCLES}",
+                     f"record at least {FEW_CYCLES} working cycles "
+                     f"({FEW_CYCLES * strokes // 2} revolutions)")
+    if not np.isfinite(result.frequency) and not result.drift_ratio > DRIFT_RATIO:
+        raise refuse(f"channel '{channels[0].name}' shows no oscillation above its noise "
+                     f"(σ = {result.noise:.3g})", "check that this is the torsiograph's "
+                     "channel and that the amplifier's gain lifts the trace out of the noise")
+    _check_speed(entry, result, where, path)
+    revs = result.revolutions
+    span = revs.mark_times[-1] - revs.mark_times[0]
+    speed = Measured(revs.angular_speed, revs.u_speed, max(revs.speeds.size - 1, 1),
+                     limit=revs.angular_speed / (rate * span))
+    return Recorded(i + 1, entry["load"], Path(path), result, float(cycles), speed)
+
+
+def _check_time_marks(inputs: Inputs, channel, rate: float, refuse) -> None:
+    """The time marks' period on the record's clock against the stated T_mark."""
+    settings = inputs["torsiograph"]
+    if "mark_period" not in settings:
+        raise inputs.error("a time-mark channel is named but not its period",
+                           "add mark_period = \"10 ms\" (the time marker's period) in "
+                           "[torsiograph]", "torsiograph.mark_period")
+    times = _marks(channel.read().astype(float), rate)
+    if times.size < 3:
+        raise refuse(f"channel '{channel.name}' holds {times.size} time mark(s)",
+                     "name the time-mark channel (marks_channel = ...) or leave it out",
+                     "marks_channel")
+    measured = fit_line(np.arange(times.size, dtype=float), times).slope
+    stated = settings["mark_period"].value
+    if abs(measured / stated - 1) > MARK_PERIOD_TOLERANCE:
+        raise refuse(f"the time marks come every {1e3 * measured:.4g} ms of the record's clock "
+                     f"({rate:g} Hz), but T_mark = {1e3 * stated:.4g} ms: the sample rate or "
+                     "the marks' period is wrong",
+                     "give the recorder's true sample rate (sample_rate = ...), or correct "
+                     "mark_period in [torsiograph]", "sample_rate")
+
+
+def _check_speed(entry: dict, result: Torsiogram, where: str, path) -> None:
+    """The TDC marks' speed against the tachometer's n."""
+    if "n" not in entry:
+        return
+    n = entry["n"]
+    w = result.angular_speed
+    gap = w / n.value - 1
+    rpm = 30 / np.pi
+    if abs(gap) > SPEED_REFUSED:
+        raise InputError(f"the TDC marks give {w * rpm:.0f} min⁻¹ but n = {n.value * rpm:.0f} "
+                         f"min⁻¹ ({100 * gap:+.0f} %): a mark per revolution too many or too "
+                         "few, marks missed, or the wrong record",
+                         "check n, the TDC channel and tdc_per_revolution in [torsiograph] "
+                         "(marks per crankshaft revolution)", file=str(path),
+                         field=f"{where}.n")
+    if abs(gap) > SPEED_WARNED + 2 * n.u / n.value:
+        warnings.warn(report.speed_disagrees(where, w, n.value))
+
+
+# ------------------------------------------------------------------------ calibration
+
+def _calibration(inputs: Inputs) -> tuple[Measured, object]:
+    """dh/dA_k by a line through the calibration (type A from its residuals, the
+    micrometer's limit as type B through the slope), and the fit."""
+    cal = inputs["calibration"]
+    h = np.asarray(cal["h"].readings, dtype=float)
+    a = np.asarray(cal["deflection"].readings, dtype=float)
+    if h.size != a.size:
+        raise inputs.error(f"{h.size} micrometer rises but {a.size} deflections",
+                           "write one deflection for every rise, in the same order",
+                           "calibration.deflection")
+    if np.unique(h).size < 2 or np.unique(a).size < 2:
+        which = "h" if np.unique(h).size < 2 else "deflection"
+        raise inputs.error(f"the calibration has {min(np.unique(h).size, np.unique(a).size)} "
+                           "distinct point(s); the scale needs a straight line through at "
+                           "least two", "turn the case in several steps (the manual: four or "
+                           "more) and read the trace at each", f"calibration.{which}")
+    fit = fit_line(a, h)
+    if not fit.slope > 0:
+        raise inputs.error("the trace's deflection does not grow with the micrometer's rise",
+                           "check the pairing of h and deflection, and their signs",
+                           "calibration.deflection")
+    u_b = cal["h"].u_type_b / np.sqrt(np.sum((a - a.mean()) ** 2))
+    return fit.measured_slope(u_b=u_b), fit
+
+
+# ------------------------------------------------------------------------ the sweep
+
+@dataclass(frozen=True)
+class Found:
+    """A resonance of one load's sweep, numbered over the lab."""
+
+    number: int
+    load: str
+    resonance: Resonance
+    records: tuple[int, ...]
+    """Numbers of the records fitted."""
+    peak: int
+    """Number of the record at the peak."""
+
+
+def _amplitudes(recs: list[Recorded]):
+    """Orders (common grid) and each record's corrected amplitudes and u on it."""
+    longest = max(recs, key=lambda r: r.trace.fit.order.size).trace.fit.order
+    amp = np.zeros((len(recs), longest.size))
+    u = np.zeros_like(amp)
+    for j, r in enumerate(recs):
+        m = r.trace.fit.order.size
+        amp[j, :m], u[j, :m] = r.trace.order_amplitude, r.trace.order_u
+    return longest, amp, u
+
+
+def _resonances(recorded: list[Recorded]) -> tuple[list[Found], list[tuple[str, SweepEdge]],
+                                                   dict]:
+    """Every load's resonances and sweep edges; the order amplitudes by record."""
+    found, edges, amplitudes = [], [], {}
+    for load in LOADS:
+        recs = [r for r in recorded if r.load == load]
+        if not recs:
+            continue
+        orders, amp, u = _amplitudes(recs)
+        for r, a, ua in zip(recs, amp, u):
+            amplitudes[r.number] = (orders, a, ua)
+        if len(recs) < 3:
+            continue
+        speeds = [r.trace.angular_speed for r in recs]
+        res, ends = locate_resonances(speeds, amp, orders,
+                                      [r.trace.dominant_order for r in recs])
+        for one in res:
+            numbers = tuple(recs[p].number for p in one.points)
+            found.append(Found(len(found) + 1, load, one, numbers, recs[one.peak].number))
+        edges += [(load, SweepEdge(e.order, recs[e.index].number, e.side, e.slope))
+                  for e in ends]
+    return found, edges, amplitudes
+
+
+# ------------------------------------------------------------------------ reduction
+
+def _flat(inputs: Inputs, recorded, slope, found, amplitudes) -> dict:
+    """The model's measured inputs: the file's, each record's and each resonance's."""
+    settings = inputs["torsiograph"]
+    flat = {"calibration.slope": slope, "calibration.R": inputs["calibration"]["R"],
+            "torsiograph.f_c": settings["f_c"], "torsiograph.zeta": settings["zeta"]}
+    for r in recorded:
+        t = r.trace
+        flat[f"r{r.number}.omega"] = r.speed
+        if t.frequency_fit is not None:
+            flat[f"r{r.number}.half_period"] = t.frequency_fit.measured_slope()
+        flat[f"r{r.number}.A"] = Measured(t.cycle.largest, t.cycle.u_largest, t.cycle.dof)
+        flat[f"r{r.number}.f"] = t.fit.order[np.argmax(t.order_amplitude)] \
+            * t.revolution_frequency
+    for f in found:
+        k = f.resonance.order
+        for n in f.records:
+            orders, a, u = amplitudes[n]
+            col = int(np.argmin(np.abs(orders - k)))
+            flat[f"r{n}.order{k:g}"] = Measured(float(a[col]), float(u[col]), np.inf)
+        flat[f"res{f.number}.model"] = Measured(0.0, limit=RESONANCE_MODEL * f.resonance.step)
+    if "chain" in inputs:
+        chain = inputs["chain"]
+        for name in ("J", "c"):
+            field = chain[name]
+            for j, v in enumerate(field.readings):
+                flat[f"chain.{name}{j}"] = Measured(v, limit=field.limit, u_b=field.u_b)
+    return flat
+
+
+def _model(recorded, found, chain_size: tuple[int, int] | None, f_c0: float,
+           zeta0: float):
+    """The measurement model: every result from the inputs of :func:`_flat`; the records'
+    amplitudes were corrected with the instrument's nominal f_c0 and ζ0."""
+
+    def model(**x):
+        l = trace_scale(x["calibration.slope"], x["calibration.R"])
+        out = {"l": l}
+        f_c, zeta = x["torsiograph.f_c"], x["torsiograph.zeta"]
+        phis = []
+        for r in recorded:
+            i = r.number
+            f = x[f"r{i}.f"]
+            instrument = amplitude_ratio(f, f_c0, zeta0) / amplitude_ratio(f, f_c, zeta)
+            out[f"n_{i}"] = x[f"r{i}.omega"]
+            if f"r{i}.half_period" in x:
+                out[f"nu_{i}"] = 1 / (2 * x[f"r{i}.half_period"])
+                out[f"K_{i}"] = resonating_order(out[f"nu_{i}"], out[f"n_{i}"])
+            out[f"phi_max_{i}"] = amplitude(l, x[f"r{i}.A"] * instrument)
+            phis.append(out[f"phi_max_{i}"])
+        out["phi_max"] = np.max(np.stack(np.broadcast_arrays(*phis)), axis=0)
+        for f in found:
+            k = f.resonance.order
+            w = np.stack(np.broadcast_arrays(*[x[f"r{n}.omega"] for n in f.records]), -1)
+            a = np.stack(np.broadcast_arrays(*[x[f"r{n}.order{k:g}"] for n in f.records]), -1)
+            speed = resonance_speed(w, a)[0] + x[f"res{f.number}.model"]
+            out[f"n_res_{f.number}"] = speed
+            out[f"K_res_{f.number}"] = np.full(np.shape(speed), k)
+            out[f"f_res_{f.number}"] = k * speed / (2 * np.pi)
+        if chain_size is not None:
+            J = np.stack(np.broadcast_arrays(*[x[f"chain.J{j}"]
+                                               for j in range(chain_size[0])]), -1)
+            c = np.stack(np.broadcast_arrays(*[x[f"chain.c{j}"]
+                                               for j in range(chain_size[1])]), -1)
+            for m, f_m in enumerate(np.moveaxis(natural_modes(J, c).frequency, -1, 0), 1):
+                out[f"f_model_{m}"] = f_m
+        return out
+
+    return model
+
+
+def _check_inputs(inputs: Inputs) -> None:
+    """What the file says, checked before any record is read."""
+    engine = inputs["engine"]
+    if engine["strokes"] not in (2, 4):
+        raise inputs.error(f"strokes = {engine['strokes']}", "write 4 (four-stroke) or 2",
+                           "engine.strokes")
+    try:
+        firing_phases(engine["cylinders"], strokes=engine["strokes"],
+                      firing_order=_firing_order(inputs))
+    except InputError as exc:
+        raise inputs.error(exc.problem, exc.fix, "engine.firing_order") from None
+    if not 0 < inputs["torsiograph"]["zeta"].value < 1:
+        raise inputs.error(f"ζ = {inputs['torsiograph']['zeta'].value:g}: a torsiograph's mass "
+                           "is damped below critical", "give ζ between 0 and 1 (0.2 if "
+                           "unknown)", "torsiograph.zeta")
+    if "chain" in inputs:
+        chain = inputs["chain"]
+        n, m = len(chain["J"].readings), len(chain["c"].readings)
+        if n < 2 or m not in (n - 1, n):
+            raise inputs.error(f"{n} discs and {m} shafts do not make a chain",
+                               "give n ≥ 2 moments of inertia J from the nose and n − 1 "
+                               "stiffnesses c between them (n if the last disc is tied to a "
+                               "brake)", "chain.c")
+
+
+def _firing_order(inputs: Inputs):
+    text = inputs["engine"].get("firing_order")
+    if text is None:
+        return None
+    parts = text.replace(",", "-").replace(" ", "").split("-")
+    if not all(p.isdigit() for p in parts):
+        raise inputs.error(f"firing order '{text}' is not a list of cylinder numbers",
+                           "write it as 1-3-4-2", "engine.firing_order")
+    return [int(p) for p in parts]
+
+
+def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20037) -> LabResult:
+    """Reduce lab 7's calibration and records to the scale, the records' amplitudes and the
+    resonances.
+
+    Parameters
+    ----------
+    inputs : Inputs
+        A validated measurement file (:func:`processing.measurement.load` with :data:`SPEC`);
+        record paths are relative to the file.
+    n_samples, seed : int
+        Monte Carlo draws and their seed.
+
+    Returns
+    -------
+    LabResult
+        ``l`` (the trace scale); per record i: ``n_i`` (speed from the TDC marks), ``nu_i``
+        (frequency by counting the oscillations), ``K_i`` = ν/n, ``phi_max_i`` (the largest
+        peak amplitude of the mean working cycle, corrected for the instrument); ``phi_max``,
+        the largest over the records; per resonance j: ``n_res_j``, ``K_res_j`` (its order),
+        ``f_res_j`` (the natural frequency it implies); with a chain, ``f_model_m`` of each
+        of its modes.
+    """
+    _check_inputs(inputs)
+    with collect_notices() as notices:
+        slope, cal_fit = _calibration(inputs)
+        recorded = [_record(inputs, i, e) for i, e in enumerate(inputs["record"])]
+        found, edges, amplitudes = _resonances(recorded)
+        chain = inputs.sections.get("chain")
+        size = None if chain is None else (len(chain["J"].readings), len(chain["c"].readings))
+        settings = inputs["torsiograph"]
+        model = _model(recorded, found, size, settings["f_c"].value, settings["zeta"].value)
+        prop = propagate(model, _flat(inputs, recorded, slope, found, amplitudes),
+                         n_samples=n_samples, seed=seed)
+        modes = None
+        if chain is not None:
+            modes = natural_modes(chain["J"].readings, chain["c"].readings)
+        pairs = report.model_pairs(found, modes)
+        comparisons = compare(prop, pairs)
+        declared = report.result_names(recorded, found, modes)
+        results = result_values(prop, declared)
+        _warn(inputs, recorded, found, edges, results)
+        flag_estimates(results, comparisons)
+    engine = inputs["engine"]
+    majors = major_orders(engine["cylinders"], strokes=engine["strokes"],
+                          firing_order=_firing_order(inputs), max_order=24.0)
+    parts = dict(recorded=recorded, found=found, edges=edges, results=results, modes=modes,
+                 majors=majors, calibration=(inputs["calibration"], cal_fit),
+                 f_c=inputs["torsiograph"]["f_c"].value)
+    return LabResult.of(inputs, results, comparisons=comparisons,
+                        tables=report.tables(**parts), figures=report.figures(**parts),
+                        formulas=report.FORMULAS, references=report.REFERENCES,
+                        warnings=notices, conclusion=report.conclusion(**parts))
+
+
+def _warn(inputs: Inputs, recorded, found, edges, results) -> None:
+    """The named warnings of the records and the sweep."""
+    f_c = inputs["torsiograph"]["f_c"].value
+    low = [(r.number, r.trace.lowest_frequency(CARRYING_SHARE) / f_c) for r in recorded]
+    low = [(i, ratio) for i, ratio in low if ratio < RESPONSE_RATIO]
+    if low:
+        warnings.warn(report.response_warning(low, RESPONSE_RATIO))
+    short = [(r.number, r.cycles) for r in recorded if r.cycles < FEW_CYCLES - CYCLE_SLACK]
+    if short:
+        warnings.warn(report.short_warning(short, FEW_CYCLES))
+    drifting = []
+    for r in recorded:
+        phi = results[f"phi_max_{r.number}"]
+        if r.trace.drift_ratio > DRIFT_RATIO and (phi.u > DRIFT_U * phi.value
+                                                  or not np.isfinite(r.trace.frequency)):
+            drifting.append((r.number, r.trace.drift_ratio, phi.u / phi.value))
+    if drifting:
+        warnings.warn(report.drift_warning(drifting))
+    unread = [r.number for r in recorded if not np.isfinite(r.trace.frequency)]
+    if unread:
+        warnings.warn(report.unread_warning(unread))
+    step = 0.5 if inputs["engine"]["strokes"] == 4 else 1.0
+    peaks = {f.peak: f.resonance.order for f in found}
+    mixed = [(r.number, r.trace.K, peaks[r.number]) for r in recorded
+             if r.number in peaks and abs(r.trace.K - peaks[r.number]) > step / 2]
+    if mixed:
+        warnings.warn(report.mixed_warning(mixed))
+    for f in found:
+        if not f.resonance.resolved:
+            warnings.warn(report.unresolved_warning(f))
+    for load, edge in edges:
+        if edge.side == "high":
+            warnings.warn(report.edge_warning(load, edge))
+
+
+# ------------------------------------------------------------------------ synthetic files
+
+SYNTH_FORMATS = ("csv", "h5")
+
+
+def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float = 35.0,
+                    sample_rate: float = 4000.0, drift: float = 1.0,
+                    drift_frequency: float = 0.5, revolutions: int = 16,
+                    step: float = 200.0, fine: float = 50.0, speeds=(800.0, 2100.0),
+                    natural_frequency: float = 1.5, loads=("full",),
+                    chain: bool = True) -> dict[str, Path]:
+    """Write a synthetic lab 7 measurement: the records of a speed sweep, a measurement file
+    and the answer key.
+
+    The scene of :mod:`processing.synth.torsiograph`: a four-cylinder tractor diesel's
+    crankshaft (damper hub, four cranks, flywheel; first mode 200 Hz, resonances of orders 8
+    and 6 near 1500 and 2000 min⁻¹) recorded through a torsiograph (f_c = 1.5 Hz, ζ = 0.2)
+    with a drift and noise, every ``step`` min⁻¹ over ``speeds`` and every ``fine`` min⁻¹
+    near the clear resonances, for each load; a static calibration of five micrometer rises on a 200 mm
+    lever read to ± 5 mV; the chain's inertias and stiffnesses (± 2 %).
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Folder to write into (created).
+    seed : int
+        Seed of everything random (start phases, drift, noise, calibration readings).
+    fmt : {"csv", "h5"}
+        Record format.
+    snr_db : float
+        Each record's oscillation RMS over its noise. [dB]
+    sample_rate : float
+        [Hz]
+    drift : float
+        The drift's excursion over the record's true largest peak amplitude. [1]
+    drift_frequency : float
+        Highest frequency of the drift's wave. [Hz]
+    revolutions : int
+        Length of each record.
+    step, fine : float
+        The sweep's speed steps. [min⁻¹]
+    speeds : (float, float)
+        Lowest and highest speed. [min⁻¹]
+    natural_frequency : float
+        f_c of the torsiograph. [Hz]
+    loads : sequence of {"idle", "part", "full"}
+    chain : bool
+        Also write the equivalent chain (for the model's natural frequencies).
+
+    Returns
+    -------
+    dict
+        Paths written: ``toml``, ``answer``, and one per record (``r1``, ``r2``, …).
+    """
+    import json
+
+    from processing.signals import write_csv, write_hdf5
+    from processing.synth.torsiograph import (LOADS as SHARES, RPM, Crankshaft, Torsiograph,
+                                              calibration, record, resonances, sweep)
+
+    if fmt not in SYNTH_FORMATS:
+        raise InputError(f"unknown record format {fmt!r}",
+                         f"use one of {', '.join(SYNTH_FORMATS)}")
+    bad = [x for x in loads if x not in LOADS]
+    if bad:
+        raise InputError(f"unknown load {bad[0]!r}", f"use {', '.join(LOADS)}")
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    shaft = Crankshaft()
+    inst = Torsiograph(natural_frequency=natural_frequency, snr_db=snr_db,
+                       sample_rate=sample_rate, drift=drift, drift_frequency=drift_frequency,
+                       revolutions=revolutions)
+    lo, hi = speeds[0] * RPM, speeds[1] * RPM
+    written, bodies, results = {}, [], {}
+    heights = np.array([0.0, 0.5, 1.0, 1.5, 2.0]) * 1e-3
+    lever = 0.2
+    deflection = calibration(inst, lever, heights, seed=seed)
+    results["l"] = inst.scale
+    number, res_number = 0, 0
+    rng = np.random.default_rng([seed, 71])
+    for load in loads:
+        share = SHARES[load]
+        truths = resonances(shaft, lo, hi, load=share)
+        for w in sweep(shaft, lo, hi, step=step * RPM, fine=fine * RPM, load=share,
+                       found=truths):
+            number += 1
+            rec = record(shaft, inst, w, load=share, seed=seed * 1000 + number)
+            name = f"r{number:02d}.{fmt}"
+            columns = {"phi": np.round(rec.trace, 4), "tdc": np.round(rec.tdc, 2),
+                       "marks": np.round(rec.timer, 2)}
+            if fmt == "csv":
+                write_csv(out / name, columns)
+                rate = f'sample_rate = "{sample_rate / 1e3:g} kHz"\n'
+            else:
+                write_hdf5(out / name, columns, sample_rate)
+                rate = ""
+            written[f"r{number}"] = out / name
+            n_tach = round(w / RPM + rng.normal(0, 2))
+            bodies.append(f'[[record]]\nsignal = "{name}"\n{rate}channel = "phi"\n'
+                          f'marks_channel = "marks"\nn = "{n_tach} ± 5 rpm"\nload = "{load}"\n')
+            truth = rec.truth()
+            results.update({f"{k}_{number}": v for k, v in truth.items()})
+        for r in truths:
+            if r.clear:
+                res_number += 1
+                results.update({f"n_res_{res_number}": r.speed, f"K_res_{res_number}": r.order,
+                                f"f_res_{res_number}": r.order * r.speed / (2 * np.pi)})
+    results["phi_max"] = max(v for k, v in results.items() if k.startswith("phi_max_"))
+    chain_text = ""
+    if chain:
+        J = ", ".join(f"{j:g}" for j in shaft.inertia)
+        c = ", ".join(f"{k:g}" for k in shaft.stiffness)
+        chain_text = (f'[chain]\nJ = {{ readings = [{J}], u = "{0.02 * min(shaft.inertia):g} '
+                      f'kg*m^2" }}\nc = {{ readings = [{c}], u = '
+                      f'"{0.02 * min(shaft.stiffness):g} N*m/rad" }}\n\n')
+        results.update({f"f_model_{m}": f for m, f in
+                        enumerate(shaft.natural_frequencies(), 1)})
+    order = "-".join(map(str, shaft.firing_order))
+    h = ", ".join(f"{1e3 * x:g}" for x in heights)
+    a = ", ".join(f"{x:.3f}" for x in deflection)
+    toml = (f'lab = "lab7"\n[meta]\nstudent = "synthetic (dynlab synth lab7 --seed {seed})"\n'
+            'notes = "generated; the true answers are in answer_key.json"\n\n'
+            f'[engine]\ncylinders = {shaft.cylinders}\nstrokes = {shaft.strokes}\n'
+            f'firing_order = "{order}"\n\n'
+            f'[torsiograph]\nf_c = "{inst.natural_frequency:g} ± 0.1 Hz"\n'
+            f'zeta = "{inst.damping_ratio:g} ± 0.05"\n'
+            f'mark_period = "{1e3 * inst.mark_period:g} ms"\n\n'
+            f'[calibration]\nR = "{1e3 * lever:g} ± 0.5 mm"\nh = [{h}]\ndeflection = [{a}]\n\n'
+            + chain_text + "\n".join(bodies))
+    written["toml"] = out / f"lab7_seed{seed}.toml"
+    written["toml"].write_text(toml, encoding="utf-8")
+    written["answer"] = out / "answer_key.json"
+    written["answer"].write_text(json.dumps({"seed": seed, "results": results}, indent=1),
+                                 encoding="utf-8")
+    return written
