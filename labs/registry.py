@@ -8,10 +8,10 @@ from processing.measurement import load, read_toml
 from processing.result import LabResult
 
 from . import (dyncalc, lab1_inertia, lab2_conrod, lab3_speed_irregularity, lab7_torsiograph,
-               lab8_balancing)
+               lab8_balancing, lab9_damper)
 
 LABS = {m.SPEC.id: m for m in (lab1_inertia, lab2_conrod, lab3_speed_irregularity,
-                                 lab7_torsiograph, lab8_balancing, dyncalc)}
+                                 lab7_torsiograph, lab8_balancing, lab9_damper, dyncalc)}
 
 
 def lab_module(lab_id: str, file: str | None = None):
