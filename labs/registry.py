@@ -7,11 +7,12 @@ from processing.diagnostics import InputError, collect_notices
 from processing.measurement import load, read_toml
 from processing.result import LabResult
 
-from . import (dyncalc, lab1_inertia, lab2_conrod, lab3_speed_irregularity, lab7_torsiograph,
-               lab8_balancing, lab9_damper)
+from . import (dyncalc, lab1_inertia, lab2_conrod, lab3_speed_irregularity, lab5_valve_stiffness,
+               lab7_torsiograph, lab8_balancing, lab9_damper)
 
 LABS = {m.SPEC.id: m for m in (lab1_inertia, lab2_conrod, lab3_speed_irregularity,
-                                 lab7_torsiograph, lab8_balancing, lab9_damper, dyncalc)}
+                                 lab5_valve_stiffness, lab7_torsiograph, lab8_balancing,
+                                 lab9_damper, dyncalc)}
 
 
 def lab_module(lab_id: str, file: str | None = None):
