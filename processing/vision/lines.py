@@ -1,0 +1,268 @@
+"""Straight lines across a paper record: the time-mark and TDC lines, the beams' zero lines, a
+printed grid. Found, measured and lifted off the density so that the traces stand alone.
+
+A straight line running along the sheet holds the same row in most columns of a stretch, so
+the median of each row over a block of columns keeps it, while a trace (which crosses a row
+in a few columns) and the short vertical strokes of pips drop out. :func:`remove_lines`
+takes these block medians, finds the rows where they peak in most blocks, fits each line's
+row across the blocks (a straight line, or it is not one), and subtracts the block medians,
+interpolated between blocks, from the rows around each line. Densities add where inks
+overlap, so a trace crossing a line is left whole. The same function on the transposed
+density finds the vertical lines of a grid.
+
+:func:`grid_spacing` finds the regularly spaced subset of the lines (a printed grid) and its
+pitch with the type A uncertainty of a line fitted through the lines' positions.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.signal import find_peaks
+
+from ..regression import fit_line
+from ..result import Record
+
+MIN_BLOCK_SHARE = 0.6
+"""A line must be seen in at least this share of the blocks (it runs along most of the sheet)."""
+
+MAX_WAVINESS = 0.75
+"""Largest RMS departure of a line's block positions from a straight line. [px]"""
+
+MAX_WANDER = 0.75
+"""How far a line's column centroids may stray to both sides of it. [px]"""
+
+BLOCK_COLUMNS = 160
+"""Typical block length along the line; 6 to 32 blocks per sheet. [px]"""
+
+
+@dataclass(frozen=True)
+class Line(Record):
+    """A straight line across the sheet.
+
+    Attributes
+    ----------
+    position : float
+        Its row at the sheet's middle column (for a vertical line: its column at the middle
+        row). [px]
+    slope : float
+        Rows per column along it.
+    strength : float
+        Its density at its centre (median over the blocks).
+    width : float
+        Its full width at half its strength (σ of a Gaussian stroke × 2.355). [px]
+    share : float
+        Share of the blocks it is seen in.
+    middle : float
+        The column ``position`` refers to. [px]
+    """
+
+    position: float
+    slope: float
+    strength: float
+    width: float
+    share: float
+    middle: float
+
+    def at(self, x):
+        """The line's row at columns ``x``. [px]"""
+        return self.position + self.slope * (np.asarray(x, dtype=float) - self.middle)
+
+
+def _block_medians(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Median of each row over each block of columns (about 64 columns sampled per block):
+    rows × blocks, and the blocks' middle columns."""
+    h, w = a.shape
+    blocks = int(np.clip(w // BLOCK_COLUMNS, 6, 32))
+    edges = np.linspace(0, w, blocks + 1).round().astype(int)
+    step = max(1, (w // blocks) // 64)
+    med = np.stack([np.median(a[:, lo:hi:step], axis=1)
+                    for lo, hi in zip(edges[:-1], edges[1:])], axis=1)
+    return med, (edges[:-1] + edges[1:] - 1) / 2
+
+
+def remove_lines(density: np.ndarray, noise: float) -> list[Line]:
+    """Find the straight lines running along the rows and subtract them from ``density``.
+
+    Parameters
+    ----------
+    density : numpy.ndarray
+        Optical density, float32, rows × columns; changed in place (pass its transpose for
+        lines running down the columns).
+    noise : float
+        σ of the density on bare paper.
+
+    Returns
+    -------
+    list of Line
+        Top to bottom.
+    """
+    h, w = density.shape
+    med, middles = _block_medians(density)
+    blocks = med.shape[1]
+    sigma = noise * 1.25 / np.sqrt(64)                   # σ of a median of 64 samples
+    profile = med.mean(axis=1)
+    peaks, _ = find_peaks(profile, height=6 * sigma, distance=3)
+    reach = 6
+    lines: list[Line] = []
+    for row in peaks[np.argsort(profile[peaks])[::-1]]:
+        lo, hi = max(row - reach, 0), min(row + reach + 1, h)
+        window = med[lo:hi]
+        tops = window.max(axis=0)
+        present = (tops > 4 * sigma) & (tops > 0.5 * np.median(tops))
+        if present.sum() < max(3, MIN_BLOCK_SHARE * blocks):
+            continue
+        rows = np.arange(lo, hi, dtype=float)[:, None]
+        weight = np.where(window > 0.5 * tops, window, 0.0)
+        centres = (weight * rows).sum(axis=0) / np.maximum(weight.sum(axis=0), 1e-12)
+        fit = fit_line(middles[present], centres[present])
+        if fit.residual_sd > MAX_WAVINESS:
+            continue
+        position = float(fit.predict(w / 2))
+        wide = med[max(row - 3 * reach, 0):min(row + 3 * reach + 1, h)]
+        width = _fwhm(wide[:, present].mean(axis=1), row - max(row - 3 * reach, 0))
+        if _wavy(density, fit, max(2, int(round(width / 2.5))), noise):
+            continue                    # a trace that keeps near one level, not a line
+        if any(abs(position - other.position) < max(3.0, width + other.width)
+               for other in lines):
+            continue                    # a shoulder of a stronger line (its pips, blurred)
+        lines.append(Line(position, fit.slope, float(np.median(tops[present])), width,
+                          float(present.mean()), w / 2))
+    lines = _without_shoulders(sorted(lines, key=lambda line: line.position))
+    _subtract(density, med, middles, lines)
+    return lines
+
+
+def _without_shoulders(lines: list[Line]) -> list[Line]:
+    """Drop the faint 'lines' beside a dark one: a third as dark or less, within 6 of its
+    widths + 10 px, and not one of a printed grid. Blurred pips, 30 % of a mark line's
+    length, leave such a row in the block medians along their tops; taking it for a line
+    would lift the pips' tops off."""
+    printed = grid_spacing(lines)
+    grid = set() if printed is None else {id(line) for line in printed.lines}
+    return [line for line in lines if id(line) in grid or not any(
+        other.strength > 3 * line.strength
+        and abs(other.position - line.position) < 6 * other.width + 10 for other in lines)]
+
+
+def _wavy(density: np.ndarray, fit, reach: int, noise: float) -> bool:
+    """Whether the stroke along a candidate line wanders to both sides of it: a fifth of its
+    column centroids (256 columns, ± ``reach`` rows: 0.4 of its width) lie more than
+    :data:`MAX_WANDER` px above the fitted line and a fifth as far below. A line holds its
+    row in every column (pips beside it pull the centroids to one side only); a trace that
+    oscillates about one level keeps to it only in the block medians."""
+    h, w = density.shape
+    cols = np.linspace(0, w - 1, 256).round().astype(int)
+    centre = fit.predict(cols)
+    offsets = np.arange(-reach, reach + 1)
+    rows = np.clip(np.round(centre)[None, :].astype(int) + offsets[:, None], 0, h - 1)
+    v = np.clip(density[rows, cols[None, :]], 0, None)
+    mass = v.sum(axis=0)
+    seen = mass > 6 * noise * np.sqrt(offsets.size)
+    if seen.sum() < 16:
+        return False
+    y = (v * rows).sum(axis=0)[seen] / mass[seen] - centre[seen]
+    low, high = np.percentile(y, [20, 80])
+    return bool(low < -MAX_WANDER and high > MAX_WANDER)
+
+
+def _fwhm(profile: np.ndarray, near: int) -> float:
+    """Full width at half maximum of the peak of ``profile`` nearest index ``near``: twice
+    the narrower half width (the pips beside a line may lift one flank), the half-level
+    crossings interpolated linearly. [px]"""
+    lo, hi = max(near - 3, 0), min(near + 4, profile.size)
+    k = lo + int(np.argmax(profile[lo:hi]))
+    half = 0.5 * profile[k]
+    below = np.flatnonzero(profile[:k] < half)
+    above = np.flatnonzero(profile[k:] < half) + k
+    sides = []
+    if below.size:
+        a = below[-1]
+        sides.append(k - (a + (half - profile[a]) / (profile[a + 1] - profile[a])))
+    if above.size:
+        b = above[0]
+        sides.append(b - 1 + (profile[b - 1] - half) / (profile[b - 1] - profile[b]) - k)
+    return 2.0 * float(min(sides)) if sides else float((profile > half).sum())
+
+
+def _subtract(density: np.ndarray, med: np.ndarray, middles: np.ndarray,
+              lines: list[Line]) -> None:
+    """Subtract the block medians, interpolated linearly between blocks, from the rows each
+    line covers (its width and 3 px either side, along its slope)."""
+    h, w = density.shape
+    if not lines:
+        return
+    rows = set()
+    for line in lines:
+        ends = line.at(np.array([0.0, w - 1.0]))
+        span = line.width / 2 + 3
+        rows.update(range(max(int(np.floor(ends.min() - span)), 0),
+                          min(int(np.ceil(ends.max() + span)) + 1, h)))
+    rows = np.array(sorted(rows))
+    x = np.arange(w, dtype=float)
+    weights = np.stack([np.interp(x, middles, np.eye(len(middles))[b])
+                        for b in range(len(middles))])
+    density[rows] -= (med[rows] @ weights).astype(density.dtype)
+
+
+@dataclass(frozen=True)
+class Grid(Record):
+    """The regularly spaced lines of a printed grid.
+
+    Attributes
+    ----------
+    pitch : float
+        Pixels between neighbouring grid lines. [px]
+    u_pitch : float
+        Its standard uncertainty (type A, from the line through the positions). [px]
+    dof : int
+        Degrees of freedom of ``u_pitch``.
+    lines : tuple of Line
+        The grid's lines.
+    """
+
+    pitch: float
+    u_pitch: float
+    dof: int
+    lines: tuple[Line, ...]
+
+
+def grid_spacing(lines: list[Line], *, min_lines: int = 4) -> Grid | None:
+    """The printed grid among ``lines``: the largest set at a common pitch.
+
+    Lines are numbered by their distance from the first in units of the median spacing of
+    neighbours; those within 0.15 of a whole number belong to the grid, and a straight line
+    through (number, position) gives the pitch.
+
+    Parameters
+    ----------
+    lines : list of Line
+        Lines of one direction, sorted by position.
+    min_lines : int
+        Fewest lines that make a grid.
+
+    Returns
+    -------
+    Grid or None
+    """
+    if len(lines) < min_lines:
+        return None
+    pos = np.array([line.position for line in lines])
+    gaps = np.diff(pos)
+    best = None
+    for start in range(len(lines) - min_lines + 1):
+        d = np.median(gaps[start:])
+        k = (pos - pos[start]) / d
+        member = (np.abs(k - np.round(k)) < 0.15) & (k > -0.5)
+        if member.sum() >= min_lines and (best is None or member.sum() > best[0].sum()):
+            best = (member, np.round(k))
+    if best is None:
+        return None
+    member, k = best
+    _, first = np.unique(k[member], return_index=True)
+    idx = np.flatnonzero(member)[first]
+    if idx.size < min_lines:
+        return None
+    fit = fit_line(k[idx], pos[idx])
+    return Grid(float(fit.slope), float(fit.u_slope), int(fit.dof),
+                tuple(lines[i] for i in idx))

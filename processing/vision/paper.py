@@ -1,0 +1,443 @@
+"""The paper in a photograph or scan: read the file, find the sheet, square it up, even out the
+light.
+
+A photograph shows the sheet on a darker desk, at a slant; a flatbed scan may be cropped
+inside the sheet. :func:`find_sheet` finds the sheet's four edges (Otsu's threshold on a
+reduced copy, the largest bright region, a straight line fitted to each side) or reports that
+the sheet fills the frame. :func:`square_up` maps the sheet onto an upright rectangle with one
+perspective warp that also takes out the residual skew (:func:`skew_angle`: the angle that
+sharpens the row profile of the ink most, which the long straight lines of the record
+decide). :func:`flatten` turns grey levels into optical density above the local paper
+level, D = ln(paper / grey), which removes uneven light and adds where inks overlap.
+
+The darkness of a pixel is its darkest colour channel, so dark traces of any hue count.
+
+References
+----------
+.. [1] N. Otsu, "A threshold selection method from gray-level histograms", IEEE Trans. SMC
+       9 (1979) 62–66.
+.. [2] W. Postl, "Detection of linear oblique structures and skew scan in digitized
+       documents", Proc. 8th Int. Conf. on Pattern Recognition, 1986, 687–689 (the
+       projection-profile skew estimate).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from ..diagnostics import InputError
+
+MIN_SIDE = 64
+"""Smallest image side read. [px]"""
+
+WORK_SIDE = 1024
+"""Long side of the reduced copy the sheet and the skew are found on. [px]"""
+
+MIN_SHEET = 0.15
+"""A bright region smaller than this fraction of the image is not taken for the sheet."""
+
+SHEET_CONTRAST = 25.0
+"""Grey levels the sheet must stand above the desk by to be found."""
+
+SKEW_RANGE = 8.0
+"""Largest skew searched when the sheet's edges are not in the picture. [deg]"""
+
+SKEW_RANGE_SHEET = 2.0
+"""Largest skew searched on a sheet squared up by its edges (a sheet cut at a slant). [deg]"""
+
+BACKGROUND_REDUCTION = 4
+"""Reduction of the copy the paper level is found on (a closing there spans
+:data:`BACKGROUND_KERNEL` × this many pixels)."""
+
+BACKGROUND_KERNEL = 11
+"""Closing kernel of the paper level on the reduced copy: ink narrower than about 40 px is
+lifted off. [px]"""
+
+_LOG = np.log(np.maximum(np.arange(256, dtype=np.float64), 0.5)).astype(np.float32)
+
+
+def load_image(path, *, field: str | None = None) -> np.ndarray:
+    """Read a photograph or scan as its darkness channel.
+
+    Parameters
+    ----------
+    path : str or Path
+        A PNG, JPEG, TIFF, BMP or WebP file.
+    field : str, optional
+        The measurement-file field that named it, for errors.
+
+    Returns
+    -------
+    numpy.ndarray
+        uint8 image, rows × columns: the darkest colour channel of each pixel.
+
+    Raises
+    ------
+    InputError
+        The file is missing, empty, not an image OpenCV decodes, or too small.
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise InputError("the image file does not exist", "check the file's name and that it "
+                         "lies in the measurement file's folder", file=str(p), field=field)
+    data = np.fromfile(p, np.uint8)
+    image = cv2.imdecode(data, cv2.IMREAD_COLOR) if data.size else None
+    if image is None:
+        raise InputError("not an image (OpenCV cannot decode it)", "give a photograph or scan "
+                         "of the record as PNG, JPEG or TIFF", file=str(p), field=field)
+    return darkness(image, name=str(p), field=field)
+
+
+def darkness(image: np.ndarray, *, name: str = "<array>", field: str | None = None) -> np.ndarray:
+    """The darkest channel of a BGR image (a grey image is returned as it is), uint8.
+
+    Raises
+    ------
+    InputError
+        An image smaller than :data:`MIN_SIDE` px on a side.
+    """
+    image = np.asarray(image)
+    if image.dtype != np.uint8:
+        image = np.clip(image, 0, 255).astype(np.uint8)
+    if image.ndim == 3:
+        image = image[..., 0] if image.shape[2] == 1 else cv2.min(
+            cv2.min(image[..., 0], image[..., 1]), image[..., 2])
+    if image.ndim != 2 or min(image.shape) < MIN_SIDE:
+        raise InputError(f"the image is {image.shape[1] if image.ndim > 1 else 0} × "
+                         f"{image.shape[0]} px, too small to read a trace off",
+                         f"photograph or scan the record at ≥ {MIN_SIDE} px on each side "
+                         "(a few thousand along the record)", file=name, field=field)
+    return np.ascontiguousarray(image)
+
+
+@dataclass(frozen=True)
+class Sheet:
+    """The sheet squared up: its grey image and how it maps into the original image.
+
+    Attributes
+    ----------
+    grey : numpy.ndarray
+        Upright darkness image, uint8; time runs along the columns.
+    homography : numpy.ndarray
+        3 × 3 map from this image's pixels to the original image's (centres at whole
+        numbers).
+    edges_found : bool
+        Whether the sheet's four edges were found (else the frame is taken for the sheet).
+    skew : float
+        The skew taken out after squaring up, counter-clockwise. [deg]
+    source_scale : float
+        Original-image pixels per sheet pixel (the mean over the sheet): a scan's dpi
+        divided by this is the sheet's.
+    paper_size : tuple of float or None
+        The whole sheet's length and width between its edges, in sheet pixels (None when
+        the edges are not in the picture). [px]
+    """
+
+    grey: np.ndarray
+    homography: np.ndarray
+    edges_found: bool
+    skew: float
+    source_scale: float
+    paper_size: tuple[float, float] | None
+
+
+def find_sheet(grey: np.ndarray) -> np.ndarray | None:
+    """The sheet's corners in the image, or None if the sheet fills the frame.
+
+    Parameters
+    ----------
+    grey : numpy.ndarray
+        Darkness image (:func:`darkness`).
+
+    Returns
+    -------
+    numpy.ndarray or None
+        4 × 2 corners (column, row) [px]: top-left, top-right, bottom-right, bottom-left of
+        the upright sheet, its long side horizontal (a portrait sheet is turned a quarter
+        clockwise).
+    """
+    f = WORK_SIDE / max(grey.shape)
+    small = cv2.resize(grey, None, fx=min(f, 1.0), fy=min(f, 1.0), interpolation=cv2.INTER_AREA)
+    f = small.shape[1] / grey.shape[1]
+    blur = cv2.GaussianBlur(small, (5, 5), 0)
+    level, mask = cv2.threshold(blur, 0, 255, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
+    mask = cv2.morphologyEx(mask, cv2.MORPH_CLOSE, np.ones((15, 15), np.uint8))
+    contours, _ = cv2.findContours(mask, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    if not contours:
+        return None
+    contour = max(contours, key=cv2.contourArea)
+    h, w = small.shape
+    if cv2.contourArea(contour) < MIN_SHEET * h * w:
+        return None
+    x, y, bw, bh = cv2.boundingRect(contour)
+    touching = (x <= 1) + (y <= 1) + (x + bw >= w - 1) + (y + bh >= h - 1)
+    if touching >= 2:
+        return None                                   # a scan cropped inside the sheet
+    inside = np.zeros_like(mask)
+    cv2.drawContours(inside, [contour], -1, 255, -1)
+    if cv2.mean(blur, inside)[0] - cv2.mean(blur, 255 - inside)[0] < SHEET_CONTRAST:
+        return None
+    corners = _quadrilateral(contour)
+    if corners is None:
+        return None
+    corners = _refine_sides(contour[:, 0, :].astype(np.float64), corners) / f
+    corners = _order(_edges_at_full_size(grey, _order(corners), reach=max(8.0, 3.0 / f)))
+    top, left = np.hypot(*(corners[1] - corners[0])), np.hypot(*(corners[3] - corners[0]))
+    return np.roll(corners, 1, axis=0) if left > top else corners
+
+
+def _quadrilateral(contour) -> np.ndarray | None:
+    hull = cv2.convexHull(contour)
+    perimeter = cv2.arcLength(hull, True)
+    for eps in (0.01, 0.02, 0.03, 0.05):
+        approx = cv2.approxPolyDP(hull, eps * perimeter, True)
+        if len(approx) == 4:
+            return approx[:, 0, :].astype(np.float64)
+    return None
+
+
+def _refine_sides(points: np.ndarray, corners: np.ndarray) -> np.ndarray:
+    """Corners as the intersections of straight lines fitted to the contour along each side
+    (its middle 80 %, points within 3 px of the rough side)."""
+    lines = []
+    for i in range(4):
+        a, b = corners[i], corners[(i + 1) % 4]
+        d = b - a
+        length = np.hypot(*d)
+        u = (points - a) @ d / length ** 2
+        dist = np.abs((points - a) @ np.array([-d[1], d[0]])) / length
+        near = points[(u > 0.1) & (u < 0.9) & (dist < 3)]
+        if len(near) < 10:
+            return corners
+        vx, vy, x0, y0 = cv2.fitLine(near.astype(np.float32), cv2.DIST_HUBER, 0, 0.01, 0.01)[:, 0]
+        lines.append((np.array([x0, y0], np.float64), np.array([vx, vy], np.float64)))
+    out = []
+    for i in range(4):
+        (p, d), (q, e) = lines[i - 1], lines[i]
+        m = np.array([d, -e]).T
+        if abs(np.linalg.det(m)) < 1e-6:
+            return corners
+        s = np.linalg.solve(m, q - p)
+        out.append(p + s[0] * d)
+    return np.array(out)
+
+
+def _edges_at_full_size(grey: np.ndarray, corners: np.ndarray, reach: float) -> np.ndarray:
+    """Corners from each side located to a fraction of a pixel on the full image.
+
+    Along each side, 64 profiles across it (± ``reach`` px) are read by bilinear
+    interpolation; the edge in each is where the grey level crosses half-way between the
+    sheet's level inside and the desk's outside (a blurred step crosses there at the step),
+    and a straight line fitted to these points (Huber weights: a stroke near the edge does
+    not pull it) replaces the side. Sides with too few clear profiles keep the rough line.
+    """
+    image = grey.astype(np.float32)
+    centre = corners.mean(axis=0)
+    offsets = np.arange(-reach, reach + 0.25, 0.5)
+    t = np.linspace(0.1, 0.9, 64)
+    lines = []
+    for i in range(4):
+        a, b = corners[i], corners[(i + 1) % 4]
+        d = (b - a) / np.hypot(*(b - a))
+        n = np.array([-d[1], d[0]])
+        if n @ (a - centre) < 0:
+            n = -n                                            # pointing out of the sheet
+        base = a + t[:, None] * (b - a)
+        pts = base[:, None, :] + offsets[None, :, None] * n
+        prof = cv2.remap(image, pts[..., 0].astype(np.float32), pts[..., 1].astype(np.float32),
+                         cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+        inner = prof[:, offsets < -0.6 * reach].mean(axis=1)
+        outer = prof[:, offsets > 0.6 * reach].mean(axis=1)
+        found = []
+        for k in np.flatnonzero(inner - outer > SHEET_CONTRAST / 2):
+            level = 0.5 * (inner[k] + outer[k])
+            below = np.flatnonzero(prof[k] < level)
+            if below.size == 0 or below[0] == 0:
+                continue
+            j = below[0]
+            s = offsets[j - 1] + 0.5 * (prof[k, j - 1] - level) / (prof[k, j - 1] - prof[k, j])
+            found.append(base[k] + s * n)
+        if len(found) < 16:
+            lines.append((a, d))
+            continue
+        vx, vy, x0, y0 = cv2.fitLine(np.array(found, np.float32), cv2.DIST_HUBER, 0, 0.01,
+                                     0.01)[:, 0]
+        lines.append((np.array([x0, y0], np.float64), np.array([vx, vy], np.float64)))
+    out = []
+    for i in range(4):
+        (p, d), (q, e) = lines[i - 1], lines[i]
+        m = np.array([d, -e]).T
+        if abs(np.linalg.det(m)) < 1e-6:
+            return corners
+        out.append(p + np.linalg.solve(m, q - p)[0] * d)
+    return np.array(out)
+
+
+def _order(corners: np.ndarray) -> np.ndarray:
+    """Top-left, top-right, bottom-right, bottom-left."""
+    c = corners[np.argsort(np.arctan2(*(corners - corners.mean(axis=0)).T[::-1]))]
+    start = np.argmin(c.sum(axis=1))
+    return np.roll(c, -start, axis=0)
+
+
+def square_up(grey: np.ndarray, corners: np.ndarray | None) -> Sheet:
+    """Map the sheet onto an upright rectangle and take out the residual skew.
+
+    Parameters
+    ----------
+    grey : numpy.ndarray
+        Darkness image.
+    corners : numpy.ndarray or None
+        The sheet's corners (:func:`find_sheet`), or None to take the frame for the sheet.
+
+    Returns
+    -------
+    Sheet
+        Cut a margin of 1.2 % of the width inside found edges (their shadow, blurred, and the
+        desk stay out).
+    """
+    h, w = grey.shape
+    if corners is None:
+        base = np.eye(3)
+        size = (w, h)
+        margin = 0
+        paper = None
+    else:
+        width = 0.5 * (np.hypot(*(corners[1] - corners[0])) + np.hypot(*(corners[2] - corners[3])))
+        height = 0.5 * (np.hypot(*(corners[3] - corners[0])) + np.hypot(*(corners[2] - corners[1])))
+        size = (int(round(width)), int(round(height)))
+        paper = (float(width), float(height))
+        target = np.array([[0, 0], [width - 1, 0], [width - 1, height - 1], [0, height - 1]])
+        base = cv2.getPerspectiveTransform(target.astype(np.float32), corners.astype(np.float32))
+        margin = max(3, int(round(0.012 * min(size))))
+    # the skew, found on a reduced copy of the squared-up sheet
+    f = min(1.0, WORK_SIDE / max(size))
+    reduced = cv2.resize(grey, None, fx=f, fy=f, interpolation=cv2.INTER_AREA) if f < 1 else grey
+    to_reduced = np.diag([reduced.shape[1] / w, reduced.shape[0] / h, 1.0])
+    small_size = (max(int(size[0] * f), 1), max(int(size[1] * f), 1))
+    small = cv2.warpPerspective(reduced, to_reduced @ base @ np.diag([1 / f, 1 / f, 1.0]),
+                                small_size, flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
+                                borderMode=cv2.BORDER_REPLICATE)
+    density, _ = flatten(small, reduction=1)
+    limit = SKEW_RANGE if corners is None else SKEW_RANGE_SHEET
+    m = int(math.ceil(margin * f))
+    angle = skew_angle(density[m:small.shape[0] - m, m:small.shape[1] - m], limit)
+    a = math.radians(angle)
+    cx, cy = (size[0] - 1) / 2, (size[1] - 1) / 2
+    # upright pixel → skewed sheet pixel: rotate by the skew about the centre
+    rotate = np.array([[math.cos(a), math.sin(a), 0], [-math.sin(a), math.cos(a), 0], [0, 0, 1]])
+    centre = np.array([[1, 0, cx], [0, 1, cy], [0, 0, 1.0]])
+    homography = base @ centre @ rotate @ np.linalg.inv(centre)
+    crop = np.array([[1, 0, margin], [0, 1, margin], [0, 0, 1.0]])
+    homography = homography @ crop
+    out = (size[0] - 2 * margin, size[1] - 2 * margin)
+    upright = cv2.warpPerspective(grey, homography, out,
+                                  flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
+                                  borderMode=cv2.BORDER_REPLICATE)
+    return Sheet(upright, homography, corners is not None, angle, _mean_scale(homography, out),
+                 paper)
+
+
+def _mean_scale(homography: np.ndarray, size) -> float:
+    """Original pixels per sheet pixel at the sheet's centre (√ of the local area ratio)."""
+    c = np.array([[[size[0] / 2, size[1] / 2]], [[size[0] / 2 + 1, size[1] / 2]],
+                  [[size[0] / 2, size[1] / 2 + 1]]], np.float64)
+    p = cv2.perspectiveTransform(c, homography)[:, 0, :]
+    (ax, ay), (bx, by) = p[1] - p[0], p[2] - p[0]
+    return float(math.sqrt(abs(ax * by - ay * bx)))
+
+
+def skew_angle(density: np.ndarray, limit: float) -> float:
+    """The rotation (counter-clockwise, degrees) that makes the ink's rows sharpest.
+
+    The ink pixels (density above 4 σ of the paper's) are projected onto the rows of the
+    image turned by each trial angle; the angle whose row histogram has the largest sum of
+    squares wins (long straight lines then fall into single rows). Searched over ± ``limit``
+    in 0.1° steps, then refined by a parabola through the best three.
+
+    Parameters
+    ----------
+    density : numpy.ndarray
+        Optical density (:func:`flatten`).
+    limit : float
+        Largest angle searched. [deg]
+
+    Returns
+    -------
+    float
+        [deg]; 0 when no angle sharpens the profile by 2 % over none.
+    """
+    noise = _noise(density)
+    rows, cols = np.nonzero(density > 4 * noise)
+    if rows.size < 50:
+        return 0.0
+    weight = density[rows, cols].astype(np.float64)
+    rows = rows.astype(np.float64)
+    cols = cols.astype(np.float64) - density.shape[1] / 2
+    angles = np.arange(-limit, limit + 1e-9, 0.1)
+
+    def score(angle: float) -> float:
+        r = rows + cols * math.tan(math.radians(angle))
+        hist = np.bincount(np.round(r - r.min()).astype(np.int64), weights=weight)
+        return float(hist @ hist)
+
+    scores = np.array([score(a) for a in angles])
+    k = int(np.argmax(scores))
+    if scores[k] < 1.02 * score(0.0):
+        return 0.0
+    best = angles[k]
+    if 0 < k < len(angles) - 1:
+        s0, s1, s2 = scores[k - 1], scores[k], scores[k + 1]
+        den = s0 - 2 * s1 + s2
+        if den < 0:
+            best += 0.1 * 0.5 * (s0 - s2) / den
+    return float(best)
+
+
+def flatten(grey: np.ndarray, *, reduction: int = BACKGROUND_REDUCTION) -> tuple[np.ndarray, float]:
+    """Optical density of the ink above the local paper level, and its noise.
+
+    .. math:: D = \\ln\\frac{P}{g}
+
+    with g the darkness channel and P the paper's level around it: a grey closing (which
+    lifts off every stroke thinner than the kernel) of a reduced copy, smoothed and brought
+    back to full size. The median of D over the sheet is taken as its zero.
+
+    Parameters
+    ----------
+    grey : numpy.ndarray
+        uint8 darkness image, the sheet squared up.
+    reduction : int
+        Reduction of the copy the paper level is found on.
+
+    Returns
+    -------
+    density : numpy.ndarray
+        float32, same shape; ≈ 0 on bare paper, ≈ 1–3 in a trace's core.
+    noise : float
+        Robust σ of the density on bare paper (1.4826 × the median absolute deviation).
+    """
+    h, w = grey.shape
+    small = grey if reduction == 1 else cv2.resize(
+        grey, (max(w // reduction, 1), max(h // reduction, 1)), interpolation=cv2.INTER_AREA)
+    k = BACKGROUND_KERNEL if reduction > 1 else BACKGROUND_KERNEL * 2 + 1
+    paper = cv2.morphologyEx(small, cv2.MORPH_CLOSE,
+                             cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (k, k)))
+    paper = cv2.blur(paper, (k, k))
+    if paper.shape != grey.shape:
+        paper = cv2.resize(paper, (w, h), interpolation=cv2.INTER_LINEAR)
+    density = cv2.LUT(paper, _LOG) - cv2.LUT(grey, _LOG)
+    sample = density[::5, ::3]
+    zero = float(np.median(sample))
+    density -= zero
+    return density, _noise(density)
+
+
+def _noise(density: np.ndarray) -> float:
+    sample = density[::5, ::3].ravel()
+    med = np.median(sample)
+    return max(float(1.4826 * np.median(np.abs(sample - med))), 1e-4)

@@ -1,0 +1,687 @@
+"""A photographed or scanned paper record read into the channel every lab reads: time, value,
+marks, with a confidence per sample and the overlay of what was read.
+
+:func:`read_paper_records` runs the chain once: the file (:func:`~.paper.load_image`), the
+sheet found and squared up (:func:`~.paper.find_sheet`, :func:`~.paper.square_up`), its
+density (:func:`~.paper.flatten`), the straight lines lifted off
+(:func:`~.lines.remove_lines`), the pips beside them timed (:func:`~.marks.find_pips`), the
+traces followed (:func:`~.traces.find_runs`, :func:`~.traces.follow`), then the scales:
+
+* time: from the time marks and their period, ``t = T_mark·k(x)``
+  (:func:`~.marks.time_base`), or from the paper speed and the length scale when the record
+  has no time marks; given both, they must agree;
+* length on the paper, in m per pixel, from one of: a printed grid's pitch (``grid``), the
+  sheet's width between its edges (``paper_width``, 120 mm on the manual's torsiograph), a
+  scan's resolution (``dpi``); given several, they must agree;
+* value: the deflection from the beam's zero (the trace's mean level, or its zero line) in m,
+  times ``scale`` (a calibration: value units per m of deflection) if given; in pixels
+  when no length scale is known.
+
+Every sample of a :class:`PaperRecord` lies on a uniform time grid from t = 0, so a lab reads
+it like a recorded channel (``sample_rate``, ``read()``, ``chunks()``); in a gap (the trace
+lost or crossing another) the value is NaN and ``read()`` refuses, unless the record was read
+with ``bridge`` (the longest gap to interpolate across, reported by a warning).
+
+Examples
+--------
+>>> from processing.synth.paper_record import Beam, Layout, Shot, render
+>>> scene = render(Layout(length=0.25, tdc_times=(0.05, 0.15, 0.25)),
+...                [Beam(lambda t: np.sin(2 * np.pi * 10 * t), 0.06, 0.02)],
+...                Shot(size=(900, 500), rotation=1.5))
+>>> rec = read_paper_record(scene.image, mark_period=0.01, paper_width=0.12)
+>>> rec.unit, round(rec.sample_rate, -2), rec.marks["tdc"].size
+('m', 1600.0, 3)
+>>> bool(np.nanmax(rec.value) > 0.019 and np.nanmin(rec.value) < -0.019)
+True
+"""
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from scipy.interpolate import PchipInterpolator
+
+from ..diagnostics import (BlurredMarksWarning, InputError, LowConfidenceTraceWarning,
+                           UnevenTimeBaseWarning)
+from ..result import Figure
+from ..uncertainty import Measured
+from .lines import Line, grid_spacing, remove_lines
+from .marks import Pips, TimeBase, TimeMarkError, find_pips, time_base
+from .overlay import Overlay, plot_values
+from .paper import darkness, find_sheet, flatten, load_image, square_up
+from .traces import LOW_CONFIDENCE, NoTraceError, Traces, find_runs, follow
+
+LOW_SHARE = 0.05
+"""Share of low-confidence samples above which a record warns."""
+
+SCALE_AGREEMENT = 0.03
+"""Relative disagreement allowed between two length scales, or between the paper speed and
+the time marks (on top of twice their combined u)."""
+
+UNEVEN_SPEED = 0.005
+"""Relative change of the mark spacing along the record above which a record warns."""
+
+BLURRED_MARKS = 0.5
+"""Standard uncertainty of where the marks rise above which a record warns. [px]"""
+
+ZERO_CHOICES = ("mean", "line")
+
+
+@dataclass(frozen=True)
+class PaperRecord:
+    """One trace of a paper record: a channel like a recorded one, with its confidence.
+
+    Attributes
+    ----------
+    path : str
+        The image (``"<image>"`` for an array).
+    name : str
+        ``"trace k"``, k counted from the top of the sheet, 0-based.
+    field : str or None
+        The measurement-file field that named the image.
+    time : numpy.ndarray
+        Sample times, uniform, from 0. [s]
+    value : numpy.ndarray
+        Deflection from the zero (see ``unit``); NaN where the trace was not read.
+    confidence : numpy.ndarray
+        0–1 per sample; 0 in gaps and across bridged gaps.
+    u_value : numpy.ndarray
+        Standard uncertainty of each sample from the image noise (the scales' u not
+        included), in ``unit``.
+    unit : str
+        ``"m"`` (deflection on the paper), ``"px"`` (no length scale), or the unit of
+        ``scale`` as given.
+    marks : dict
+        ``"time"``: the time marks (where the time base puts them, T_mark apart), ``"tdc"``:
+        the TDC marks (as read), on the record's time axis. [s]
+    marks_u : dict
+        Standard uncertainty of where each kind of mark rises against the trace (common to
+        all marks of a kind; blur widens it). [s]
+    time_scale : Measured
+        Seconds per pixel along the sheet (at the middle of the marks). [s/px]
+    value_scale : Measured
+        Value units per pixel across the sheet (1 for ``"px"``).
+    time_base : TimeBase or None
+        The fit of the time marks (None when the time came from the paper speed).
+    bridged : numpy.ndarray
+        True where a gap was interpolated across (``bridge``).
+    overlay : Overlay
+        What was read, to draw over the sheet.
+    """
+
+    path: str
+    name: str
+    field: str | None
+    time: np.ndarray
+    value: np.ndarray
+    confidence: np.ndarray
+    u_value: np.ndarray
+    unit: str
+    marks: dict
+    marks_u: dict
+    time_scale: Measured
+    value_scale: Measured
+    time_base: TimeBase | None
+    bridged: np.ndarray
+    overlay: Overlay = field(repr=False)
+
+    # --- the channel's interface (processing.signals.Channel) ---
+
+    @property
+    def sample_rate(self) -> float:
+        """Samples per second. [Hz]"""
+        return 1.0 / float(self.time[1] - self.time[0])
+
+    @property
+    def length(self) -> int:
+        return int(self.value.size)
+
+    @property
+    def duration(self) -> float:
+        """``length / sample_rate``. [s]"""
+        return self.length / self.sample_rate
+
+    @property
+    def dtype(self) -> np.dtype:
+        return np.dtype(np.float64)
+
+    @property
+    def volts_per_code(self) -> float:
+        """1: the values are already in ``unit``."""
+        return 1.0
+
+    def read(self) -> np.ndarray:
+        """The whole record (a copy).
+
+        Raises
+        ------
+        InputError
+            The trace has gaps (not read there); names the first and the fix.
+        """
+        (values,) = self.chunks(self.length)
+        return values
+
+    def chunks(self, size: int = 2 ** 22, start: int = 0,
+               stop: int | None = None) -> Iterator[np.ndarray]:
+        """Consecutive blocks of the record, as :meth:`processing.signals.Channel.chunks`.
+
+        Raises
+        ------
+        InputError
+            At the first gap in ``start``–``stop``.
+        ValueError
+            ``size`` < 1 or not ``0 ≤ start ≤ stop ≤ length``.
+        """
+        stop = self.length if stop is None else int(stop)
+        if size < 1:
+            raise ValueError(f"chunks: size must be ≥ 1 sample, got {size}")
+        if not 0 <= start <= stop <= self.length:
+            raise ValueError(f"chunks: need 0 ≤ start ≤ stop ≤ {self.length}, "
+                             f"got start={start}, stop={stop}")
+        lost = np.flatnonzero(~np.isfinite(self.value[start:stop]))
+        if lost.size:
+            gaps = self.gaps()
+            t0 = self.time[start + lost[0]]
+            raise InputError(
+                f"{self.name} is not read over {len(gaps)} stretch(es) of the image "
+                f"({_share(lost.size / max(stop - start, 1))} of the samples), the first at "
+                f"t = {t0 * 1e3:.4g} ms", "look at the overlay: retake the photograph flat, "
+                "sharp and evenly lit, or allow the gaps to be interpolated across with "
+                "bridge (the longest gap, e.g. \"2 ms\") where the trace is smooth",
+                file=self.path, field=self.field)
+        return (self.value[a:min(a + size, stop)].copy() for a in range(start, stop, size))
+
+    # --- the reading's quality ---
+
+    @property
+    def low_confidence_share(self) -> float:
+        """Share of the samples read with a confidence below 0.5 (gaps included)."""
+        return float(np.mean(self.confidence < LOW_CONFIDENCE))
+
+    def gaps(self) -> list[tuple[float, float]]:
+        """(first, last) time of each stretch not read. [s]"""
+        lost = ~np.isfinite(self.value)
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], lost.astype(np.int8), [0]])))
+        return [(float(self.time[a]), float(self.time[b - 1]))
+                for a, b in zip(edges[::2], edges[1::2])]
+
+    # --- drawing ---
+
+    def plot(self, ax=None, *, lang: str = "en") -> None:
+        """Draw the sheet with what was read on a matplotlib axis (a new figure if None)."""
+        if ax is None:
+            from matplotlib.figure import Figure as MplFigure
+            ax = MplFigure(figsize=(8, 4)).add_subplot(1, 1, 1)
+        self.overlay.plot(ax, lang=lang)
+
+    def figure(self, name: str = "paper_record", caption: dict | None = None) -> Figure:
+        """A report figure: the sheet with the overlay above, the record against time below."""
+        caption = caption or {
+            "en": f"The record read off {Path(self.path).name}: {self.name} (orange, "
+                  "unreliable columns red), the marks and zero lines found; below, the "
+                  "values against time",
+            "ru": f"Запись, считанная с {Path(self.path).name}: "
+                  f"{self.name.replace('trace', 'линия')} (оранжевая, недостоверные участки — красные), найденные отметки и нулевые "
+                  "линии; ниже — значения по времени"}
+
+        def draw(fig, lang: str) -> None:
+            top, bottom = fig.subplots(2, 1, height_ratios=(3, 2))
+            self.overlay.plot(top, lang=lang)
+            plot_values(bottom, self.time, self.value, self.confidence, lang=lang,
+                        unit=self.unit)
+            fig.tight_layout()
+
+        return Figure(name, caption, draw, (6.4, 6.0))
+
+
+@dataclass(frozen=True)
+class _Where:
+    """The image and the fields errors point to."""
+
+    path: str
+    field: str | None
+    options: str
+
+    def error(self, problem: str, fix: str, option: str | None = None) -> InputError:
+        where = f"{self.options}.{option}" if option else self.field
+        return InputError(problem, fix, file=self.path, field=where)
+
+
+def read_paper_record(source, *, trace: int = 0, **options) -> PaperRecord:
+    """Read one trace of a photographed or scanned paper record.
+
+    Parameters
+    ----------
+    source : str, Path or numpy.ndarray
+        The image file (PNG, JPEG, TIFF, ...) or an image array (BGR or grey, uint8).
+    trace : int
+        Which trace: 0 is the topmost on the sheet, −1 the lowest.
+    **options
+        As :func:`read_paper_records`.
+
+    Returns
+    -------
+    PaperRecord
+
+    Raises
+    ------
+    InputError
+        As :func:`read_paper_records`; also a ``trace`` beyond those found.
+    """
+    records = read_paper_records(source, **options)
+    if not -len(records) <= trace < len(records):
+        where = _where(source, options.get("field"), options.get("options", "image"))
+        raise where.error(f"trace {trace} asked for, {len(records)} trace(s) found on the sheet",
+                          f"choose trace = 0 … {len(records) - 1} (0 is the topmost), or look "
+                          "at the overlay for the trace missed", "trace")
+    return records[trace]
+
+
+def read_paper_records(source, *, traces: int | None = None, mark_period=None,
+                       paper_speed=None, dpi=None, paper_width=None, grid=None, scale=None,
+                       unit: str = "", zero: str = "mean", bridge: float = 0.0,
+                       field: str | None = None, options: str = "image") -> list[PaperRecord]:
+    """Read every trace of a photographed or scanned paper record.
+
+    The time runs left to right along the sheet's long side (a portrait photograph is
+    turned a quarter clockwise); the time-mark line and the TDC line are straight lines with
+    rectangular pips (the denser regular set of pips is the time marks).
+
+    Parameters
+    ----------
+    source : str, Path or numpy.ndarray
+        The image file or an image array (BGR or grey, uint8).
+    traces : int, optional
+        How many traces the sheet carries (default: the commonest count per column).
+    mark_period : float or Measured, optional
+        Period of the time marks, T_mark. [s]
+    paper_speed : float or Measured, optional
+        Speed of the paper. [m/s] Without time marks it sets the time base (with a length
+        scale); with them, it is checked against them.
+    dpi : float or Measured, optional
+        A flatbed scan's resolution. [1/inch]
+    paper_width : float or Measured, optional
+        The sheet's width between its long edges (both in the picture). [m]
+    grid : float or Measured, optional
+        Pitch of a printed grid on the sheet. [m]
+    scale : float or Measured, optional
+        Calibration: value units per metre of deflection (e.g. rad/m from the torsiograph's
+        static calibration). Needs a length scale.
+    unit : str
+        The unit of ``scale``'s values, for labels.
+    zero : {"mean", "line"}
+        Deflection measured from the trace's mean level, or from the nearest straight line
+        without marks (the beam's zero line).
+    bridge : float
+        Longest gap interpolated across (monotone cubic), reported by a warning. [s]
+    field : str, optional
+        The measurement-file field that named the image.
+    options : str
+        Dotted path of the table holding these options in the measurement file, for errors.
+
+    Returns
+    -------
+    list of PaperRecord
+        Top to bottom.
+
+    Raises
+    ------
+    InputError
+        A missing file or not an image; no trace found; no time base (no mark period, or
+        fewer than three time marks without a paper speed); a paper speed or a length scale
+        that contradicts the marks or another scale; an option out of range.
+
+    Warns
+    -----
+    LowConfidenceTraceWarning
+        More than 5 % of a trace's samples read with low confidence, or any gap bridged.
+    UnevenTimeBaseWarning
+        The mark spacing changes by more than 0.5 % along the record.
+    BlurredMarksWarning
+        Where the marks rise is uncertain by more than half a pixel (pips blurred into
+        blobs).
+    """
+    where = _where(source, field, options)
+    given = _options(where, mark_period=mark_period, paper_speed=paper_speed, dpi=dpi,
+                     paper_width=paper_width, grid=grid, scale=scale)
+    if zero not in ZERO_CHOICES:
+        raise where.error(f"zero = {zero!r}", f"use one of {', '.join(ZERO_CHOICES)}", "zero")
+    if not (bridge >= 0 and math.isfinite(bridge)):
+        raise where.error(f"bridge = {bridge!r}", "give the longest gap to interpolate, ≥ 0 s",
+                          "bridge")
+    grey = (load_image(source, field=field) if isinstance(source, (str, Path))
+            else darkness(source, name=where.path, field=field))
+    sheet = square_up(grey, find_sheet(grey))
+    density, noise = flatten(sheet.grey)
+    lines = remove_lines(density, noise)
+    remove_lines(density.T, noise)
+    time_pips, tdc_pips, plain = _mark_lines(density, lines, noise)
+    for pips in (time_pips, tdc_pips):
+        if pips is not None:
+            density[pips.band[0]:pips.band[1]] = 0.0
+    metres = _length_scale(where, given, sheet, plain)
+    seconds = _time_scale(where, given, metres, time_pips)
+    try:
+        found = follow(find_runs(density, noise, plain), density.shape[1], traces)
+    except NoTraceError as exc:
+        raise where.error(f"{exc} (after the straight lines and marks were set aside)",
+                          "photograph the record so that the traces fill the frame, sharp and "
+                          "evenly lit; check that the file is the oscillogram") from None
+    printed = grid_spacing(plain)
+    zero_lines = [line for line in plain if printed is None or line not in printed.lines]
+    value_scale, unit = _value_scale(where, given, metres, unit)
+    found_pips = {k: p for k, p in (("time", time_pips), ("tdc", tdc_pips)) if p is not None}
+    overlay_marks = {k: (p.rising, float(p.line.at(density.shape[1] / 2) + p.side * p.offset))
+                     for k, p in (("time", time_pips), ("tdc", tdc_pips)) if p is not None}
+    records = []
+    for j in range(found.count):
+        overlay = Overlay.of(sheet.grey, found.row, found.confidence, j, overlay_marks,
+                             [line.position for line in zero_lines])
+        records.append(_record(where, found, j, seconds, value_scale, unit, zero, zero_lines,
+                               lines, found_pips, bridge, overlay))
+    return records
+
+
+def _where(source, field, options) -> _Where:
+    return _Where(str(source) if isinstance(source, (str, Path)) else "<image>", field, options)
+
+
+def _options(where: _Where, **values) -> dict[str, Measured]:
+    """The given options as Measured, each checked to be a positive number."""
+    out = {}
+    for name, v in values.items():
+        if v is None:
+            continue
+        m = v if isinstance(v, Measured) else None
+        if m is None:
+            try:
+                m = Measured(float(v))
+            except (TypeError, ValueError):
+                raise where.error(f"{name} = {v!r} is not a number",
+                                  f"give {name} as a positive number in SI units",
+                                  name) from None
+        if not (math.isfinite(m.value) and m.value > 0) and name != "scale":
+            raise where.error(f"{name} = {m.value!r}", f"{name} must be a positive number",
+                              name)
+        if name == "scale" and not (math.isfinite(m.value) and m.value != 0):
+            raise where.error(f"scale = {m.value!r}", "scale must be a non-zero number of "
+                              "value units per metre of deflection", name)
+        out[name] = m
+    return out
+
+
+def _mark_lines(density, lines: list[Line], noise: float):
+    """The time-mark pips (the line with the most pips on an even grid), the TDC pips (the
+    line with the most of the rest) and the lines without pips."""
+    h = density.shape[0]
+    found: list[Pips] = []
+    for line in lines:
+        # the pips stay clear of the next line as dark as this one, on either side
+        reach = []
+        for side in (-1, 1):
+            gaps = [side * (o.position - line.position) - o.width / 2 for o in lines
+                    if o is not line and o.strength > 0.5 * line.strength
+                    and side * (o.position - line.position) > 0]
+            reach.append(min([0.1 * h] + [0.75 * d for d in gaps]))
+        pips = find_pips(density, line, noise, tuple(reach))
+        if pips is not None:
+            found.append(pips)
+    # pips seen from two lines belong to the one that drew them: the one as dark as they
+    # (a faint 'line' along their tops is not), else the nearer (their sides rise from it)
+    found = [p for p in found if not any(
+        q is not p and abs(_top_row(p) - _top_row(q)) < 3 and _owns(q, p) for q in found)]
+    chosen: list[Pips] = []
+    for pips in sorted(found, key=lambda p: (_regular_marks(p), p.line.strength), reverse=True):
+        if all(pips.band[1] <= c.band[0] or pips.band[0] >= c.band[1] for c in chosen):
+            chosen.append(pips)
+    time_pips = chosen[0] if chosen and _regular_marks(chosen[0]) >= 3 else None
+    rest = chosen[1:] if time_pips is not None else chosen
+    tdc_pips = max(rest, key=lambda p: p.count) if rest else None
+    marked = [p for p in (time_pips, tdc_pips) if p is not None]
+    # a faint 'line' along the pips' tops belongs to them too
+    plain = [line for line in lines if not any(
+        p.line is line or p.band[0] <= line.position < p.band[1] for p in marked)]
+    return time_pips, tdc_pips, plain
+
+
+def _owns(q: Pips, p: Pips) -> bool:
+    """Whether the pips seen from both q's line and p's belong to q's."""
+    ratio = q.line.strength / p.line.strength
+    return ratio > 3 or (ratio > 1 / 3 and q.offset < p.offset)
+
+
+def _top_row(pips: Pips) -> float:
+    return pips.line.position + pips.side * pips.offset
+
+
+def _regular_marks(pips: Pips) -> int:
+    """How many of the pips make an even time base (0 if they make none)."""
+    try:
+        return int(time_base(pips.rising, 1.0).numbers.size)
+    except TimeMarkError:
+        return 0
+
+
+def _length_scale(where: _Where, given: dict, sheet, plain: list[Line]) -> Measured | None:
+    """Metres of paper per sheet pixel from the grid, the paper width or the dpi; several
+    must agree."""
+    scales = {}
+    if "grid" in given:
+        g = grid_spacing(plain)
+        if g is None:
+            raise where.error("no printed grid found on the sheet (at least 4 evenly spaced "
+                              "straight lines)", "leave grid out, or give paper_width or dpi",
+                              "grid")
+        m = given["grid"]
+        scales["grid"] = Measured(m.value / g.pitch, u_b=math.hypot(
+            m.u / g.pitch, m.value * g.u_pitch / g.pitch ** 2))
+    if "paper_width" in given:
+        if sheet.paper_size is None:
+            raise where.error("the sheet's edges are not in the picture, so its width in "
+                              "pixels is unknown", "photograph the whole sheet on a darker "
+                              "background, or give dpi (a scan) or grid", "paper_width")
+        m, px = given["paper_width"], sheet.paper_size[1]
+        scales["paper_width"] = Measured(m.value / px, u_b=math.hypot(m.u / px,
+                                                                       m.value / px ** 2))
+    if "dpi" in given:
+        m = given["dpi"]
+        per_px = 0.0254 / m.value * sheet.source_scale
+        scales["dpi"] = Measured(per_px, u_b=per_px * m.u / m.value)
+    if not scales:
+        return None
+    names = list(scales)
+    first = scales[names[0]]
+    for other in names[1:]:
+        s = scales[other]
+        gap = s.value / first.value - 1
+        if abs(gap) > SCALE_AGREEMENT + 2 * math.hypot(s.u / s.value, first.u / first.value):
+            raise where.error(f"{other} gives {s.value * 1e3:.5g} mm per pixel and {names[0]} "
+                              f"{first.value * 1e3:.5g} ({100 * gap:+.1f} %)",
+                              f"correct {other} or {names[0]}, or give only one of them",
+                              other)
+    return first
+
+
+def _time_scale(where: _Where, given: dict, metres: Measured | None,
+                pips: Pips | None) -> tuple[TimeBase | None, Measured]:
+    """The time base: from the marks (checked against the paper speed if given), else from
+    the paper speed and the length scale."""
+    speed = given.get("paper_speed")
+    if "mark_period" in given:
+        period = given["mark_period"]
+        try:
+            if pips is None:
+                raise TimeMarkError("no line with evenly spaced pips found")
+            tb = time_base(pips.rising, period.value)
+        except TimeMarkError as exc:
+            if speed is None or metres is None:
+                raise where.error(f"{exc}: too few time marks for a time base",
+                                  "photograph the whole time-mark line sharply; or give "
+                                  "paper_speed with paper_width, grid or dpi instead",
+                                  "mark_period") from None
+        else:
+            rel = math.hypot(tb.u_spacing / tb.spacing, period.u / period.value)
+            per_px = Measured(period.value / tb.spacing, u_b=rel * period.value / tb.spacing)
+            if speed is not None and metres is not None:
+                implied = metres.value * tb.spacing / period.value
+                gap = implied / speed.value - 1
+                u = math.hypot(rel, metres.u / metres.value, speed.u / speed.value)
+                if abs(gap) > SCALE_AGREEMENT + 2 * u:
+                    raise where.error(
+                        f"the time marks, {tb.spacing * metres.value * 1e3:.4g} mm apart, "
+                        f"mean a paper speed of {implied:.4g} m/s with mark_period = "
+                        f"{period.value:.4g} s, not the {speed.value:.4g} m/s given "
+                        f"({100 * gap:+.1f} %)", "correct paper_speed or mark_period (the "
+                        "marker's period), or leave paper_speed out", "paper_speed")
+            return tb, per_px
+    if speed is None:
+        raise where.error("no time base: neither the time marks' period nor the paper speed "
+                          "is given", "give mark_period (the time marker's period, e.g. "
+                          "\"10 ms\"), or paper_speed with paper_width, grid or dpi",
+                          "mark_period")
+    if metres is None:
+        raise where.error("paper_speed needs a length scale to turn pixels into time",
+                          "also give paper_width, grid or dpi, or give mark_period",
+                          "paper_speed")
+    value = metres.value / speed.value
+    return None, Measured(value, u_b=value * math.hypot(metres.u / metres.value,
+                                                        speed.u / speed.value))
+
+
+def _value_scale(where: _Where, given: dict, metres: Measured | None,
+                 unit: str) -> tuple[Measured, str]:
+    if "scale" in given:
+        if metres is None:
+            raise where.error("scale (value per metre of deflection) needs a length scale",
+                              "also give paper_width, grid or dpi", "scale")
+        s = given["scale"]
+        v = s.value * metres.value
+        return Measured(v, u_b=abs(v) * math.hypot(s.u / s.value, metres.u / metres.value)), unit
+    if metres is not None:
+        return metres, "m"
+    return Measured(1.0), "px"
+
+
+def _record(where: _Where, found: Traces, j: int, seconds, value_scale: Measured, unit: str,
+            zero: str, zero_lines: list[Line], lines: list[Line], pips: dict,
+            bridge: float, overlay: Overlay) -> PaperRecord:
+    tb, per_px = seconds
+    row = found.row[j]
+    valid = np.flatnonzero(np.isfinite(row))
+    first, last = int(valid[0]), int(valid[-1])
+    cols = np.arange(first, last + 1, dtype=float)
+    row, u_row, conf = row[first:last + 1], found.u[j, first:last + 1], \
+        found.confidence[j, first:last + 1]
+    name = f"trace {j}"
+    if zero == "line":
+        if not zero_lines:
+            raise where.error("zero = \"line\" but no straight line without marks (a zero "
+                              "line) is on the sheet", "use zero = \"mean\", or photograph "
+                              "the record with its zero line", "zero")
+        middle = np.nanmedian(row)
+        ref = min(zero_lines, key=lambda line: abs(line.at(cols.mean()) - middle))
+        pixels = ref.at(cols) - row
+    else:
+        tilt = float(np.median([line.slope for line in lines])) if lines else 0.0
+        pixels = -(row - tilt * (cols - cols.mean()))
+        pixels -= np.nanmean(pixels)
+    clock = (lambda x: tb.time(x)) if tb is not None else (lambda x: np.asarray(x) * per_px.value)
+    t_cols = clock(cols) - clock(first)
+    time = np.arange(cols.size) * (t_cols[-1] / (cols.size - 1))
+    pixels, u_row, conf = _resample(t_cols, time, pixels, u_row, conf)
+    value = pixels * value_scale.value
+    u_value = u_row * abs(value_scale.value)
+    bridged = np.zeros(value.size, bool)
+    if bridge > 0:
+        value, bridged = _bridge(time, value, bridge)
+    marks = {k: clock(p.rising) - clock(first) for k, p in pips.items()}
+    if tb is not None:               # the time marks where the fit puts them: t = T_mark·k
+        marks["time"] = tb.period * tb.numbers - clock(first)
+    marks_u = {k: p.edge_u * per_px.value for k, p in pips.items()}
+    record = PaperRecord(where.path, name, where.field, time, value, conf, u_value, unit,
+                         marks, marks_u, per_px, value_scale, tb, bridged, overlay)
+    _warn(record, tb, {k: p.edge_u for k, p in pips.items()})
+    return record
+
+
+def _resample(t_cols, time, *arrays):
+    """Arrays given at the columns' times onto the uniform grid ``time`` (linear between
+    columns; NaN beside a gap, the lower confidence of the two)."""
+    if np.allclose(t_cols, time, rtol=0, atol=1e-9 * max(time[-1], 1e-12)):
+        return arrays
+    pos = np.interp(time, t_cols, np.arange(t_cols.size, dtype=float))
+    i = np.clip(np.floor(pos).astype(int), 0, t_cols.size - 2)
+    f = pos - i
+    out = [a[i] * (1 - f) + a[i + 1] * f for a in arrays[:-1]]
+    out.append(np.minimum(arrays[-1][i], arrays[-1][i + 1]))
+    return out
+
+
+def _bridge(time: np.ndarray, value: np.ndarray, longest: float):
+    """Gaps up to ``longest`` [s] filled by a monotone cubic through the samples read."""
+    lost = ~np.isfinite(value)
+    if not lost.any():
+        return value, np.zeros(value.size, bool)
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], lost.astype(np.int8), [0]])))
+    fill = np.zeros(value.size, bool)
+    step = time[1] - time[0]
+    for a, b in zip(edges[::2], edges[1::2]):
+        if (b - a) * step <= longest:
+            fill[a:b] = True
+    if fill.any():
+        ok = ~lost
+        value = value.copy()
+        value[fill] = PchipInterpolator(time[ok], value[ok])(time[fill])
+    return value, fill
+
+
+def _warn(record: PaperRecord, tb: TimeBase | None, edge_u: dict) -> None:
+    share = record.low_confidence_share
+    bridged = int(record.bridged.sum())
+    if share > LOW_SHARE or bridged:
+        gaps = record.gaps()
+        detail = (f"; {len(gaps)} stretch(es) not read" if gaps else "") + \
+                 (f", {bridged} samples interpolated" if bridged else "")
+        detail_ru = (f"; не считано участков: {len(gaps)}" if gaps else "") + \
+                    (f", интерполировано отсчётов: {bridged}" if bridged else "")
+        warnings.warn(LowConfidenceTraceWarning(
+            f"{Path(record.path).name}, {record.name}: {_share(share)} of the samples were "
+            f"read with low confidence{detail}; values there may be wrong (red on the "
+            "overlay): retake the photograph flat, sharp and evenly lit, or check the result "
+            "against a ruler reading",
+            f"{Path(record.path).name}, {record.name.replace('trace', 'линия')}: "
+            f"{_share(share)} отсчётов считано с низкой достоверностью{detail_ru}; значения "
+            "там могут быть неверны (красные на наложении): переснимите запись ровно, резко "
+            "и при равномерном освещении или проверьте результат по линейке"))
+    blurred = [k for k, u in edge_u.items() if u > BLURRED_MARKS]
+    if blurred:
+        kinds = {"time": ("time", "времени"), "tdc": ("TDC", "ВМТ")}
+        en = " and ".join(kinds[k][0] for k in blurred)
+        ru = " и ".join(kinds[k][1] for k in blurred)
+        ms = max(record.marks_u[k] for k in blurred) * 1e3
+        warnings.warn(BlurredMarksWarning(
+            f"{Path(record.path).name}: the {en} marks are blurred into blobs, so where each "
+            f"rises is uncertain by ± {ms:.2g} ms: phases measured from them against the "
+            "trace carry that error (the time scale itself does not): retake the photograph "
+            "sharper",
+            f"{Path(record.path).name}: отметки {ru} размыты, начало каждой известно лишь с "
+            f"точностью ± {ms:.2g} мс: фазы, отсчитанные от них по линии записи, имеют ту же "
+            "погрешность (масштаб времени — нет): переснимите запись резче"))
+    if tb is not None and abs(tb.speed_change) > UNEVEN_SPEED:
+        warnings.warn(UnevenTimeBaseWarning(
+            f"{Path(record.path).name}: the time marks' spacing changes by "
+            f"{100 * tb.speed_change:+.1f} % along the record (the paper's speed changed, or "
+            "the photograph's perspective is not fully corrected); the time base follows "
+            "the marks, but check that the photograph was taken square to the sheet",
+            f"{Path(record.path).name}: шаг отметок времени меняется на "
+            f"{100 * tb.speed_change:+.1f} % вдоль записи (менялась скорость ленты или не "
+            "полностью устранена перспектива снимка); шкала времени следует отметкам, но "
+            "проверьте, что снимок сделан перпендикулярно ленте"))
+
+
+def _share(x: float) -> str:
+    return f"{100 * x:.1f} %"

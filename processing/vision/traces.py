@@ -1,0 +1,593 @@
+"""Traces on a paper record: followed column by column to a sub-pixel row, with a confidence
+per column and gaps where a trace is lost or two traces cross.
+
+:func:`find_runs` cuts every column of the density (straight lines and marks already lifted
+off) into *runs*: stretches of rows above a threshold (4.5 σ of the paper's noise, and a
+quarter of a trace's typical peak). Each run gets its density-weighted centroid (over the run
+and two rows either side), its mass and peak, and the centroid's standard uncertainty from
+the noise:
+
+.. math:: \\bar y = \\frac{\\sum_i D_i y_i}{\\sum_i D_i}, \\qquad
+          u(\\bar y) = \\frac{\\sigma_D \\sqrt{\\sum_i (y_i - \\bar y)^2}}{\\sum_i D_i}
+
+:func:`follow` links runs into traces. It starts from a column where every trace shows as a
+separate run and walks to either end, predicting each trace's row from its last row and slope;
+a trace takes the run nearest its prediction among those whose rows reach within a gate of
+it. When two traces want the same run (they cross, or touch) both get a gap: the reader
+never guesses which is which inside a merge. They are picked up again together where each
+has a run of its own, and afterwards every such pick-up is checked (:func:`_rejoin`): the
+pairing whose strokes join more smoothly across the gap (a quartic through 20 rows each side)
+wins; where the two pairings fit about equally well, which trace is which beyond the gap is
+unknown, and both keep a confidence of at most 0.3 there. A run's vertical extent covers a
+steep stroke, so fast swings are followed too. Where a straight line (a zero line) crosses a
+trace, the line's rows are interpolated across before the runs are cut, so the stroke stays
+whole.
+
+:func:`confidence` scores each column from 0 to 1 as the product of three factors: the run's
+peak over the noise (full at 12 σ, nothing at 4.5 σ), its extent against what a single stroke
+of the trace's width at the local slope covers (a run much taller is two strokes merged or a
+blot), and its clearance from the nearest other run in the column (tails that touch pull the
+centroid).
+"""
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..result import Record
+
+THRESHOLD_SIGMA = 4.5
+"""Rows above this many σ of the paper's density noise belong to a run."""
+
+PEAK_SHARE = 0.25
+"""... and above this share of a trace's typical peak density."""
+
+PAD = 2
+"""Rows either side of a run included in its centroid (the anti-aliased, blurred tails). [px]"""
+
+FULL_CONTRAST = 12.0
+"""Peak over σ at which the contrast factor of the confidence reaches 1."""
+
+LOW_CONFIDENCE = 0.5
+"""A column read with a confidence below this is counted as unreliable."""
+
+MIN_COVERAGE = 0.2
+"""A trace followed in fewer than this share of the columns between its ends is dropped as
+noise."""
+
+
+@dataclass(frozen=True)
+class Runs(Record):
+    """The runs of every column, ordered by column then row.
+
+    Attributes
+    ----------
+    column : numpy.ndarray
+        Column of each run.
+    lo, hi : numpy.ndarray
+        First row above the threshold and one past the last.
+    centre : numpy.ndarray
+        Density-weighted centroid. [px]
+    u : numpy.ndarray
+        Its standard uncertainty from the noise. [px]
+    peak : numpy.ndarray
+        Highest density in the run.
+    starts : numpy.ndarray
+        Index of the first run of each column (length columns + 1).
+    noise : float
+        σ of the density.
+    typical_peak : float
+        Median over the columns of the highest run peak.
+    """
+
+    column: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    centre: np.ndarray
+    u: np.ndarray
+    peak: np.ndarray
+    starts: np.ndarray
+    noise: float
+    typical_peak: float
+
+    def of(self, column: int) -> slice:
+        """The runs of ``column``."""
+        return slice(int(self.starts[column]), int(self.starts[column + 1]))
+
+    @property
+    def counts(self) -> np.ndarray:
+        """Runs in each column."""
+        return np.diff(self.starts)
+
+
+def find_runs(density: np.ndarray, noise: float, lines=()) -> Runs:
+    """Cut every column into runs of rows above the threshold and measure each.
+
+    Parameters
+    ----------
+    density : numpy.ndarray
+        Density with lines and marks lifted off, rows × columns; changed in place where a
+        trace crosses a line (see ``lines``).
+    noise : float
+        σ of the density on bare paper.
+    lines : sequence of Line
+        Straight lines lifted off. Where beams saturate the paper, the stroke of a trace
+        crossing a line loses the line's density too; in the columns where the trace is dark
+        just above and just below a line, the line's rows are filled by linear interpolation
+        between the two, so that the stroke is whole again.
+
+    Returns
+    -------
+    Runs
+        Empty when nothing stands above the threshold.
+    """
+    h, w = density.shape
+    col_max = density.max(axis=0)
+    strong = col_max[col_max > 2 * THRESHOLD_SIGMA * noise]
+    typical = float(np.median(strong)) if strong.size else 0.0
+    threshold = max(THRESHOLD_SIGMA * noise, PEAK_SHARE * typical)
+    for line in lines:
+        _mend_crossings(density, line, threshold)
+    mask = np.zeros((w, h + 2), np.int8)
+    mask[:, 1:-1] = (density > threshold).T
+    change = np.diff(mask, axis=1)
+    col, lo = np.nonzero(change == 1)
+    _, hi = np.nonzero(change == -1)
+    # close gaps of one row inside a stroke (a noisy dip below the threshold)
+    if col.size:
+        joined = np.concatenate([[False], (col[1:] == col[:-1]) & (lo[1:] - hi[:-1] <= 1)])
+        first = np.flatnonzero(~joined)
+        last = np.append(first[1:] - 1, col.size - 1)
+        col, lo, hi = col[first], lo[first], hi[last]
+    starts = np.searchsorted(col, np.arange(w + 1))
+    if col.size == 0:
+        empty = np.empty(0)
+        return Runs(col, lo, hi, empty, empty, empty, starts, noise, typical)
+    # padded windows, not reaching into the neighbouring runs of the column
+    same_prev = np.concatenate([[False], col[1:] == col[:-1]])
+    same_next = np.concatenate([col[1:] == col[:-1], [False]])
+    prev_hi = np.where(same_prev, np.roll(hi, 1), 0)
+    next_lo = np.where(same_next, np.roll(lo, -1), h)
+    a = np.maximum(lo - PAD, prev_hi)
+    b = np.minimum(hi + PAD, next_lo)
+    size = b - a
+    run = np.repeat(np.arange(col.size), size)
+    offset = np.arange(run.size) - np.repeat(np.cumsum(size) - size, size)
+    rows = np.repeat(a, size) + offset
+    values = density[rows, col[run]].astype(np.float64)
+    mass = np.bincount(run, values, col.size)
+    moment = np.bincount(run, values * rows, col.size)
+    centre = moment / np.where(mass > 0, mass, 1.0)
+    spread = np.bincount(run, (rows - centre[run]) ** 2, col.size)
+    u = noise * np.sqrt(spread) / np.where(mass > 0, mass, np.inf)
+    inner = (rows >= np.repeat(lo, size)) & (rows < np.repeat(hi, size))
+    peak = np.zeros(col.size)
+    np.maximum.at(peak, run[inner], values[inner])
+    return Runs(col, lo, hi, centre, u, peak, starts, noise, typical)
+
+
+def _mend_crossings(density: np.ndarray, line, threshold: float) -> None:
+    """Interpolate across ``line``'s rows in the columns a stroke crosses it (dark on both
+    sides)."""
+    h, w = density.shape
+    cols = np.arange(w)
+    half = line.width / 2 + 1
+    top = np.floor(line.at(cols) - half).astype(int) - 1
+    span = int(np.ceil(2 * half)) + 2
+    bottom = top + span
+    inside = (top >= 0) & (bottom < h)
+    crossing = np.zeros(w, bool)
+    crossing[inside] = (density[top[inside], cols[inside]] > threshold) \
+        & (density[bottom[inside], cols[inside]] > threshold)
+    c = cols[crossing]
+    if c.size == 0:
+        return
+    a, b = density[top[c], c], density[bottom[c], c]
+    for k in range(1, span):
+        density[top[c] + k, c] = a + (b - a) * (k / span)
+
+
+@dataclass(frozen=True)
+class Traces(Record):
+    """Runs linked into traces.
+
+    Attributes
+    ----------
+    run : numpy.ndarray
+        traces × columns: the run each trace takes in each column, −1 in a gap.
+    row : numpy.ndarray
+        traces × columns: its centroid row, NaN in a gap. [px]
+    u : numpy.ndarray
+        Standard uncertainty of ``row`` from the noise, NaN in a gap. [px]
+    confidence : numpy.ndarray
+        traces × columns, 0 to 1; 0 in a gap.
+    width : numpy.ndarray
+        Each trace's typical extent where it runs flat (|slope| < 0.3). [px]
+    """
+
+    run: np.ndarray
+    row: np.ndarray
+    u: np.ndarray
+    confidence: np.ndarray
+    width: np.ndarray
+
+    @property
+    def count(self) -> int:
+        return int(self.run.shape[0])
+
+
+class NoTraceError(ValueError):
+    """No trace stands out of the paper."""
+
+
+def follow(runs: Runs, columns: int, count: int | None = None) -> Traces:
+    """Link the runs of consecutive columns into traces.
+
+    Parameters
+    ----------
+    runs : Runs
+    columns : int
+        Width of the sheet. [px]
+    count : int, optional
+        How many traces there are; default: the commonest number of strong runs (peak at
+        least half the typical) in a column.
+
+    Returns
+    -------
+    Traces
+        Sorted from the top of the sheet down; traces followed in fewer than
+        :data:`MIN_COVERAGE` of their columns are dropped.
+
+    Raises
+    ------
+    NoTraceError
+        No column holds a strong run, or none holds ``count`` separate ones.
+    """
+    strong = runs.peak >= 0.5 * runs.typical_peak
+    per_column = np.bincount(runs.column[strong], minlength=columns)
+    if runs.column.size == 0 or per_column.max() == 0:
+        raise NoTraceError("no trace stands out of the paper")
+    if count is None:
+        count = int(np.argmax(np.bincount(per_column[per_column > 0])))
+    seed = _seed_column(runs, strong, per_column, count)
+    if seed is None:
+        raise NoTraceError(f"no column shows {count} separate traces")
+    sl = runs.of(seed)
+    picked = np.flatnonzero(strong[sl]) + sl.start
+    chosen = np.full((count, columns), -1, np.int64)
+    chosen[:, seed] = picked
+    extent = float(np.median((runs.hi - runs.lo)[strong]))
+    doubtful = [(j, c, 1) for j, c in _walk(runs, chosen, seed, range(seed + 1, columns),
+                                             extent)]
+    doubtful += [(j, c, -1) for j, c in _walk(runs, chosen, seed, range(seed - 1, -1, -1),
+                                              extent)]
+    ok = chosen >= 0
+    row = np.where(ok, runs.centre[np.maximum(chosen, 0)], np.nan)
+    cap = _rejoin(chosen, row, seed)
+    for j, c, direction in doubtful:
+        stretch = _to_next_gap(chosen[j], c, direction)
+        cap[j, stretch] = np.minimum(cap[j, stretch], AMBIGUOUS_CONFIDENCE)
+    ok = chosen >= 0
+    u = np.where(ok, runs.u[np.maximum(chosen, 0)], np.nan)
+    keep = []
+    for j in range(count):
+        valid = np.flatnonzero(ok[j])
+        if valid.size and valid.size >= MIN_COVERAGE * (valid[-1] - valid[0] + 1) \
+                and valid.size >= 0.05 * columns:
+            keep.append(j)
+    if not keep:
+        raise NoTraceError("no trace could be followed along the sheet")
+    order = sorted(keep, key=lambda j: np.nanmean(row[j]))
+    chosen, row, u, cap = chosen[order], row[order], u[order], cap[order]
+    conf, width = confidence(runs, chosen, row)
+    return Traces(chosen, row, u, np.minimum(conf, cap), width)
+
+
+def _seed_column(runs: Runs, strong: np.ndarray, per_column: np.ndarray,
+                 count: int) -> int | None:
+    """The middle one of the columns with exactly ``count`` strong runs, all well apart
+    (those without weak runs preferred)."""
+    candidates = np.flatnonzero(per_column == count)
+    good = []
+    for c in candidates:
+        sl = runs.of(c)
+        mine = np.flatnonzero(strong[sl]) + sl.start
+        if count == 1 or np.all(runs.lo[mine][1:] - runs.hi[mine][:-1] >= 3):
+            good.append(c)
+    clean = [c for c in good if runs.counts[c] == count]
+    good = clean if len(clean) >= 0.1 * len(good) else good
+    if not good:
+        return None
+    return int(good[len(good) // 2])
+
+
+MAX_WAIT = 60
+"""Columns traces that merged wait to part together before each may be picked up alone
+(then with a confidence of at most :data:`AMBIGUOUS_CONFIDENCE` until its next gap)."""
+
+
+def _walk(runs: Runs, chosen: np.ndarray, seed: int, steps: range, extent: float) -> list:
+    """Follow every trace from ``seed`` over ``steps`` (one direction), filling ``chosen``.
+
+    Traces that lose a run to each other (a crossing, a merge) form a group: they are picked
+    up again together, in a column where the runs near them are at least as many as they
+    (each a single stroke), by the pairing of traces and runs nearest their predictions. A
+    group still merged after :data:`MAX_WAIT` columns breaks up, and each trace is picked up
+    alone (doubtful). A trace lost for more than three columns is predicted by a quadratic
+    through its last :data:`REJOIN_FIT` rows.
+
+    Returns
+    -------
+    list of (trace, column)
+        Pick-ups after a group broke up: doubtful.
+    """
+    count = chosen.shape[0]
+    pos = runs.centre[chosen[:, seed]].astype(float)
+    vel = np.zeros(count)
+    last = np.full(count, seed)
+    group = np.arange(count)
+    history: list[list[tuple[int, float]]] = [[(seed, p)] for p in pos]
+    doubtful = []
+    base_gate = 1.5 * extent + 2.0
+    centre, lo, hi = runs.centre, runs.lo, runs.hi
+    starts = runs.starts
+    for c in steps:
+        s, e = starts[c], starts[c + 1]
+        if s == e:
+            continue
+        dt = c - last
+        pred = pos + vel * dt
+        for j in np.flatnonzero(np.abs(dt) > 3):
+            pred[j] = _extrapolate(history[j], c, pred[j])
+        gate = base_gate + 0.5 * np.abs(vel * dt) + 0.5 * (np.abs(dt) - 1)
+        rlo, rhi, rc = lo[s:e], hi[s:e] - 1, centre[s:e]
+        outside = np.maximum(np.maximum(rlo[None, :] - pred[:, None],
+                                        pred[:, None] - rhi[None, :]), 0.0)
+        near = outside <= gate[:, None]
+        cost = np.where(near, np.abs(rc[None, :] - pred[:, None]), np.inf)
+        best = np.argmin(cost, axis=1)
+        found = np.isfinite(cost[np.arange(count), best])
+        single = extent * np.sqrt(1 + vel ** 2) + np.abs(vel)
+        waiting = np.array([(group == group[j]).sum() > 1 for j in range(count)])
+        if count > 1:
+            # a run two traces want, or one taller than a single stroke with two traces
+            # near it, holds both: neither takes it, and they wait to part together
+            solo = found & ~waiting
+            taken = np.bincount(best[solo], minlength=e - s)
+            tall = (rhi - rlo + 1)[best] > 1.8 * single + 2
+            crowded = near.sum(axis=0)[best] > 1
+            clash = solo & ((taken[best] > 1) | (tall & crowded))
+            for r in np.unique(best[clash]):
+                members = np.flatnonzero(clash & (best == r))
+                partners = np.flatnonzero(near[:, r] & ~waiting)
+                group[np.isin(group, group[np.union1d(members, partners)])] = \
+                    group[members].min()
+            found &= ~clash & ~waiting
+            free = np.ones(e - s, bool)
+            free[best[found]] = False
+            for g in np.unique(group):
+                members = np.flatnonzero(group == g)
+                if members.size < 2 or (group[members] != g).any():
+                    continue
+                picked = _pick_group(pred[members], gate[members], single[members],
+                                     rlo, rhi, rc, free)
+                if picked is None and np.abs(dt[members]).min() > MAX_WAIT:
+                    group[members] = members        # broken up: alone, and doubtful
+                    ok = found[members] = np.isfinite(cost[members, best[members]])
+                    doubtful += [(int(j), c) for j in members[ok]]
+                    continue
+                if picked is not None:
+                    best[members] = picked
+                    found[members] = True
+                    free[picked] = False
+                    group[members] = members
+        for j in np.flatnonzero(found):
+            y = rc[best[j]]
+            step = (y - pos[j]) / dt[j]
+            vel[j] = step if abs(dt[j]) > 1 else 0.6 * step + 0.4 * vel[j]
+            pos[j], last[j] = y, c
+            chosen[j, c] = s + best[j]
+            history[j].append((c, y))
+            if len(history[j]) > REJOIN_FIT:
+                history[j].pop(0)
+    return doubtful
+
+
+def _pick_group(pred, gate, single, rlo, rhi, rc, free) -> np.ndarray | None:
+    """Distinct runs for a group's traces: among the free single-stroke runs within twice
+    their gates, the pairing with the least total distance from the predictions; None when
+    the runs near them are fewer than they."""
+    outside = np.maximum(np.maximum(rlo[None, :] - pred[:, None],
+                                    pred[:, None] - rhi[None, :]), 0.0)
+    near = (outside <= 2 * gate[:, None]) & free[None, :] \
+        & ((rhi - rlo + 1)[None, :] <= 1.8 * single[:, None] + 2)
+    candidates = np.flatnonzero(near.any(axis=0))
+    if candidates.size < pred.size:
+        return None
+    best, choice = np.inf, None
+    for combo in itertools.permutations(candidates, pred.size):
+        combo = np.array(combo)
+        if not near[np.arange(pred.size), combo].all():
+            continue
+        total = np.abs(rc[combo] - pred).sum()
+        if total < best:
+            best, choice = total, combo
+    return choice
+
+
+def _extrapolate(history: list[tuple[int, float]], c: int, linear: float) -> float:
+    """Row at column ``c`` from a quadratic through a trace's recent rows (the linear
+    prediction with fewer than four)."""
+    if len(history) < 4:
+        return linear
+    x = np.array([h[0] for h in history], dtype=float)
+    y = np.array([h[1] for h in history])
+    coef = np.polyfit(x - x[-1], y, 2)
+    return float(np.polyval(coef, c - x[-1]))
+
+
+REJOIN_FIT = 20
+"""Samples each side of a gap the continuation of a trace is fitted to (a quadratic)."""
+
+AMBIGUOUS = 0.6
+"""A rejoining whose better pairing costs more than this share of the other is ambiguous:
+which trace is which beyond it is not known, and both keep at most
+:data:`AMBIGUOUS_CONFIDENCE` there."""
+
+AMBIGUOUS_CONFIDENCE = 0.3
+
+
+def _rejoin(chosen: np.ndarray, row: np.ndarray, seed: int) -> np.ndarray:
+    """Check which trace is which after every gap two traces share (a crossing or a merge),
+    outward from the seed: the pairing that joins into the smoother strokes
+    (:func:`_pairing_cost`) is kept, swapping the traces beyond the gap if need be. Returns a
+    traces × columns cap on the confidence (below 1 beyond an ambiguous rejoining)."""
+    count, columns = chosen.shape
+    cap = np.ones(chosen.shape)
+    if count < 2:
+        return cap
+    for direction in (1, -1):
+        done: set = set()
+        while True:
+            event = _next_shared_gap(chosen, seed, direction, done)
+            if event is None:
+                break
+            done.add(event)
+            i, k, a, b = event
+            keep, swap = (_pairing_cost(row, i, k, a, b, direction, crossed)
+                          for crossed in (False, True))
+            if not (np.isfinite(keep) or np.isfinite(swap)):
+                continue
+            far = slice(b, columns) if direction > 0 else slice(0, a + 1)
+            if swap < keep:
+                chosen[[i, k], far] = chosen[[k, i], far]
+                row[[i, k], far] = row[[k, i], far]
+                cap[[i, k], far] = cap[[k, i], far]
+            if min(keep, swap) > AMBIGUOUS * max(keep, swap):
+                cap[[i, k], far] = np.minimum(cap[[i, k], far], AMBIGUOUS_CONFIDENCE)
+    return cap
+
+
+def _next_shared_gap(chosen, seed, direction, done):
+    """The nearest gap beyond the seed (in ``direction``) that two traces share:
+    (i, k, first column of the gap, first column after it) in walking order, widened to
+    both traces' gaps; None when there is none left."""
+    count, columns = chosen.shape
+    lost = chosen < 0
+    cols = np.arange(seed, columns) if direction > 0 else np.arange(seed, -1, -1)
+    for c in cols:
+        both = np.flatnonzero(lost[:, c])
+        if both.size < 2:
+            continue
+        for x, i in enumerate(both):
+            for k in both[x + 1:]:
+                a, b = _gap_span(lost[i], c), _gap_span(lost[k], c)
+                lo, hi = min(a[0], b[0]), max(a[1], b[1])
+                if lo == 0 or hi == columns:
+                    continue                       # a trace's end, not a crossing
+                ends = (lo - 1, hi) if direction > 0 else (hi, lo - 1)
+                key = (int(i), int(k), *ends)
+                if key not in done:
+                    return key
+    return None
+
+
+def _gap_span(lost: np.ndarray, c: int) -> tuple[int, int]:
+    """First and one-past-last column of the gap holding column ``c``."""
+    a = c
+    while a > 0 and lost[a - 1]:
+        a -= 1
+    b = c
+    while b < lost.size and lost[b]:
+        b += 1
+    return a, b
+
+
+def _pairing_cost(row, i, k, a, b, direction, crossed) -> float:
+    """How badly the traces join across the gap between columns ``a`` (the last read before
+    it, in walking order) and ``b`` (the first after): the RMS residual of a quartic through
+    the :data:`REJOIN_FIT` rows each side of each joined pair (one smooth stroke leaves
+    noise; a wrong pairing, a kink)."""
+    if direction < 0:
+        a, b = b, a
+    cost = 0.0
+    for near, far in ((i, k if crossed else i), (k, i if crossed else k)):
+        before = _samples(row[near], a, -1)
+        after = _samples(row[far], b, 1)
+        if before is None or after is None:
+            return np.inf
+        x = np.concatenate([before, after]).astype(float)
+        y = np.concatenate([row[near][before], row[far][after]])
+        t = (x - 0.5 * (a + b)) / max(x.max() - x.min(), 1.0)
+        fit = np.polyfit(t, y, 4)
+        cost += float(np.sqrt(np.mean((np.polyval(fit, t) - y) ** 2)))
+    return cost
+
+
+def _samples(row: np.ndarray, start: int, direction: int) -> np.ndarray | None:
+    """Columns of the :data:`REJOIN_FIT` rows read nearest ``start`` going ``direction``
+    (None with fewer than four)."""
+    cols = np.arange(start, row.size) if direction > 0 else np.arange(start, -1, -1)
+    cols = cols[:3 * REJOIN_FIT]
+    cols = cols[np.isfinite(row[cols])][:REJOIN_FIT]
+    return cols if cols.size >= 4 else None
+
+
+def _to_next_gap(chosen_row: np.ndarray, start: int, direction: int) -> slice:
+    cols = np.arange(start, chosen_row.size) if direction > 0 else np.arange(start, -1, -1)
+    lost = np.flatnonzero(chosen_row[cols] < 0)
+    end = cols[lost[0]] if lost.size else (chosen_row.size if direction > 0 else -1)
+    return slice(start, end) if direction > 0 else slice(end + 1, start + 1)
+
+
+def confidence(runs: Runs, chosen: np.ndarray, row: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per-column confidence of each trace (see the module notes) and each trace's width.
+
+    Returns
+    -------
+    confidence : numpy.ndarray
+        traces × columns, 0 in gaps.
+    width : numpy.ndarray
+        Typical extent of each trace where it runs flat. [px]
+    """
+    ok = chosen >= 0
+    idx = np.maximum(chosen, 0)
+    extent = np.where(ok, runs.hi[idx] - runs.lo[idx], np.nan)
+    with np.errstate(invalid="ignore"):
+        slope = np.abs(_slope(row))
+    flat = ok & (slope < 0.3)
+    width = np.array([np.median(extent[j][flat[j]]) if flat[j].any()
+                      else np.nanmedian(extent[j]) for j in range(len(chosen))])
+    expected = width[:, None] * np.sqrt(1 + np.nan_to_num(slope) ** 2) + np.nan_to_num(slope)
+    ratio = (np.nan_to_num(extent) - 1) / expected
+    shape = np.clip(2.5 - ratio, 0, 1)
+    snr = runs.peak[idx] / runs.noise
+    contrast = np.clip((snr - THRESHOLD_SIGMA) / (FULL_CONTRAST - THRESHOLD_SIGMA), 0, 1)
+    clear = np.ones(chosen.shape)
+    counts = runs.counts
+    crowded = np.flatnonzero(counts > 1)
+    for j in range(len(chosen)):
+        cols = crowded[ok[j, crowded]]
+        mine = chosen[j, cols]
+        gaps = np.full(cols.size, np.inf)
+        for side in (-1, 1):
+            other = mine + side
+            inside = (other >= runs.starts[cols]) & (other < runs.starts[cols + 1])
+            o = other[inside]
+            gap = np.where(side < 0, runs.lo[mine[inside]] - runs.hi[o],
+                           runs.lo[o] - runs.hi[mine[inside]])
+            gaps[inside] = np.minimum(gaps[inside], gap)
+        clear[j, cols] = np.clip(gaps / np.maximum(width[j], 1.0), 0, 1)
+    return np.where(ok, contrast * shape * clear, 0.0), width
+
+
+def _slope(row: np.ndarray) -> np.ndarray:
+    """Rows per column by central differences, one-sided at a gap's edges, NaN in gaps."""
+    left = np.full_like(row, np.nan)
+    right = np.full_like(row, np.nan)
+    left[:, 1:] = row[:, 1:] - row[:, :-1]
+    right[:, :-1] = row[:, 1:] - row[:, :-1]
+    both = np.where(np.isnan(left), right, np.where(np.isnan(right), left, (left + right) / 2))
+    return np.where(np.isnan(row), np.nan, both)
