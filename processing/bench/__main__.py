@@ -19,9 +19,9 @@ import argparse  # noqa: E402  (numpy's thread pools are sized when it is first 
 import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from . import speed  # noqa: E402
+from . import damper, paper, speed, torsion, valve  # noqa: E402
 
-TOPICS = {"speed": speed}
+TOPICS = {"speed": speed, "torsion": torsion, "damper": damper, "valve": valve, "paper": paper}
 """The benchmark topics, by name."""
 
 
