@@ -202,7 +202,12 @@ def _synth(args) -> int:
     takes = inspect.signature(write).parameters
     given = {name: value for name, value in
              (("fmt", args.format), ("snr_db", args.snr), ("pitch_error_deg", args.pitch_error),
-              ("sample_rate", None if args.sample_rate is None else args.sample_rate * 1e3))
+              ("sample_rate", None if args.sample_rate is None else args.sample_rate * 1e3),
+              ("runs", args.runs), ("friction", args.friction),
+              ("contact", None if args.contact is None else args.contact * 1e-6),
+              ("lash", None if args.lash is None else args.lash * 1e-6),
+              ("periods", args.periods), ("amplitude_exponent", args.amplitude_exponent),
+              ("paper", args.paper or None))
              if value is not None}
     foreign = [name for name in given if name not in takes]
     if foreign:
@@ -261,6 +266,16 @@ def parser() -> argparse.ArgumentParser:
     syn.add_argument("--pitch-error", type=float,
                      help="lab 3: σ of the wheel's tooth angles, degrees (default 0.03)")
     syn.add_argument("--sample-rate", type=float, help="sample rate, kHz")
+    syn.add_argument("--runs", type=int, help="lab 5, lab 9: number of loading runs")
+    syn.add_argument("--friction", type=float, help="lab 5: friction in the joints, N")
+    syn.add_argument("--contact", type=float,
+                     help="lab 5: contact deformation at 1000 N, µm (stiffening table)")
+    syn.add_argument("--lash", type=float, help="lab 5: lash taken up first, µm")
+    syn.add_argument("--periods", type=float, help="lab 9: decay record length, periods")
+    syn.add_argument("--amplitude-exponent", type=float,
+                     help="lab 9: p in δ(A) = δ₀·(A/φ₀)^p (0: linear damping)")
+    syn.add_argument("--paper", action="store_true",
+                     help="lab 9: maxima read off a paper record instead of a recording")
     syn.set_defaults(func=_synth)
     return p
 
