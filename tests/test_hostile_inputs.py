@@ -26,8 +26,12 @@ SAMPLES = {
     "lab1": ROOT / "sample_data" / "lab1" / "flywheel.toml",
     "lab2": ROOT / "sample_data" / "lab2" / "conrod.toml",
     "lab3": ROOT / "sample_data" / "lab3" / "engine_2regimes.toml",
+    "lab5": ROOT / "sample_data" / "lab5" / "valve_train.toml",
+    "lab7": ROOT / "sample_data" / "lab7" / "lab7_seed7.toml",
     "lab8": ROOT / "sample_data" / "lab8" / "d120.toml",
     "lab8-inline4": ROOT / "sample_data" / "lab8" / "inline4.toml",
+    "lab9": ROOT / "sample_data" / "lab9" / "synthetic_damper.toml",
+    "lab9-table": ROOT / "sample_data" / "lab9" / "table1.toml",
     "dyncalc": ROOT / "sample_data" / "dyncalc" / "car_petrol.toml",
     "dyncalc-diesel": ROOT / "sample_data" / "dyncalc" / "marine_diesel.toml",
 }
@@ -303,6 +307,34 @@ def _lab3(regime: dict, **wheel) -> dict:
 def test_bad_recording(tmp_path, capsys, name, problem):
     _recordings(tmp_path)
     run_bad(tmp_path, capsys, _lab3({"signal": name}), "regime[0].signal", problem,
+            blamed=tmp_path / name)
+
+
+READER_FAULTS = [r for r in RECORDINGS if r[0] not in ("flat.csv", "two.h5")]
+"""The faults any lab's reader finds, whatever the recording is of."""
+
+
+def _with_record(sample: str, where: str, name: str) -> dict:
+    """The sample with its first record (``section[0].key`` or ``section.key``) replaced, and
+    what the sample says of its channels and rate dropped (the file's own are read)."""
+    data = parsed(sample)
+    section, key = where.split(".")
+    holder = data[section.removesuffix("[0]")]
+    holder = holder[0] if section.endswith("[0]") else holder
+    for told in ("sample_rate", "channel", "marks_channel"):
+        holder.pop(told, None)
+    holder[key] = name
+    return data
+
+
+@pytest.mark.parametrize("sample, where", [("lab7", "record[0].signal"),
+                                           ("lab9", "decay.signal")])
+@pytest.mark.parametrize("name, problem", [pytest.param(*r, id=r[0]) for r in READER_FAULTS])
+def test_bad_recording_of_other_labs(tmp_path, capsys, sample, where, name, problem):
+    _recordings(tmp_path)
+    if (sample, name) == ("lab7", "corrupt.h5"):  # lab 7 looks for its TDC channel first
+        problem = r"no dataset 'tdc'"
+    run_bad(tmp_path, capsys, _with_record(sample, where, name), where, problem,
             blamed=tmp_path / name)
 
 
