@@ -17,10 +17,12 @@ from pathlib import Path
 from processing import __version__
 from processing.diagnostics import InputError
 from processing.reporting.i18n import LANGS
-from processing.reporting.render import FORMATS, to_json, to_terminal, write_reports
 
-from . import lab3_speed_irregularity
+from .catalogue import CATALOGUE
 from .registry import LABS, evaluate, lab_module
+
+# The report engine (matplotlib, pandas, pint) and the labs are imported where they are used,
+# so that `dynlab list` and `--help` answer at once.
 
 EXIT_INPUT = 2
 
@@ -33,6 +35,8 @@ def _seed(text: str) -> int:
 
 
 def _formats(text: str) -> tuple[str, ...]:
+    from processing.reporting.render import FORMATS
+
     fmts = tuple(f.strip() for f in text.split(",") if f.strip())
     bad = [f for f in fmts if f not in FORMATS]
     if bad or not fmts:
@@ -50,6 +54,8 @@ def _progress(items, desc: str):
 
 def _write(result, out: Path, stem: str, formats, lang: str) -> list[Path]:
     """:func:`write_reports`, with an unwritable ``--out`` reported as bad input."""
+    from processing.reporting.render import write_reports
+
     try:
         return write_reports(result, out, stem, formats, lang)
     except OSError as exc:
@@ -92,6 +98,8 @@ def _unique(files) -> list[str]:
 def _run_files(files, out: Path | None, formats, lang: str, as_json: bool,
                confine: bool = False) -> int:
     """Reduce each file; write its reports to ``out`` (None: write nothing)."""
+    from processing.reporting.render import to_json, to_terminal
+
     failures, documents = 0, []
     files = _unique(files)
     for path, stem in _progress(list(zip(files, _stems(files))), "reducing"):
@@ -116,6 +124,8 @@ def _run_files(files, out: Path | None, formats, lang: str, as_json: bool,
 
 
 def _run(args) -> int:
+    from processing.reporting.render import FORMATS
+
     writes = not args.json or args.out is not None or args.format is not None
     out = Path(args.out or "reports") if writes else None
     return _run_files(args.files, out, args.format or FORMATS, args.lang, args.json,
@@ -136,6 +146,8 @@ def _sample_dir(given: str | None) -> Path:
 
 
 def _demo(args) -> int:
+    from processing.reporting.render import FORMATS, to_terminal
+
     data = _sample_dir(args.data)
     files = sorted(data.glob("*/*.toml"))
     out = Path(args.out)
@@ -188,8 +200,8 @@ def _kinematics(args) -> int:
 
 
 def _list(_args) -> int:
-    for lab_id, module in LABS.items():
-        print(f"{lab_id:8} {module.SPEC.title['en']}  /  {module.SPEC.title['ru']}")
+    for lab_id, entry in CATALOGUE.items():
+        print(f"{lab_id:8} {entry.title['en']}  /  {entry.title['ru']}")
     return 0
 
 
@@ -198,7 +210,11 @@ def _synth(args) -> int:
     is bad input."""
     import inspect
 
-    write = LABS[args.lab].write_synthetic
+    write = getattr(LABS[args.lab], "write_synthetic", None)
+    if write is None:
+        scenes = [k for k, m in LABS.items() if hasattr(m, "write_synthetic")]
+        raise InputError(f"{args.lab} has no synthetic scene yet",
+                         f"use one of {', '.join(scenes)}")
     takes = inspect.signature(write).parameters
     given = {name: value for name, value in
              (("fmt", args.format), ("snr_db", args.snr), ("pitch_error_deg", args.pitch_error),
@@ -257,11 +273,11 @@ def parser() -> argparse.ArgumentParser:
     kin.add_argument("--format", choices=("table", "csv"), default="table")
     kin.set_defaults(func=_kinematics)
     syn = sub.add_parser("synth", help="write a synthetic measurement with its answer key")
-    syn.add_argument("lab", choices=[k for k, m in LABS.items() if hasattr(m, "write_synthetic")])
+    syn.add_argument("lab", choices=tuple(CATALOGUE))
     syn.add_argument("--seed", type=_seed, default=0)
     syn.add_argument("--out", default="synthetic", help="folder to write (default: synthetic)")
-    syn.add_argument("--format", choices=lab3_speed_irregularity.SYNTH_FORMATS,
-                     help="lab 3: recording format (default wav)")
+    syn.add_argument("--format", help="labs 3 and 7: recording format, wav, csv or h5 (lab 3's "
+                     "default wav, lab 7's csv)")
     syn.add_argument("--snr", type=float, help="sensor SNR, dB")
     syn.add_argument("--pitch-error", type=float,
                      help="lab 3: σ of the wheel's tooth angles, degrees (default 0.03)")

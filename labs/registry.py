@@ -1,18 +1,35 @@
 """Which labs exist, and running one measurement file through its lab."""
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping
+from importlib import import_module
 from pathlib import Path
+from types import ModuleType
+from typing import TYPE_CHECKING
 
 from processing.diagnostics import InputError, collect_notices
-from processing.measurement import load, read_toml
-from processing.result import LabResult
 
-from . import (dyncalc, lab1_inertia, lab2_conrod, lab3_speed_irregularity, lab5_valve_stiffness,
-               lab7_torsiograph, lab8_balancing, lab9_damper)
+from .catalogue import CATALOGUE
 
-LABS = {m.SPEC.id: m for m in (lab1_inertia, lab2_conrod, lab3_speed_irregularity,
-                                 lab5_valve_stiffness, lab7_torsiograph, lab8_balancing,
-                                 lab9_damper, dyncalc)}
+if TYPE_CHECKING:
+    from processing.result import LabResult
+
+
+class _Labs(Mapping):
+    """The lab modules by id, each imported when first asked for."""
+
+    def __getitem__(self, lab_id: str) -> ModuleType:
+        return import_module(CATALOGUE[lab_id].module)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(CATALOGUE)
+
+    def __len__(self) -> int:
+        return len(CATALOGUE)
+
+
+LABS = _Labs()
+"""Every lab's module, by its id (:data:`labs.catalogue.CATALOGUE`)."""
 
 
 def lab_module(lab_id: str, file: str | None = None):
@@ -29,6 +46,8 @@ def evaluate(path: str | Path, *, confine: bool = False, **options) -> LabResult
 
     ``confine`` keeps every file the measurement names inside its folder (see
     :func:`processing.measurement.load`)."""
+    from processing.measurement import load, read_toml  # pint and numpy: only when reducing
+
     data = read_toml(path)
     lab_id = data.get("lab")
     if lab_id is None:

@@ -10,8 +10,6 @@ import contextlib
 import warnings
 from dataclasses import dataclass
 
-import numpy as np
-
 
 class DynlabWarning(UserWarning):
     """Base of the toolkit's warnings: suspect data or a method near its limits.
@@ -299,11 +297,15 @@ class InputError(ValueError):
 
 def first(values) -> float:
     """The first element of an array of offending values, for a message."""
+    import numpy as np  # here, not above: the command line's list and help need no numpy
+
     return float(np.ravel(values)[0])
 
 
 def check_positive(name: str, value, unit: str) -> None:
     """Raise :class:`InputError` unless every element of ``value`` is > 0."""
+    import numpy as np
+
     bad = ~(np.asarray(value, dtype=float) > 0)
     if np.any(bad):
         raise InputError(f"{name} must be > 0 {unit}, got {first(np.asarray(value)[bad]):g}",

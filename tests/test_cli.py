@@ -17,6 +17,7 @@ import pytest
 
 from cli_contract import LAB1, LAB2, assert_one_clear_error, dump_toml, run, sample
 from labs.cli import main
+from labs.registry import LABS
 
 
 # ----------------------------------------------------------------------- bad measurement files
@@ -391,3 +392,24 @@ def test_version(capsys):
     with pytest.raises(SystemExit) as done:
         main(["--version"])
     assert done.value.code == 0 and re.fullmatch(r"dynlab \d+\.\d+\.\d+\S*\n", capsys.readouterr().out)
+
+
+@pytest.mark.parametrize("argv", [["list"], ["--help"], ["run", "--help"]])
+def test_list_and_help_import_no_lab_and_no_numerics(argv):
+    """``dynlab list`` and ``--help`` answer at once: no lab, numpy or report engine is loaded
+    (importing them is what took a second before)."""
+    code = "\n".join([
+        "import sys", "from labs.cli import main", "try:", f"    main({argv!r})",
+        "except SystemExit:", "    pass",
+        "heavy = ('numpy', 'pandas', 'matplotlib', 'pint', 'labs.lab1_inertia')",
+        "print('loaded:', [m for m in heavy if m in sys.modules])"])
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True)
+    assert done.stdout.strip().endswith("loaded: []"), done.stdout[-300:]
+
+
+def test_list_names_every_registered_lab_with_its_specs_title(capsys):
+    assert main(["list"]) == 0
+    out = capsys.readouterr().out
+    for lab_id, module in LABS.items():
+        assert f"{lab_id:8} {module.SPEC.title['en']}  /  {module.SPEC.title['ru']}" in out

@@ -15,7 +15,6 @@ import numpy as np
 import pytest
 
 from labs import lab5_valve_stiffness as lab5
-from labs import registry
 from labs.cli import main
 from processing.diagnostics import InputError, collect_notices
 from processing.measurement import load, template
@@ -351,7 +350,6 @@ def test_a_spring_table_without_its_lift_and_a_lone_l_are_refused(tmp_path):
 
 def test_cli_refuses_a_bad_table_with_exit_2_and_writes_nothing(tmp_path, monkeypatch,
                                                                 capsys):
-    monkeypatch.setitem(registry.LABS, "lab5", lab5)
     path = write(tmp_path, sheet(swap_rows(RUN, 4, 5)))
     out = tmp_path / "reports"
     assert main(["run", str(path), "--out", str(out)]) == 2
@@ -399,7 +397,6 @@ def test_answer_key_is_the_programmes_stiffness_with_contact():
 
 
 def test_synth_and_run_through_the_command(tmp_path, monkeypatch, capsys):
-    monkeypatch.setitem(registry.LABS, "lab5", lab5)
     assert main(["synth", "lab5", "--seed", "4", "--out", str(tmp_path)]) == 0
     written = capsys.readouterr().out.split()
     assert [Path(p).name for p in written] == ["lab5_seed4.toml", "answer_key.json"]

@@ -13,7 +13,6 @@ import numpy as np
 import pytest
 
 from labs import lab9_damper as lab9
-from labs import registry
 from labs.cli import main
 from processing.diagnostics import InputError, collect_notices
 from processing.loops import loop_area
@@ -270,7 +269,6 @@ def test_record_without_three_peaks_is_refused_at_the_record(tmp_path):
 
 
 def test_cli_refuses_bad_input_with_exit_2_and_writes_nothing(tmp_path, monkeypatch, capsys):
-    monkeypatch.setitem(registry.LABS, "lab9", lab9)
     path = measurement(tmp_path, RUN.format("2.69, 6.15, 9.91, 12.12, 10.89, 7.90, 4.58, 0.09")
                        .replace("90, 0]", "90, 5]"))
     out = tmp_path / "reports"
