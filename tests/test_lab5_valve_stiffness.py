@@ -16,6 +16,7 @@ import pytest
 
 from labs import lab5_valve_stiffness as lab5
 from labs.cli import main
+from labs.registry import evaluate
 from processing.diagnostics import InputError, collect_notices
 from processing.measurement import load, template
 from processing.reporting.render import render
@@ -36,13 +37,8 @@ TABLE_WARNINGS = {"gauge_backwards", "table_curvature", "large_hysteresis",
 
 
 def reduce(path, **options):
-    """Load and reduce like ``dynlab run`` (warnings of both steps kept)."""
-    with collect_notices() as notices:
-        inputs = load(path, lab5.SPEC)
-    result = lab5.reduce(inputs, **{**FAST, **options})
-    result.check_sense()
-    result.warnings = notices + result.warnings
-    return result
+    """Load and reduce like ``dynlab run``, with fewer Monte Carlo draws."""
+    return evaluate(path, **{**FAST, **options})
 
 
 def codes(result):

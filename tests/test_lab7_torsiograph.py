@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 
 from labs import lab7_torsiograph as lab7
-from processing.diagnostics import InputError, collect_notices
+from labs.registry import evaluate
+from processing.diagnostics import InputError
 from processing.measurement import load, template
 from processing.reporting.render import render
 from processing.signals import write_csv
@@ -27,13 +28,8 @@ SMALL = dict(speeds=(1400.0, 1600.0), step=100.0, fine=50.0, revolutions=8, chai
 
 
 def reduce(path, **options):
-    """Load and reduce like ``dynlab run`` (warnings of both steps kept)."""
-    with collect_notices() as notices:
-        inputs = load(path, lab7.SPEC)
-    result = lab7.reduce(inputs, **{**FAST, **options})
-    result.check_sense()
-    result.warnings = notices + result.warnings
-    return result
+    """Load and reduce like ``dynlab run``, with fewer Monte Carlo draws."""
+    return evaluate(path, **{**FAST, **options})
 
 
 def codes(result):

@@ -14,9 +14,9 @@ import pytest
 
 from labs import lab9_damper as lab9
 from labs.cli import main
-from processing.diagnostics import InputError, collect_notices
+from labs.registry import evaluate
+from processing.diagnostics import InputError
 from processing.loops import loop_area
-from processing.measurement import load
 from processing.reporting.render import render
 from processing.synth.damper import RubberLayer
 
@@ -29,13 +29,8 @@ KEYED = ("C_static", "E_max", "E_loss", "xi_static", "log_decrement", "T_d", "om
 
 
 def reduce(path, **options):
-    """Load and reduce like ``dynlab run`` (warnings of both steps kept)."""
-    with collect_notices() as notices:
-        inputs = load(path, lab9.SPEC)
-    result = lab9.reduce(inputs, **{**FAST, **options})
-    result.check_sense()
-    result.warnings = notices + result.warnings
-    return result
+    """Load and reduce like ``dynlab run``, with fewer Monte Carlo draws."""
+    return evaluate(path, **{**FAST, **options})
 
 
 def codes(result):
