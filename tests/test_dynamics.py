@@ -481,3 +481,26 @@ def test_input_checks_name_the_parameter_and_the_fix():
         dyn.crank_angle_from_volume([1e-3, 2e-3], 1e-3, 16.0, LAM)
     with pytest.raises(ValueError, match=r"lambda_ must be in \(0, 1\), got 1.3"):
         dyn.brix_offset(0.06, 1.3)
+
+
+def test_largest_lobe_across_the_end_of_the_period():
+    """M − M_mean = 40 sin(α + 30°) is above its mean from 330° to 150° of the next turn: one
+    lobe of area 2·40 = 80 J that wraps round the period's end, and the swing of E is it."""
+    alpha = np.radians(np.arange(0.0, 360.0, 0.25))
+    swing = dyn.excess_work(alpha, 100 + 40 * np.sin(alpha + np.radians(30)), period=2 * np.pi)
+    assert swing.lobe_work == pytest.approx(80.0, rel=1e-5)
+    assert swing.work == pytest.approx(swing.lobe_work, rel=1e-9)
+    np.testing.assert_allclose(np.degrees([swing.lobe_start, swing.lobe_end]), [330, 510],
+                               atol=1e-9)
+
+
+def test_largest_lobe_of_several_is_below_the_swing():
+    """sin α + 2 sin 3α = s(7 − 8s²) dips below zero round 90°: two lobes of
+    ∫₀^α₁ = 1 − cos α₁ + (2/3)(1 − cos 3α₁) each (sin²α₁ = 7/8) under one swing of E of
+    2 + 4/3 from 0° to 180°, which the largest lobe understates."""
+    alpha = np.radians(np.arange(0.0, 360.0, 0.05))
+    swing = dyn.excess_work(alpha, 5 + np.sin(alpha) + 2 * np.sin(3 * alpha), period=2 * np.pi)
+    a1 = np.arcsin(np.sqrt(7 / 8))
+    assert swing.lobe_work == pytest.approx(1 - np.cos(a1) + 2 / 3 * (1 - np.cos(3 * a1)),
+                                            rel=1e-5)
+    assert swing.work == pytest.approx(2 + 4 / 3, rel=1e-5)
