@@ -187,6 +187,8 @@ class DynamicCalculation(Record):
     p_i: float
     """Mean indicated pressure used for the analytic t_mean (given, or the cycle's). [Pa]"""
     p_i_given: bool
+    diagram_fullness: float
+    """φ_i, the rounded diagram's area over the calculated one's. [1]"""
     p_i_diagram: float
     """∮p dV / V_s of the sampled diagram. [Pa]"""
     t_mean_analytic: float
@@ -219,8 +221,8 @@ class DynamicCalculation(Record):
 
     @property
     def t_mean_discrepancy(self) -> float:
-        """(t_mean_diagram − t_mean_analytic)/t_mean_analytic. [1]"""
-        return self.t_mean_diagram / self.t_mean_analytic - 1.0
+        """(φ_i t_mean_diagram − t_mean_analytic)/t_mean_analytic. [1]"""
+        return self.diagram_fullness * self.t_mean_diagram / self.t_mean_analytic - 1.0
 
     @property
     def inertia_used(self) -> float:
@@ -253,9 +255,12 @@ class DynamicCalculation(Record):
             "M_max": float(self.torque_sum.max()), "M_min": float(self.torque_sum.min()),
             "N_i": self.excess.mean_torque * self.angular_speed,
             "mu_torque": self.mu_torque, "A_excess": self.excess.work,
+            "A_lobe": self.excess.lobe_work, "alpha_lobe_start": self.excess.lobe_start,
+            "alpha_lobe_end": self.excess.lobe_end,
             "I_total": self.inertia_total, "I_crank": self.inertia_crank,
             "I_flywheel": self.inertia_flywheel,
             "m_flywheel": rim.mass if rim else 0.0,
+            "mD2_flywheel": rim.mass * self.rim_diameter ** 2 if rim else 0.0,
             "v_rim": self.angular_speed * self.rim_diameter / 2,
             "delta_shortcut": self.delta_shortcut,
             "delta_integrated": self.speed.speed_irregularity,
@@ -328,7 +333,7 @@ def dynamic_calculation(*, p_a, p_z, compression_ratio, n1, n2, crank_radius, la
                         piston_area, angular_speed, cylinders, reciprocating_mass_per_area,
                         target_irregularity, rim_diameter, p_r=None, p_0=0.1e6,
                         pre_expansion_ratio=1.0, strokes=4, firing_order=None,
-                        mean_indicated_pressure=None, crank_inertia=None,
+                        mean_indicated_pressure=None, diagram_fullness=1.0, crank_inertia=None,
                         crank_inertia_share=None, flywheel_inertia=None, rim_speed_limit=70.0,
                         step_deg=STEP_DEG) -> DynamicCalculation:
     """The dynamic calculation of a multi-cylinder in-line engine, from the thermal
@@ -369,7 +374,13 @@ def dynamic_calculation(*, p_a, p_z, compression_ratio, n1, n2, crank_radius, la
         Cylinders in firing order, from 1 (the default 1, 2, … gives the same sum).
     mean_indicated_pressure : float, optional
         p_i of the thermal calculation for the analytic t_mean; default: the calculated
-        diagram's own (:func:`processing.dynamics.mean_indicated_pressure`). [Pa]
+        diagram's own (:func:`processing.dynamics.mean_indicated_pressure`) times
+        ``diagram_fullness``. [Pa]
+    diagram_fullness : float
+        φ_i, the fullness factor of the rounded indicator diagram (0.92–0.97 in coursework;
+        1: not rounded): the student's rounded diagram encloses φ_i of the calculated one's
+        area, so its mean tangential pressure is φ_i t_mean' and p_i = φ_i p_i'. The check
+        of t_mean compares like with like: φ_i t_mean' against p_i·i·k/π.
     crank_inertia : float, optional
         The crank train's own inertia I_crank. [kg·m²]
     crank_inertia_share : float, optional
@@ -453,15 +464,15 @@ def dynamic_calculation(*, p_a, p_z, compression_ratio, n1, n2, crank_radius, la
     t_sum = dyn.sum_cylinders(alpha, forces.tangential, phases, strokes=strokes)
     torque = t_sum * piston_area * crank_radius
     given = mean_indicated_pressure is not None
-    p_i = mean_indicated_pressure if given else dyn.mean_indicated_pressure(
+    p_i = mean_indicated_pressure if given else diagram_fullness * dyn.mean_indicated_pressure(
         p_a=p_a, p_z=p_z, compression_ratio=compression_ratio, n1=n1, n2=n2, p_r=p_r,
         pre_expansion_ratio=pre_expansion_ratio, strokes=strokes)
     p_i_diagram = dyn.diagram_mean_pressure(alpha, gas, lambda_, strokes=strokes)
     t_analytic = dyn.mean_tangential_pressure(p_i, cylinders, strokes=strokes)
     t_diagram = dyn.mean_torque(alpha, t_sum, period=cycle)
-    gap = t_diagram / t_analytic - 1.0
+    gap = diagram_fullness * t_diagram / t_analytic - 1.0
     if abs(gap) >= T_MEAN_TOLERANCE:
-        _warn_discrepancy(gap, p_i, p_i_diagram, given)
+        _warn_discrepancy(gap, p_i, p_i_diagram, given, diagram_fullness)
     excess = dyn.excess_work(alpha, torque, period=cycle)
     mu = dyn.torque_nonuniformity(alpha, torque, period=cycle)
     total = dyn.required_inertia(excess.work, angular_speed, target_irregularity)
@@ -493,6 +504,7 @@ def dynamic_calculation(*, p_a, p_z, compression_ratio, n1, n2, crank_radius, la
                                      lambda_),
         brix_offset=dyn.brix_offset(crank_radius, lambda_),
         tangential_sum=t_sum, torque_sum=torque, p_i=p_i, p_i_given=given,
+        diagram_fullness=diagram_fullness,
         p_i_diagram=p_i_diagram, t_mean_analytic=t_analytic, t_mean_diagram=t_diagram,
         excess=excess, mu_torque=mu, target_irregularity=target_irregularity,
         inertia_total=total, inertia_crank=crank, inertia_flywheel=flywheel,
@@ -501,22 +513,28 @@ def dynamic_calculation(*, p_a, p_z, compression_ratio, n1, n2, crank_radius, la
         speed=dyn.crank_speed_cycle(alpha, torque, inertia_used, angular_speed, period=cycle))
 
 
-def _warn_discrepancy(gap, p_i, p_i_diagram, given):
+def _warn_discrepancy(gap, p_i, p_i_diagram, given, fullness):
     src_en = "the p_i given" if given else "the cycle's p_i"
     src_ru = "заданное p_i" if given else "p_i цикла"
+    if fullness == 1.0:
+        hint_en = ("the calculated diagram here is not rounded, so a p_i reduced by the "
+                   "fullness factor φ_i shows up as a gap (give cycle.phi_i)")
+        hint_ru = ("расчётная диаграмма здесь не скруглена, поэтому p_i, уменьшенное на "
+                   "коэффициент полноты φ_i, даёт расхождение (укажите cycle.phi_i)")
+    else:
+        hint_en = f"the fullness factor φ_i = {fullness:g} is taken into account"
+        hint_ru = f"коэффициент полноты φ_i = {fullness:g} учтён"
     warnings.warn(MeanPressureDiscrepancyWarning(
         f"the mean of the summed tangential force differs from p_i·i·k/π by {100 * gap:+.1f} % "
         f"(coursework accepts < {100 * T_MEAN_TOLERANCE:g} %): {src_en} is "
         f"{p_i / 1e6:.4g} MPa, the diagram's own ∮p dV/V_s is {p_i_diagram / 1e6:.4g} MPa. "
-        f"Check that p_i is the indicated (not effective) pressure of this cycle; the "
-        f"calculated diagram here is not rounded, so a p_i reduced by the fullness factor "
-        f"φ_i also shows up as a gap; check ε, n₁, n₂, ρ, p_z, i and the stroke type",
+        f"Check that p_i is the indicated (not effective) pressure of this cycle; {hint_en}; "
+        f"check ε, n₁, n₂, ρ, p_z, i and the stroke type",
         f"среднее суммарной тангенциальной силы отличается от p_i·i·k/π на {100 * gap:+.1f} % "
         f"(в курсовой допускается < {100 * T_MEAN_TOLERANCE:g} %): {src_ru} равно "
         f"{p_i / 1e6:.4g} МПа, а ∮p dV/V_s самой диаграммы — {p_i_diagram / 1e6:.4g} МПа. "
-        f"Проверьте, что p_i — индикаторное (не эффективное) давление этого цикла; "
-        f"расчётная диаграмма здесь не скруглена, поэтому p_i, уменьшенное на коэффициент "
-        f"полноты φ_i, тоже даёт расхождение; проверьте ε, n₁, n₂, ρ, p_z, i и тактность"))
+        f"Проверьте, что p_i — индикаторное (не эффективное) давление этого цикла; {hint_ru}; "
+        f"проверьте ε, n₁, n₂, ρ, p_z, i и тактность"))
 
 
 # -------------------------------------------------------------------- the measurement file
@@ -582,6 +600,10 @@ SPEC = LabSpec(
             Field("p_i", bi("mean indicated pressure (default: that of the diagram)",
                             "среднее индикаторное давление (по умолчанию — по диаграмме)"),
                   **PRESSURE, symbol="p_i", required=False),
+            Field("phi_i", bi("fullness factor of the rounded diagram, p_i = φ_i p_i' (1: not "
+                              "rounded)", "коэффициент полноты скруглённой диаграммы, "
+                              "p_i = φ_i p_i' (1 — без скругления)"), **RATIO, symbol="φ_i",
+                  default=1.0, maximum="1"),
         )),
         Section("geometry", bi("Crank mechanism", "Кривошипно-шатунный механизм"), required=True,
                 help=bi("Give the stroke S and the bore D, or S and the swept volume V_s.",
@@ -668,7 +690,12 @@ RESULTS = {
     "mu_torque": (bi("torque non-uniformity μ = (M_max − M_min)/M_mean (= the manual's K)",
                      "неравномерность крутящего момента μ = (M_max − M_min)/M_ср (= K методички)"),
                   "μ", ""),
-    "A_excess": (bi("excess work", "избыточная работа"), "A_изб", "J"),
+    "A_excess": (bi("excess work: the swing of ∫(M − M_mean)dα over the cycle",
+                    "избыточная работа: размах ∫(M − M_ср)dα за цикл"), "A_изб", "J"),
+    "A_lobe": (bi("largest single area of M above M_mean (the drawing's; ≤ A_excess)",
+                  "наибольшая площадь M над M_ср (по чертежу; ≤ A_изб)"), "F_изб", "J"),
+    "alpha_lobe_start": (bi("that area begins at", "начало этой площади"), "α₁", "deg"),
+    "alpha_lobe_end": (bi("that area ends at", "конец этой площади"), "α₂", "deg"),
     "I_total": (bi("total moment of inertia needed for δ", "потребный суммарный момент инерции"),
                 "I_0", "kg*m^2"),
     "I_crank": (bi("the crank train's own moment of inertia", "момент инерции КШМ"), "I_кшм",
@@ -677,8 +704,11 @@ RESULTS = {
                    "I_м", "kg*m^2"),
     "I_flywheel_chosen": (bi("flywheel moment of inertia chosen",
                              "момент инерции принятого маховика"), "I_м'", "kg*m^2"),
-    "m_flywheel": (bi("flywheel rim mass (thin rim)", "масса обода маховика (тонкий обод)"),
-                   "m_м", "kg"),
+    "m_flywheel": (bi("flywheel mass M = 4I_м/D² (all of it on the mean rim diameter, as "
+                      "coursework sizes it)", "масса маховика m_м = 4I_м/D² (вся на среднем "
+                      "диаметре обода, как в курсовой)"), "m_м", "kg"),
+    "mD2_flywheel": (bi("flywheel moment m_м D² = 4I_м", "маховой момент m_м D² = 4I_м"),
+                     "m_м D²", "kg*m^2"),
     "v_rim": (bi("rim peripheral speed πD n/60", "окружная скорость обода πD n/60"), "v_ок",
               "m/s"),
     "delta_shortcut": (bi("speed irregularity δ = A/(Iω²)", "неравномерность хода δ = A/(Iω²)"),
@@ -784,6 +814,7 @@ def _arguments(x: dict, inputs: Inputs) -> dict:
         p_a=x["cycle.p_a"], p_z=x["cycle.p_z"], compression_ratio=x["cycle.eps"],
         n1=x["cycle.n1"], n2=x["cycle.n2"], p_r=x.get("cycle.p_r"), p_0=x["cycle.p_0"],
         pre_expansion_ratio=x["cycle.rho"], mean_indicated_pressure=x.get("cycle.p_i"),
+        diagram_fullness=x["cycle.phi_i"],
         crank_radius=S / 2, lambda_=x["geometry.lambda"], piston_area=area,
         angular_speed=x["engine.n"], cylinders=i, strokes=inputs["engine"]["strokes"],
         firing_order=_firing_order(inputs["engine"].get("firing_order"), i),

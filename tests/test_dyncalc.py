@@ -255,3 +255,40 @@ def test_implausible_piston_speed_is_caught(make_inputs):
     assert "inconsistent_input" in _codes(res)
 
 
+
+
+def test_fullness_factor_compares_the_rounded_diagram_with_its_own_p_i(make_inputs):
+    """A student's p_i is φ_i of the calculated diagram's (the diagram is rounded). Given as is,
+    it opens a gap of 1/φ_i − 1 in the t_mean check that is the model's, not the student's;
+    with φ_i given the gap is the unrounded one again. Without p_i, φ_i scales p_i and leaves
+    the check unchanged."""
+    plain = _reduce(make_inputs, _data(), n_samples=200)
+    p_i_calc = plain["p_i"].value
+    gap0 = plain["t_mean_discrepancy"].value
+    rounded = {"cycle__p_i": f"{0.95 * p_i_calc} Pa"}
+    slipped = _reduce(make_inputs, _data(**rounded), n_samples=200)
+    assert slipped["t_mean_discrepancy"].value == pytest.approx((1 + gap0) / 0.95 - 1, rel=1e-9)
+    assert "t_mean_discrepancy" in _codes(slipped)
+    fair = _reduce(make_inputs, _data(**rounded, cycle__phi_i=0.95), n_samples=200)
+    assert fair["t_mean_discrepancy"].value == pytest.approx(gap0, abs=1e-12)
+    assert "t_mean_discrepancy" not in _codes(fair)
+    scaled = _reduce(make_inputs, _data(cycle__phi_i=0.95), n_samples=200)
+    assert scaled["p_i"].value == pytest.approx(0.95 * p_i_calc, rel=1e-12)
+    assert scaled["t_mean_discrepancy"].value == pytest.approx(gap0, abs=1e-12)
+
+
+def test_a_design_calculation_prints_no_uncertainty_columns(tmp_path):
+    """Every coursework input is exact: the report says so once instead of columns of ± 0."""
+    res = dc.reduce(load(SAMPLES / "car_petrol.toml", dc.SPEC), n_samples=200)
+    written = write_reports(res, tmp_path, "car", ("html",), "en")
+    html = written[0].read_text(encoding="utf-8")
+    assert "taken as exact" in html and "<th>u</th>" not in html and "95 %" not in html
+    for name in ("A_lobe", "alpha_lobe_start", "alpha_lobe_end", "mD2_flywheel"):
+        assert f"<code>{name}</code>" in html
+
+
+def test_largest_area_and_flywheel_moment_of_the_samples():
+    res = dc.reduce(load(SAMPLES / "marine_diesel.toml", dc.SPEC), n_samples=200)
+    assert 0 < res["A_lobe"].value <= res["A_excess"].value * (1 + 1e-12)
+    assert 0 <= res["alpha_lobe_start"].value < res["alpha_lobe_end"].value
+    assert res["mD2_flywheel"].value == pytest.approx(4 * res["I_flywheel"].value, rel=1e-12)

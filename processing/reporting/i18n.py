@@ -15,6 +15,8 @@ _TEXT = {
         "section": "Section", "symbol": "Symbol", "no_warnings": "None.",
         "uncertainty_note": "Uncertainties: GUM linear propagation, checked by Monte Carlo "
                             "(JCGM 101); U is expanded with k = 2.",
+        "exact_note": "Every input is taken as exact (a design calculation), so no "
+                      "uncertainty is stated.",
         "generated": "Made with dynlab",
     },
     "ru": {
@@ -31,6 +33,8 @@ _TEXT = {
         "symbol": "Обозн.", "no_warnings": "Нет.",
         "uncertainty_note": "Неопределённости: линейное распространение по GUM с проверкой "
                             "методом Монте-Карло (JCGM 101); U — расширенная, k = 2.",
+        "exact_note": "Все исходные данные приняты точными (проектный расчёт), поэтому "
+                      "неопределённости не указываются.",
         "generated": "Подготовлено в dynlab",
     },
 }

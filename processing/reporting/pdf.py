@@ -44,6 +44,31 @@ def _styles():
     }
 
 
+def _inputs_table(table, c, t, width):
+    """The inputs, with a u column only where some input carries one."""
+    u = c["inputs_uncertain"]
+    header = [t["section"], t["symbol"], t["quantity"], t["value"], *(["u"] if u else []),
+              t["unit"], t["readings"]]
+    rows = [[r["section"], r["symbol"], r["label"], r["value"], *([r["u"]] if u else []),
+             r["unit"], r["readings"]] for r in c["inputs"]]
+    widths = (0.11, 0.1, 0.29, 0.12, 0.1, 0.07, 0.21) if u else (0.11, 0.1, 0.34, 0.17, 0.07,
+                                                                   0.21)
+    return table(header, rows, [x * width for x in widths])
+
+
+def _results_table(table, c, t, width):
+    """The results; their uncertainty columns only where some result is uncertain."""
+    if not c["uncertain"]:
+        return table([t["quantity"], t["value"], t["unit"]],
+                     [[f"{r['label']} ({r['name']})", r["value"], r["unit"]]
+                      for r in c["results"]], [x * width for x in (0.6, 0.25, 0.15)])
+    return table([t["quantity"], t["value"], t["U"], t["unit"], t["rel"], t["interval"],
+                  t["budget"]],
+                 [[f"{r['label']} ({r['name']})", r["value"], r["U"], r["unit"], r["rel"],
+                   r["interval"], r["budget"]] for r in c["results"]],
+                 [x * width for x in (0.25, 0.11, 0.09, 0.08, 0.1, 0.17, 0.2)])
+
+
 def to_pdf(res, lang: str = "en", pngs=()) -> bytes:
     """The report as PDF bytes (A4 portrait)."""
     from reportlab.lib import colors
@@ -74,19 +99,10 @@ def to_pdf(res, lang: str = "en", pngs=()) -> bytes:
              p(f"{c['lab_heading']}. {c['title']}", "title")]
     story += [p(f"{k}: {v}", "center") for k, v in c["meta"]]
     story += [p(t["goal"], "h2"), p(c["goal"]), p(t["inputs"], "h2"),
-              table([t["section"], t["symbol"], t["quantity"], t["value"], "u", t["unit"],
-                     t["readings"]],
-                    [[r["section"], r["symbol"], r["label"], r["value"], r["u"], r["unit"],
-                      r["readings"]] for r in c["inputs"]],
-                    [x * width for x in (0.11, 0.1, 0.29, 0.12, 0.1, 0.07, 0.21)])]
+              _inputs_table(table, c, t, width)]
     story += [p(t["formulas"], "h2")] + [p("• " + f) for f in c["formulas"]]
-    story += [p(t["results"], "h2"),
-              table([t["quantity"], t["value"], t["U"], t["unit"], t["rel"], t["interval"],
-                     t["budget"]],
-                    [[f"{r['label']} ({r['name']})", r["value"], r["U"], r["unit"], r["rel"],
-                      r["interval"], r["budget"]] for r in c["results"]],
-                    [x * width for x in (0.25, 0.11, 0.09, 0.08, 0.1, 0.17, 0.2)]),
-              p(t["uncertainty_note"], "small")]
+    story += [p(t["results"], "h2"), _results_table(table, c, t, width),
+              p(t["uncertainty_note" if c["uncertain"] else "exact_note"], "small")]
     for tb in c["tables"]:
         story += [p(tb["title"], "h2"), table(tb["columns"], tb["rows"])]
     if c["comparisons"]:
