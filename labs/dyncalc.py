@@ -1022,6 +1022,15 @@ def _polytrope_table(calc: DynamicCalculation) -> Table:
         _rows(columns))
 
 
+SIGNS = bi("P, S and K are positive towards the crankshaft's axis (S compressing the rod), "
+           "T in the direction of rotation; N = P tg β follows P and β (β > 0 while the crank "
+           "goes from TDC to BDC)",
+           "P, S и K положительны, если направлены к оси коленчатого вала (S сжимает шатун), "
+           "T — по направлению вращения; N = P tg β по знаку следует P и β (β > 0, пока "
+           "кривошип идёт от ВМТ к НМТ)")
+"""The sign convention of the force tables (Kolchin's)."""
+
+
 def _force_tables(calc: DynamicCalculation) -> list[Table]:
     df = calc.force_table()
     alpha = [f"{a:.0f}" for a in df.alpha_deg]
@@ -1051,6 +1060,15 @@ def _force_tables(calc: DynamicCalculation) -> list[Table]:
                ("cab", bi("cos(α+β)/ cos β", "cos(α+β)/ cos β")), ("K", bi("K, kN", "K, кН")),
                ("sab", bi("sin(α+β)/ cos β", "sin(α+β)/ cos β")), ("T", bi("T, kN", "T, кН")),
                ("M", bi("M = TR, N·m", "M = TR, Н·м"))), _rows(crank)),
+        Table(bi(f"One cylinder every {TABLE_STEP_DEG:g}°: the same forces per unit piston "
+                 f"area, MPa (signs: {SIGNS['en']})",
+                 f"Один цилиндр через {TABLE_STEP_DEG:g}°: те же силы на единицу площади "
+                 f"поршня, МПа (знаки: {SIGNS['ru']})"),
+              (("a", bi("α, °", "α, °")), ("p", bi("p", "p")), ("N", bi("p_N", "p_N")),
+               ("S", bi("p_S", "p_S")), ("K", bi("p_K", "p_K")), ("T", bi("p_T", "p_T"))),
+              _rows({"a": alpha, "p": axis["p"],
+                     **{k: _column(df[k] / calc.piston_area / 1e6, decimals=3)
+                        for k in ("N", "S", "K", "T")}})),
     ]
 
 

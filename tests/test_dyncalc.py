@@ -237,7 +237,13 @@ def test_samples_reduce_and_render(tmp_path, name):
                 "delta_shortcut", "delta_integrated", "M_mean", "brix_OO", "AC", "BD", "EF"):
         assert key in doc["results"], key
     assert doc["lab"] == "dyncalc"
-    assert len(res.figures) == 7 and len(res.tables) == 4
+    assert len(res.figures) == 7 and len(res.tables) == 5
+    forces, specific = res.tables[2], res.tables[3]
+    area = res["F_p"].value
+    printed = 0.5e3 + 0.5e-3 * 1e6 * area   # kN to the column's digits, MPa to 3 decimals
+    np.testing.assert_allclose(np.array(_cells(specific, "T")) * 1e6 * area,
+                               np.array(_cells(forces, "T")) * 1e3, rtol=2e-3, atol=printed)
+    assert "towards the crankshaft's axis" in specific.title["en"]
 
 
 def test_speed_in_per_minute_means_revolutions(make_inputs):
