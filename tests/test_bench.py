@@ -17,6 +17,7 @@ from processing.bench.harness import (
     MapAxes,
     Method,
     Target,
+    coverage_targets,
     peak_memory,
     plot_error_time,
     plot_map,
@@ -260,3 +261,15 @@ def test_streamed_edges_equal_in_memory(tmp_path):
     assert np.isnan(rows[0]["error"]), "δ only for edges → δ"
     assert all(abs(r["error"]) < 0.05 for r in rows[1:3])
     assert list(cases) == [] and not case.data.path.exists(), "the file is deleted"
+
+
+@pytest.mark.parametrize("hits, n, passed", [
+    (198, 200, (True, True)),      # 0.99 of 200: consistent with a true 0.975
+    (4950, 5000, (True, False)),   # 0.99 of 5000: too wide, beyond the binomial scatter
+    (1700, 2000, (False, True)),   # 0.85 of 2000: too narrow
+    (940, 1000, (True, True)),
+])
+def test_coverage_is_judged_allowing_for_the_number_of_trials(hits, n, passed):
+    at_least, at_most = coverage_targets("x", np.arange(n) < hits)
+    assert (at_least.passed, at_most.passed) == passed
+    assert at_least.value == pytest.approx(hits / n)

@@ -45,15 +45,12 @@ from scipy import stats
 from ..decay import analyse_decay, find_peaks, log_decrement
 from ..regression import fit_line
 from ..synth.damper import Ring, StrainGauge, free_decay
-from .harness import (Case, Family, MapAxes, Method, Target, abs_error, environment,
-                      plot_error_time, plot_map, run_family, summary, write_rows,
-                      write_targets)
+from .harness import (Case, Family, MapAxes, Method, Target, abs_error, coverage_targets,
+                      environment, plot_error_time, plot_map, run_family, summary,
+                      write_rows, write_targets)
 
 DELTA_TOLERANCE = 0.02
 """δ target: |δ/δ_true − 1| in the target region, at the 95th percentile of its records."""
-
-COVERAGE = (0.90, 0.98)
-"""The stated 95 % interval must hold the truth in this share of the target region's records."""
 
 TARGET_SNR, TARGET_PERIODS = 30.0, 5.0
 """The target region: SNR ≥ 30 dB, records of ≥ 5 periods after the release."""
@@ -229,16 +226,11 @@ def targets(frame: pd.DataFrame) -> list[Target]:
             unit="relative", detail=f"{len(trace)} records; worst {err.max():.4g} at "
             f"{worst['snr_db']:g} dB, {worst['periods']:g} periods, δ {worst['decrement']:g}, "
             f"seed {worst['seed']:g}"))
-        covered = trace["covered"].astype(float).mean()
-        out.append(Target("δ, trace fit: its 95 % interval holds the truth (at least)",
-                          covered, COVERAGE[0], "min", detail=f"{len(trace)} records"))
-        out.append(Target("δ, trace fit: its 95 % interval holds the truth (at most)",
-                          covered, COVERAGE[1], detail="wider would be wasteful"))
+        out += coverage_targets("δ, trace fit", trace["covered"])
     gls = region[(region["method"] == "peaks GLS") & (region["failed"].fillna("") == "")]
     if not gls.empty:
-        out.append(Target("δ, line through the half ranges (GLS): 95 % interval holds the "
-                          "truth", gls["covered"].astype(float).mean(), COVERAGE[0], "min",
-                          detail=f"{len(gls)} records with ≥ 3 half ranges"))
+        out += coverage_targets("δ, line through the half ranges (GLS)", gls["covered"],
+                                "records with ≥ 3 half ranges")[:1]
     quiet = target_region(frame, "δ stability")
     quiet = quiet[quiet["method"] == "trace fit"]
     if not quiet.empty:

@@ -120,6 +120,45 @@ class Target:
         return text + (f"  {self.detail}" if self.detail else "")
 
 
+COVERAGE = (0.90, 0.98)
+"""The band a stated 95 % interval's coverage over seeded trials must fall in: below, U is too
+small; above, U is wider than it needs to be."""
+
+
+def coverage_targets(what: str, covered, trials: str = "records",
+                     band: tuple[float, float] = COVERAGE) -> list[Target]:
+    """The two coverage targets of a stated 95 % interval, allowing for the trials' number.
+
+    A share measured on n trials scatters by its binomial error: the band is widened by
+    1.96 √(0.95·0.05/n), so that 0.99 on 200 trials (consistent with a true 0.975) is not
+    called too wide, nor 0.87 on 60 too narrow; with many trials the band is the target's.
+
+    Parameters
+    ----------
+    what : str
+        The interval, e.g. ``"δ, trace fit"``.
+    covered : array_like of bool
+        Whether each trial's interval held the truth.
+    trials : str
+        What a trial is, for the detail ("records", "tables").
+    band : (float, float)
+
+    Returns
+    -------
+    list of Target
+        ``at least`` and ``at most``.
+    """
+    flags = np.asarray(covered, dtype=float)
+    n = flags.size
+    share = float(flags.mean()) if n else math.nan
+    margin = 1.96 * math.sqrt(0.95 * 0.05 / n) if n else 0.0
+    detail = f"{n} {trials}; band widened by ± {margin:.3f} for their number"
+    return [Target(f"{what}: its 95 % interval holds the truth (at least)", share,
+                   band[0] - margin, "min", detail=detail),
+            Target(f"{what}: its 95 % interval holds the truth (at most)", share,
+                   band[1] + margin, detail=detail + "; wider would be wasteful")]
+
+
 def time_call(call: Callable[[Any], Any], data, repeat: int = 3,
               budget: float = 0.5) -> tuple[float, Any]:
     """Best wall time of ``call(data)`` over ``repeat`` runs, and the last run's result.

@@ -45,14 +45,12 @@ from ..regression import fit_line
 from ..synth.valve_table import DialGauges, ValveTrain, stiffness_run
 from ..uncertainty import Measured, propagate
 from ..valve_train import stiffnesses
-from .harness import (Case, Family, MapAxes, Method, Target, abs_error, environment,
-                      plot_error_time, plot_map, run_family, summary, write_rows, write_targets)
+from .harness import (Case, Family, MapAxes, Method, Target, abs_error, coverage_targets,
+                      environment, plot_error_time, plot_map, run_family, summary,
+                      write_rows, write_targets)
 
 TOLERANCE = 0.04
 """|c/c_true − 1| the lab's method must keep in the target region, at the 95th percentile."""
-
-COVERAGE = (0.90, 0.98)
-"""The stated 95 % interval must hold the truth in this share of the target region's tables."""
 
 TARGET_SCATTER, TARGET_RESOLUTION, TARGET_FRICTION = 0.25, 1.0, 30.0
 """The target region: reading scatter 0.1–0.25 division (below 0.1 the rounding is no longer
@@ -218,11 +216,7 @@ def targets(frame: pd.DataFrame) -> list[Target]:
         out.append(Target("c, midway lines, target region: 95th percentile of |c/c_true − 1|",
                           float(np.quantile(err, 0.95)), TOLERANCE, unit="relative",
                           detail=f"{len(lab)} tables; worst {err.max():.4g}"))
-        covered = lab["covered"].astype(float).mean()
-        out.append(Target("c, midway lines: its 95 % interval holds the truth (at least)",
-                          covered, COVERAGE[0], "min", detail=f"{len(lab)} tables"))
-        out.append(Target("c, midway lines: its 95 % interval holds the truth (at most)",
-                          covered, COVERAGE[1], detail="wider would be wasteful"))
+        out += coverage_targets("c, midway lines", lab["covered"], "tables")
         rough = lab[lab["friction"] >= TARGET_FRICTION]
         if not rough.empty:
             out.append(Target(f"c, midway lines at {TARGET_FRICTION:g} N of friction: |median "
