@@ -7,31 +7,36 @@ writes those, and :func:`tomllib.loads` reads its output back to the same docume
 """
 from __future__ import annotations
 
+import json
 from collections.abc import Mapping
 
 import numpy as np
 
 
 def value_text(v) -> str:
-    """One TOML value: a number, a string (multi-line where it holds a line break), a bool
-    or an array of them.
+    """One TOML value: a number (exact, nan and inf included), a string (multi-line where it
+    holds a line break), a bool, an array of them or an inline table.
 
     Examples
     --------
     >>> value_text(0.1), value_text([1, 2.5]), value_text('850 ± 0.5 mm'), value_text(True)
     ('0.1', '[1, 2.5]', '"850 ± 0.5 mm"', 'true')
+    >>> value_text({"readings": [1, 2], "u": "1 g"}), value_text(float("nan"))
+    ('{ readings = [1, 2], u = "1 g" }', 'nan')
     """
     if isinstance(v, str) and "\n" in v:
         return '"""\n' + v.replace("\\", "\\\\").replace('"""', '\\"""') + '"""'
     if isinstance(v, str):
-        return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+        return json.dumps(v, ensure_ascii=False)  # a JSON string is a TOML basic string
+    if isinstance(v, Mapping):
+        return "{ " + ", ".join(f"{k} = {value_text(x)}" for k, x in v.items()) + " }"
     if isinstance(v, (list, tuple, np.ndarray)):
         return "[" + ", ".join(value_text(x) for x in v) + "]"
     if isinstance(v, (bool, np.bool_)):
         return "true" if v else "false"
     if isinstance(v, (int, np.integer)):
         return str(int(v))
-    return f"{float(v):.10g}"
+    return repr(float(v))
 
 
 def dumps(doc: Mapping) -> str:

@@ -1,7 +1,5 @@
 """What every test of the ``dynlab`` command shares: running it in-process, writing a
 measurement file from a dict, and the contract a rejected input must keep."""
-import json
-import math
 import re
 import tomllib
 from pathlib import Path
@@ -19,36 +17,6 @@ def run(capsys, *argv):
     code = main([str(a) for a in argv])
     cap = capsys.readouterr()
     return code, cap.out, cap.err
-
-
-def toml_value(v) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, float):
-        return "nan" if math.isnan(v) else ("inf" if v == math.inf else repr(v))
-    if isinstance(v, int):
-        return str(v)
-    if isinstance(v, str):
-        return json.dumps(v, ensure_ascii=False)  # a JSON string is a TOML basic string
-    if isinstance(v, list):
-        return "[" + ", ".join(toml_value(x) for x in v) + "]"
-    if isinstance(v, dict):
-        return "{ " + ", ".join(f"{k} = {toml_value(x)}" for k, x in v.items()) + " }"
-    raise TypeError(type(v))
-
-
-def dump_toml(data: dict) -> str:
-    """Just enough of a TOML writer for a measurement file: keys, [tables], [[arrays]]."""
-    lines = [f"{k} = {toml_value(v)}" for k, v in data.items()
-             if not isinstance(v, dict) and not (isinstance(v, list) and v
-                                                 and all(isinstance(x, dict) for x in v))]
-    for k, v in data.items():
-        if isinstance(v, dict):
-            lines += ["", f"[{k}]"] + [f"{kk} = {toml_value(vv)}" for kk, vv in v.items()]
-        elif isinstance(v, list) and v and all(isinstance(x, dict) for x in v):
-            for entry in v:
-                lines += ["", f"[[{k}]]"] + [f"{kk} = {toml_value(vv)}" for kk, vv in entry.items()]
-    return "\n".join(lines) + "\n"
 
 
 def sample(lab: str) -> dict:

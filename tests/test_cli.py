@@ -15,9 +15,10 @@ from pathlib import Path
 
 import pytest
 
-from cli_contract import LAB1, LAB2, assert_one_clear_error, dump_toml, run, sample
+from cli_contract import LAB1, LAB2, assert_one_clear_error, run, sample
 from labs.cli import main
 from labs.registry import LABS
+from processing.toml_writer import dumps
 
 
 # ----------------------------------------------------------------------- bad measurement files
@@ -104,7 +105,7 @@ def test_bad_value_gives_one_clear_error_and_no_report(tmp_path, capsys, lab, ed
     data = sample(lab)
     edit(data)
     bad = tmp_path / "student.toml"
-    bad.write_text(dump_toml(data), encoding="utf-8")
+    bad.write_text(dumps(data), encoding="utf-8")
     out_dir = tmp_path / "out"
     code, out, err = run(capsys, "run", bad, "--out", out_dir)
     assert_one_clear_error(code, out, err, bad, field, problem, out_dir)
@@ -160,7 +161,7 @@ def test_good_files_are_reported_even_when_one_is_bad(tmp_path, capsys):
     data = sample("lab1")
     data["trifilar"]["n_osc"] = 0
     bad = tmp_path / "bad_flywheel.toml"
-    bad.write_text(dump_toml(data), encoding="utf-8")
+    bad.write_text(dumps(data), encoding="utf-8")
     out_dir = tmp_path / "out"
     code, out, err = run(capsys, "run", bad, LAB2, "--out", out_dir, "--format", "json,html")
     assert code == 2, f"one bad file must make the exit code 2, got {code}\n{err}"
@@ -346,7 +347,7 @@ def test_negative_moment_about_the_centre_of_mass_is_an_input_error(tmp_path, ca
     data = sample("lab1")
     data["pendulum"]["c"] = 500.0   # pivot far beyond the radius of gyration: J_c < 0
     path = tmp_path / "bad_c.toml"
-    path.write_text(dump_toml(data), encoding="utf-8")
+    path.write_text(dumps(data), encoding="utf-8")
     code, out, err = run(capsys, "run", path, "--out", tmp_path / "out")
     assert_one_clear_error(code, out, err, path, "pendulum.c", "≤ 0", tmp_path / "out")
 

@@ -18,9 +18,10 @@ import h5py
 import numpy as np
 import pytest
 
-from cli_contract import ROOT, assert_one_clear_error, dump_toml, run
+from cli_contract import ROOT, assert_one_clear_error, run
 from labs.registry import LABS
 from processing.signals import write_hdf5, write_wav
+from processing.toml_writer import dumps
 
 SAMPLES = {
     "lab1": ROOT / "sample_data" / "lab1" / "flywheel.toml",
@@ -61,7 +62,7 @@ def run_bad(tmp_path, capsys, data_or_text, field, problem, *args, name="student
     ``blamed``, by default the measurement file)."""
     path = tmp_path / name
     if isinstance(data_or_text, dict):
-        path.write_text(dump_toml(data_or_text), encoding="utf-8")
+        path.write_text(dumps(data_or_text), encoding="utf-8")
     elif isinstance(data_or_text, bytes):
         path.write_bytes(data_or_text)
     else:
@@ -371,7 +372,7 @@ def _reported(tmp_path, capsys, data, *args, name="student.toml"):
     if isinstance(data, bytes):
         path.write_bytes(data)
     else:
-        path.write_text(dump_toml(data), encoding="utf-8")
+        path.write_text(dumps(data), encoding="utf-8")
     out_dir = tmp_path / "out"
     code, out, err = run(capsys, "run", path, "--out", out_dir, *args)
     assert code == 0, f"exit {code}\n{err}"
