@@ -47,6 +47,8 @@ from processing.measurement import Field, Inputs, LabSpec, Section, bi
 from processing.result import Figure, LabResult, Record, Table, flag_estimates, result_values
 from processing.uncertainty import Measured, propagate
 
+from . import catalogue
+
 T_MEAN_TOLERANCE = 0.03
 """Accepted relative discrepancy between the analytic and the diagram's mean tangential
 pressure (coursework practice: < 3 %)."""
@@ -544,8 +546,7 @@ RATIO = dict(unit="")
 
 SPEC = LabSpec(
     id="dyncalc", number="",
-    title=bi("Dynamic calculation of the crank mechanism",
-             "Динамический расчёт кривошипно-шатунного механизма"),
+    title=catalogue.title("dyncalc"),
     goal=bi("To build the calculated indicator diagram from the thermal calculation, find the "
             "gas and inertia forces and the forces in the crank train of one cylinder, sum the "
             "tangential forces of all cylinders in firing order, check the mean tangential "

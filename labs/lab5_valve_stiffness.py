@@ -47,7 +47,7 @@ from processing.uncertainty import Measured, propagate
 from processing.valve_train import (at_valve, cam_order, natural_frequency, part_deformations,
                                     reduced_mass, span_mass, stiffnesses)
 
-from . import lab5_valve_stiffness_report as report
+from . import catalogue, lab5_valve_stiffness_report as report
 from .lab5_valve_stiffness_report import PARTS, result_name
 
 GAUGES = ("dl1", "dl2", "dl3", "dl4")
@@ -86,8 +86,7 @@ LENGTH_UNITS = {"mm": "a length"}
 
 SPEC = LabSpec(
     id="lab5", number="5",
-    title=bi("Stiffness of the valve-train parts",
-             "Исследование жесткости деталей механизма газораспределения двигателя"),
+    title=catalogue.title("lab5"),
     goal=bi("To study the methods of measuring the stiffness of the valve-drive parts and to "
             "find the drive's lowest natural frequency.",
             "Изучить методы экспериментального исследования жесткости деталей привода клапана "

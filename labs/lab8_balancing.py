@@ -41,6 +41,8 @@ from processing.reporting.content import fmt_pm
 from processing.result import Figure, LabResult, Table, flag_estimates, result_values
 from processing.uncertainty import propagate
 
+from . import catalogue
+
 SPEED_LIMIT = 10000.0
 """n above this [min⁻¹] is queried: an engine of this lab does not turn so fast."""
 
@@ -273,8 +275,7 @@ def two_cylinder_layout(a, l2, l3, m_j, m_crank, m_web1, m_web2, m_pr=None):
 
 SPEC = LabSpec(
     id="lab8", number="8",
-    title=bi("Balancing a two-cylinder in-line engine",
-             "Исследование системы уравновешивания двухцилиндрового рядного двигателя"),
+    title=catalogue.title("lab8"),
     goal=bi("To analyse the balance of the two-cylinder D-120 diesel and to find the parameters of "
             "the mechanism that balances the moments of the centrifugal forces and of the "
             "first-order inertia forces.",
