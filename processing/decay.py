@@ -36,6 +36,7 @@ import numpy as np
 from scipy import optimize, stats
 from scipy.ndimage import uniform_filter1d
 
+from .half_range import neighbour_baseline
 from .regression import CurvatureTest, LineFit, curvature_test, fit_line
 from .result import Record
 from .uncertainty import Measured
@@ -219,11 +220,7 @@ def find_peaks(time, x, *, period: float | None = None, min_snr: float = PEAK_SN
         empty = np.array([])
         return Peaks(empty, empty, empty, empty, np.array([], bool), sigma, T0)
     tk, xk, sk = (np.array(c) for c in zip(*found))
-    half_range = np.full(tk.size, np.nan)
-    if tk.size >= 3:
-        w = (tk[1:-1] - tk[:-2]) / (tk[2:] - tk[:-2])
-        line = xk[:-2] + (xk[2:] - xk[:-2]) * w
-        half_range[1:-1] = 0.5 * np.abs(xk[1:-1] - line)
+    half_range = 0.5 * np.abs(xk - neighbour_baseline(tk, xk))
     used = np.zeros(tk.size, bool)
     spacing = np.diff(tk)
     typical = float(np.median(spacing)) if spacing.size else T0 / 2

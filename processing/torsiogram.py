@@ -36,6 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .diagnostics import InputError
+from .half_range import neighbour_baseline
 from .orders import OrderFit
 from .regression import LineFit, fit_line
 from .result import Record
@@ -387,11 +388,7 @@ def peak_amplitudes(position, x, threshold: float) -> Peaks:
     value, fractional = _refine(x, idx)
     step = (pos[-1] - pos[0]) / (pos.size - 1)
     s = pos[0] + fractional * step
-    base = np.full(idx.size, np.nan)
-    if idx.size >= 3:
-        s0, s1, s2 = s[:-2], s[1:-1], s[2:]
-        h0, h2 = value[:-2], value[2:]
-        base[1:-1] = h0 + (h2 - h0) * (s1 - s0) / (s2 - s0)
+    base = neighbour_baseline(s, value)
     return Peaks(position=s, value=value, kind=kind, baseline=base,
                  amplitude=0.5 * np.abs(value - base))
 
