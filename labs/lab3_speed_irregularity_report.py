@@ -9,15 +9,8 @@ import numpy as np
 
 from processing.angular_speed import order_spectrum
 from processing.measurement import bi
-from processing.reporting.content import fmt_pm
+from processing.reporting.content import fmt_pm, result_pm
 from processing.result import Figure, Table
-
-
-def _pm(results, name) -> str:
-    if name not in results:
-        return "—"
-    r = results[name]
-    return " ± ".join(fmt_pm(r.shown(r.value), r.shown(r.value + r.estimate.U) - r.shown(r.value)))
 
 
 def regime_table(regimes, results, scales) -> Table:
@@ -28,10 +21,10 @@ def regime_table(regimes, results, scales) -> Table:
         r = reg.number
         row = {"regime": str(r), "cycles": f"{reg.fourier.cycles}",
                "spt": "—" if reg.samples_per_tooth is None else f"{reg.samples_per_tooth:.1f}",
-               "n": _pm(results, f"omega_mean_{r}"), "n_t": _pm(results, f"omega_tach_{r}"),
-               "delta": _pm(results, f"delta_{r}"),
-               "delta_z": _pm(results, f"delta_tooth_{r}"),
-               "delta_osc": _pm(results, f"delta_osc_{r}")}
+               "n": result_pm(results, f"omega_mean_{r}"), "n_t": result_pm(results, f"omega_tach_{r}"),
+               "delta": result_pm(results, f"delta_{r}"),
+               "delta_z": result_pm(results, f"delta_tooth_{r}"),
+               "delta_osc": result_pm(results, f"delta_osc_{r}")}
         row["scale"] = "—" if scales.get(r) is None else f"{scales[r]:.4f}"
         rows.append(row)
     cols = (("regime", bi("Regime", "Режим")), ("cycles", bi("Cycles", "Циклов")),

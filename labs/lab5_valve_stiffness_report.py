@@ -15,7 +15,7 @@ from processing.diagnostics import (GaugeBackwardsWarning, InconsistentInputWarn
                                     LargeHysteresisWarning, TableCurvatureWarning)
 from processing.load_cycle import BRANCHES, LoadCycle
 from processing.measurement import bi
-from processing.reporting.content import fmt_pm
+from processing.reporting.content import fmt_pm, result_pm
 from processing.result import Figure, Table
 
 PARTS = ("rocker", "shaft", "rod", "cam")
@@ -184,13 +184,6 @@ class Data:
     mass_terms: dict
 
 
-def _pm(results, name) -> str:
-    if name not in results:
-        return "—"
-    r = results[name]
-    return " ± ".join(fmt_pm(r.shown(r.value), r.shown(r.value + r.estimate.U) - r.shown(r.value)))
-
-
 def weakest(at_valve: dict) -> tuple[str, float] | None:
     """The link with the largest share of the drive's compliance, and that share.
 
@@ -246,8 +239,8 @@ def _stiffness_table(data: Data) -> Table:
     for p in (*PARTS, "total"):
         at_valve = res["c_total"].value if p == "total" and "c_total" in res else red.get(p)
         share = "100" if p == "total" else (f"{100 / red[p] / compliance:.0f}" if red else "—")
-        rows.append({"part": _PART[p][0], "load": _pm(res, f"c_{p}_load"),
-                     "unload": _pm(res, f"c_{p}_unload"), "mean": _pm(res, f"c_{p}"),
+        rows.append({"part": _PART[p][0], "load": result_pm(res, f"c_{p}_load"),
+                     "unload": result_pm(res, f"c_{p}_unload"), "mean": result_pm(res, f"c_{p}"),
                      "reduced": f"{at_valve / 1e6:.2f}" if at_valve is not None else "—",
                      "share": share})
     cols = (("part", bi("Link", "Звено")), ("load", bi("c loading, kN/mm", "c нагрузка, кН/мм")),
@@ -564,12 +557,12 @@ def conclusion(data: Data) -> list[dict]:
     res = data.results
     lines = []
     if "c_total" in res:
-        lines.append(bi(f"The drive's stiffness at the valve c = {_pm(res, 'c_total')} kN/mm "
-                        f"(loading {_pm(res, 'c_total_load')}, unloading "
-                        f"{_pm(res, 'c_total_unload')})",
-                        f"Жесткость привода, приведённая к клапану, c = {_pm(res, 'c_total')} "
-                        f"кН/мм (нагрузка {_pm(res, 'c_total_load')}, разгрузка "
-                        f"{_pm(res, 'c_total_unload')})"))
+        lines.append(bi(f"The drive's stiffness at the valve c = {result_pm(res, 'c_total')} kN/mm "
+                        f"(loading {result_pm(res, 'c_total_load')}, unloading "
+                        f"{result_pm(res, 'c_total_unload')})",
+                        f"Жесткость привода, приведённая к клапану, c = {result_pm(res, 'c_total')} "
+                        f"кН/мм (нагрузка {result_pm(res, 'c_total_load')}, разгрузка "
+                        f"{result_pm(res, 'c_total_unload')})"))
     weak = weakest(data.at_valve)
     if weak is not None:
         part, share = weak
@@ -578,10 +571,10 @@ def conclusion(data: Data) -> list[dict]:
                         f"Самое слабое звено — {_PART[part][0]['ru']}: {100 * share:.0f} % "
                         "податливости привода; его усиление сильнее всего повышает c"))
     if "c_spring" in res:
-        lines.append(bi(f"Valve springs: c_n = {_pm(res, 'c_spring')} N/mm, preload "
-                        f"{_pm(res, 'P_preload')} N",
-                        f"Клапанные пружины: c_n = {_pm(res, 'c_spring')} Н/мм, предварительное "
-                        f"усилие {_pm(res, 'P_preload')} Н"))
+        lines.append(bi(f"Valve springs: c_n = {result_pm(res, 'c_spring')} N/mm, preload "
+                        f"{result_pm(res, 'P_preload')} N",
+                        f"Клапанные пружины: c_n = {result_pm(res, 'c_spring')} Н/мм, предварительное "
+                        f"усилие {result_pm(res, 'P_preload')} Н"))
     if "f_natural" in res:
         order = bi("", "")
         if "cam_order" in res:
@@ -589,11 +582,11 @@ def conclusion(data: Data) -> list[dict]:
             k = res["cam_order"].value
             order = bi(f", {k:.1f} camshaft orders at {n:.0f} min⁻¹",
                        f", {k:.1f} порядка вращения распредвала при {n:.0f} мин⁻¹")
-        lines.append(bi(f"M = {_pm(res, 'M_reduced')} kg; the lowest natural frequency "
-                        f"ν = {_pm(res, 'nu_natural')} rad/s = {_pm(res, 'f_natural')} Hz"
+        lines.append(bi(f"M = {result_pm(res, 'M_reduced')} kg; the lowest natural frequency "
+                        f"ν = {result_pm(res, 'nu_natural')} rad/s = {result_pm(res, 'f_natural')} Hz"
                         f"{order['en']}",
-                        f"M = {_pm(res, 'M_reduced')} кг; низшая собственная частота "
-                        f"ν = {_pm(res, 'nu_natural')} рад/с = {_pm(res, 'f_natural')} Гц"
+                        f"M = {result_pm(res, 'M_reduced')} кг; низшая собственная частота "
+                        f"ν = {result_pm(res, 'nu_natural')} рад/с = {result_pm(res, 'f_natural')} Гц"
                         f"{order['ru']}"))
     share = 100 * max(h.share for run in data.loops for h in run)
     lines.append(bi(f"Loading and unloading do not coincide: the widest loop takes {share:.0f} % "

@@ -12,7 +12,7 @@ from processing.diagnostics import (BaselineDriftWarning, InconsistentInputWarni
                                     ShortRecordWarning, TorsiographResponseWarning,
                                     UnresolvedResonanceWarning)
 from processing.measurement import bi
-from processing.reporting.content import fmt_pm
+from processing.reporting.content import fmt_pm, result_pm
 from processing.resonance import campbell_lines
 from processing.result import Figure, Table
 
@@ -247,24 +247,15 @@ def edge_warning(load: str, edge) -> ResonanceBeyondSweepWarning:
 
 # ------------------------------------------------------------------------ tables
 
-def _pm(results, name: str, scale: float = 1.0) -> str:
-    if name not in results:
-        return "—"
-    r = results[name]
-    v = r.shown(r.value)
-    U = r.shown(r.value + r.estimate.U) - v
-    return " ± ".join(fmt_pm(v * scale, U * scale))
-
-
 def _records_table(recorded, results, f_c) -> Table:
     rows = []
     for r in recorded:
         t, i = r.trace, r.number
         rows.append({"i": str(i), "load": LOAD_WORDS[r.load], "cycles": f"{r.cycles:.1f}",
-                     "n": _pm(results, f"n_{i}"), "nu": _pm(results, f"nu_{i}"),
+                     "n": result_pm(results, f"n_{i}"), "nu": result_pm(results, f"nu_{i}"),
                      "K": f"{t.K:.2f}" if np.isfinite(t.K) else "—",
                      "order": f"{t.dominant_order:g}",
-                     "phi": _pm(results, f"phi_max_{i}", 1e3),
+                     "phi": result_pm(results, f"phi_max_{i}", 1e3),
                      "trace": f"{1e3 * results['l'].value * np.nanmax(t.peaks.amplitude):.3f}"
                      if np.isfinite(t.peaks.amplitude).any() else "—",
                      "drift": f"{t.drift_ratio:.2f}",
@@ -289,7 +280,7 @@ def _resonance_table(found, results, majors) -> Table:
         rows.append({"j": str(j), "load": LOAD_WORDS[f.load], "order": f"{r.order:g}",
                      "major": bi("yes", "да") if np.any(np.isclose(majors, r.order))
                      else bi("no", "нет"),
-                     "n": _pm(results, f"n_res_{j}"), "f": _pm(results, f"f_res_{j}"),
+                     "n": result_pm(results, f"n_res_{j}"), "f": result_pm(results, f"f_res_{j}"),
                      "width": f"{r.width * RPM:.0f}" if np.isfinite(r.width) else "—",
                      "records": ", ".join(map(str, f.records)),
                      "resolved": bi("yes", "да") if r.resolved else bi("NO", "НЕТ")})
@@ -308,7 +299,7 @@ def _modes_table(modes, results) -> Table:
     n = rel.shape[-2]
     rows = []
     for m in range(rel.shape[-1]):
-        row = {"m": str(m + 1), "f": _pm(results, f"f_model_{m + 1}")}
+        row = {"m": str(m + 1), "f": result_pm(results, f"f_model_{m + 1}")}
         row.update({f"a{d}": f"{rel[d, m]:+.3f}" for d in range(n)})
         rows.append(row)
     cols = (("m", bi("Mode", "Форма")), ("f", bi("f, Hz", "f, Гц")),

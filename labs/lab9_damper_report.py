@@ -15,7 +15,7 @@ from processing.diagnostics import (AmplitudeDependentDampingWarning, BaselineDr
                                     ShortRecordWarning, SingleReadingWarning,
                                     StiffnessRatioWarning, UnclosedLoopWarning)
 from processing.measurement import bi
-from processing.reporting.content import fmt_pm
+from processing.reporting.content import result_pm
 from processing.result import Figure, Table
 
 # ------------------------------------------------------------------------ result labels
@@ -127,15 +127,6 @@ MANUAL_DAMPERS = (
 (ξ′_d of a full cycle in both directions)."""
 
 _DIRECTION = {"forward": bi("forward", "прямое"), "reverse": bi("reverse", "обратное")}
-
-
-def _pm(results, name: str, scale: float = 1.0) -> str:
-    """``value ± U`` of a result in its display unit times ``scale`` ("—" if absent)."""
-    if name not in results:
-        return "—"
-    r = results[name]
-    v, U = (scale * r.shown(x) for x in (r.value, r.value + r.estimate.U))
-    return " ± ".join(fmt_pm(v, U - v))
 
 
 # ------------------------------------------------------------------------ warnings' texts
@@ -270,17 +261,17 @@ def _readings_table(runs) -> Table:
 
 def _runs_table(runs, results) -> Table:
     rows = [{"run": f"{run.number}", "dir": _DIRECTION[run.direction],
-             "C": _pm(results, f"C_static_{run.number}", 1e-4),
-             "C_fit": _pm(results, f"C_static_fit_{run.number}", 1e-4),
-             "E_max": _pm(results, f"E_max_{run.number}"),
-             "E_loss": _pm(results, f"E_loss_{run.number}"),
-             "xi": _pm(results, f"xi_static_{run.number}"),
+             "C": result_pm(results, f"C_static_{run.number}", 1e-4),
+             "C_fit": result_pm(results, f"C_static_fit_{run.number}", 1e-4),
+             "E_max": result_pm(results, f"E_max_{run.number}"),
+             "E_loss": result_pm(results, f"E_loss_{run.number}"),
+             "xi": result_pm(results, f"xi_static_{run.number}"),
              "rest": f"{100 * run.residual_twist:.0f}"} for run in runs]
     if len(runs) > 1:
-        rows.append({"run": bi("mean", "среднее"), "dir": "", "C": _pm(results, "C_static", 1e-4),
-                     "C_fit": _pm(results, "C_static_fit", 1e-4),
-                     "E_max": _pm(results, "E_max"), "E_loss": _pm(results, "E_loss"),
-                     "xi": _pm(results, "xi_static"), "rest": ""})
+        rows.append({"run": bi("mean", "среднее"), "dir": "", "C": result_pm(results, "C_static", 1e-4),
+                     "C_fit": result_pm(results, "C_static_fit", 1e-4),
+                     "E_max": result_pm(results, "E_max"), "E_loss": result_pm(results, "E_loss"),
+                     "xi": result_pm(results, "xi_static"), "rest": ""})
     cols = (("run", bi("Run", "Опыт")), ("dir", bi("Direction", "Направление")),
             ("C", bi("C·10⁻⁴, N·m/rad", "C·10⁻⁴, Н·м/рад")),
             ("C_fit", bi("C fit·10⁻⁴, N·m/rad", "C по прямой·10⁻⁴, Н·м/рад")),
@@ -316,9 +307,9 @@ def _dampers_table(results) -> Table:
     rows = [{"n": f"{k}", "C": f"{c / 1e4:#.3g}", "C_d": f"{cd / 1e4:#.3g}",
              "ratio": f"{cd / c:.2f}", "xi": f"{xi:#.3g}", "delta": f"{d:.2f}"}
             for k, (c, cd, xi, d) in enumerate(MANUAL_DAMPERS, 1)]
-    rows.append({"n": bi("this damper", "этот демпфер"), "C": _pm(results, "C_static", 1e-4),
-                 "C_d": _pm(results, "C_dynamic", 1e-4), "ratio": _pm(results, "C_ratio"),
-                 "xi": _pm(results, "xi_static"), "delta": _pm(results, "log_decrement")})
+    rows.append({"n": bi("this damper", "этот демпфер"), "C": result_pm(results, "C_static", 1e-4),
+                 "C_d": result_pm(results, "C_dynamic", 1e-4), "ratio": result_pm(results, "C_ratio"),
+                 "xi": result_pm(results, "xi_static"), "delta": result_pm(results, "log_decrement")})
     cols = (("n", bi("Damper", "Демпфер")), ("C", bi("static C·10⁻⁴, N·m/rad",
                                                        "статическая C·10⁻⁴, Н·м/рад")),
             ("C_d", bi("dynamic C_d·10⁻⁴, N·m/rad", "динамическая C_d·10⁻⁴, Н·м/рад")),
@@ -467,7 +458,7 @@ def figures(runs, dec) -> list[Figure]:
 # ------------------------------------------------------------------------ conclusion
 
 def _line(results, name: str, en: str, ru: str, scale: float = 1.0, unit=("", "")) -> dict:
-    text = _pm(results, name, scale)
+    text = result_pm(results, name, scale)
     return bi(f"{en} {text}{unit[0]}", f"{ru} {text}{unit[1]}")
 
 

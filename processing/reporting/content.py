@@ -30,6 +30,16 @@ def fmt_pm(value: float, U: float) -> tuple[str, str]:
     return f"{value:.{decimals}f}", f"{U:.{decimals}f}"
 
 
+def result_pm(results, name: str, scale: float = 1.0) -> str:
+    """``value ± U`` of a result in its display unit (times ``scale``), rounded together; "—"
+    if the lab has no such result. For a lab's own tables."""
+    if name not in results:
+        return "—"
+    r = results[name]
+    v, U = (scale * r.shown(x) for x in (r.value, r.value + r.estimate.U))
+    return " ± ".join(fmt_pm(v, U - v))
+
+
 def _budget(r, lang: str, top: int = 3) -> str:
     items = sorted(r.estimate.contributions.items(), key=lambda kv: -kv[1])
     total = sum(c * c for _, c in items) or 1.0
