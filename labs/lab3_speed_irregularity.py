@@ -223,10 +223,6 @@ class Regime:
     pitch_bias: dict
 
 
-def _channel_key(text: str | None):
-    return int(text) if text is not None and text.strip().isdigit() else text
-
-
 def _edges_of(channel, method: str) -> np.ndarray:
     """Edge times of a channel, streamed chunk by chunk. [s]"""
     return stream_edges(channel.chunks(), method) / channel.sample_rate
@@ -243,7 +239,7 @@ def _signal_edges(inputs: Inputs, i: int, entry: dict, method: str):
                            where)
     rate = entry["sample_rate"].value if "sample_rate" in entry else None
     path = entry["signal"]
-    channel = open_channel(path, channel=_channel_key(entry.get("channel")), sample_rate=rate,
+    channel = open_channel(path, channel=entry.get("channel"), sample_rate=rate,
                            field=f"{where}.signal")
     times = _edges_of(channel, method)
     if times.size < 3:
@@ -253,7 +249,7 @@ def _signal_edges(inputs: Inputs, i: int, entry: dict, method: str):
                          "flat or pure noise", file=str(path), field=f"{where}.signal")
     tdc = None
     if "tdc_channel" in entry:
-        mark = open_channel(path, channel=_channel_key(entry["tdc_channel"]), sample_rate=rate,
+        mark = open_channel(path, channel=entry["tdc_channel"], sample_rate=rate,
                             field=f"{where}.tdc_channel")
         tdc = _edges_of(mark, method)
     return times, tdc, channel.sample_rate * float(np.median(np.diff(times)))
@@ -283,7 +279,7 @@ def _calibration(inputs: Inputs, method: str):
     if "calibration" not in wheel:
         return None
     path = wheel["calibration"]
-    channel = open_channel(path, channel=_channel_key(wheel.get("calibration_channel")),
+    channel = open_channel(path, channel=wheel.get("calibration_channel"),
                            field="wheel.calibration")
     track = _track(inputs, _edges_of(channel, method), "wheel.calibration", path)
     try:

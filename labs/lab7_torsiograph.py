@@ -281,10 +281,6 @@ class Recorded:
     a sample at either end of the span). [rad/s]"""
 
 
-def _key(text: str | None):
-    return int(text) if text is not None and text.strip().isdigit() else text
-
-
 def _marks(x, rate: float) -> np.ndarray:
     """Times of the pulses of a mark channel (their falling edges, a local cubic through
     each: :mod:`processing.edges`). [s]"""
@@ -295,9 +291,9 @@ def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
     where = f"record[{i}]"
     path = entry["signal"]
     rate = entry["sample_rate"].value if "sample_rate" in entry else None
-    names = [_key(entry.get("channel")), _key(entry["tdc_channel"])]
+    names = [entry.get("channel"), entry["tdc_channel"]]
     if "marks_channel" in entry:
-        names.append(_key(entry["marks_channel"]))
+        names.append(entry["marks_channel"])
     channels = open_channels(path, names, sample_rate=rate, field=f"{where}.signal")
     trace, tdc = (c.read().astype(float) * c.volts_per_code for c in channels[:2])
     rate = channels[0].sample_rate

@@ -446,8 +446,7 @@ def _record_decay(inputs: Inputs, scale) -> Decay:
     path = d["signal"]
     key = d.get("channel")
     rate = d["sample_rate"].value if "sample_rate" in d else None
-    channel = open_channel(path, channel=int(key) if key and key.strip().isdigit() else key,
-                           sample_rate=rate, field="decay.signal")
+    channel = open_channel(path, channel=key, sample_rate=rate, field="decay.signal")
     x = channel.read().astype(float) * channel.volts_per_code
     t = np.arange(x.size) / channel.sample_rate
 

@@ -259,7 +259,8 @@ def open_channels(path, names: Iterable[str | int | None], *, sample_rate: float
     path : str or Path
         The recording.
     names : iterable of str, int or None
-        The channels, each chosen as ``channel`` of :func:`open_channel`.
+        The channels, each chosen as ``channel`` of :func:`open_channel`; a text of digits
+        (as a measurement file writes ``channel = "1"``) is an index.
     sample_rate : float, optional
         As in :func:`open_channel`. [Hz]
     field : str, optional
@@ -275,7 +276,7 @@ def open_channels(path, names: Iterable[str | int | None], *, sample_rate: float
     InputError
         As :func:`open_channel`; also channels that differ in sample rate or length.
     """
-    names = list(names)
+    names = [int(n) if isinstance(n, str) and n.strip().isdigit() else n for n in names]
     if not names:
         raise ValueError("open_channels: names must name at least one channel")
     src = _Source(Path(path), field)
