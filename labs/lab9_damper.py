@@ -33,6 +33,7 @@ import numpy as np
 
 from processing.decay import DecrementFit, RecordedDecay, analyse_decay, log_decrement
 from processing.diagnostics import (InputError, collect_notices)
+from processing.load_cycle import out_of_order
 from processing.loops import branch_work, loop_area
 from processing.measurement import Field, Inputs, LabSpec, Section, bi
 from processing.regression import LineFit, fit_line
@@ -255,13 +256,8 @@ def _run(inputs: Inputs, k: int, entry: dict) -> Run:
     if M.size != phi.size:
         raise inputs.error(f"{M.size} moments but {phi.size} twists",
                            "write one twist for every moment, in the same order", f"{where}.phi")
-    top = int(np.argmax(M))
-    rise, fall = np.diff(M[:top + 1]), np.diff(M[top:])
-    bad = [j + 1 for j in np.flatnonzero(rise <= 0)]
-    repeated = (fall == 0) & (np.arange(fall.size) > 0)      # only the top may be read twice
-    bad += [top + j + 1 for j in np.flatnonzero((fall > 0) | repeated)]
-    if bad:
-        i = min(bad)
+    top, i = out_of_order(M)
+    if i is not None:
         raise inputs.error(f"the loads are out of order: reading {i + 1} ({M[i]:g} N·m) after "
                            f"{M[i - 1]:g} N·m", "write the moments in the order they were "
                            "applied: rising to the largest, then falling to zero (the top "

@@ -34,6 +34,38 @@ from .regression import CurvatureTest, LineFit, curvature_test, fit_line
 from .result import Record
 from .uncertainty import Measured
 
+def out_of_order(x) -> tuple[int, int | None]:
+    """Where a loading-then-unloading programme peaks, and its first reading out of order.
+
+    The loads must rise step by step to the largest and then fall; the largest may be read
+    twice (at the end of the loading and again at the start of the unloading).
+
+    Parameters
+    ----------
+    x : array_like
+        The loads in the order they were applied.
+
+    Returns
+    -------
+    peak : int
+        Index of the (first) largest load.
+    bad : int or None
+        Index of the first load that breaks the programme; None if none does.
+
+    Examples
+    --------
+    >>> out_of_order([0, 1, 2, 2, 1, 0]), out_of_order([0, 2, 1, 2, 0])
+    ((2, None), (1, 3))
+    """
+    x = np.asarray(x, dtype=float)
+    peak = int(np.argmax(x))
+    step = np.diff(x)
+    fall = step[peak:] >= 0
+    fall[:1] &= step[peak:peak + 1] > 0            # the largest may be read twice
+    bad = np.flatnonzero(np.concatenate([step[:peak] <= 0, fall]))
+    return peak, (int(bad[0]) + 1 if bad.size else None)
+
+
 BRANCHES = ("mean", "load", "unload")
 """The mean of loading and unloading first; then each branch alone."""
 

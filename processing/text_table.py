@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .diagnostics import InputError
+from .load_cycle import out_of_order
 from .units import dimension, si_factor
 
 _COLUMN = re.compile(r"^([A-Za-z_][A-Za-z0-9_]*)(?:\[([^\]]+)\])?$")
@@ -165,13 +166,8 @@ class TextTable:
         programme = (f"write the {what}s in the order they were applied: rising step by step "
                      f"to the largest, then falling back, at least {least} steps each way "
                      "(e.g. 0, 1, 2, 3, 2, 1, 0)")
-        peak = int(np.argmax(x))
-        step = np.diff(x)
-        fall = step[peak:] >= 0
-        fall[:1] &= step[peak:peak + 1] > 0            # the largest may be read twice
-        bad = np.flatnonzero(np.concatenate([step[:peak] <= 0, fall]))
-        if bad.size:
-            k = int(bad[0]) + 1
+        peak, k = out_of_order(x)
+        if k is not None:
             raise self.error(f"the {what}s are out of order: {self.row(k)} reads {x[k]:g}{unit} "
                              f"after {x[k - 1]:g}{unit}", programme)
         if peak == x.size - 1:
