@@ -223,7 +223,7 @@ def _synth(args) -> int:
               ("contact", None if args.contact is None else args.contact * 1e-6),
               ("lash", None if args.lash is None else args.lash * 1e-6),
               ("periods", args.periods), ("amplitude_exponent", args.amplitude_exponent),
-              ("paper", args.paper or None))
+              ("paper", args.paper or None), ("image", args.image or None))
              if value is not None}
     foreign = [name for name in given if name not in takes]
     if foreign:
@@ -292,6 +292,9 @@ def parser() -> argparse.ArgumentParser:
                      help="lab 9: p in δ(A) = δ₀·(A/φ₀)^p (0: linear damping)")
     syn.add_argument("--paper", action="store_true",
                      help="lab 9: maxima read off a paper record instead of a recording")
+    syn.add_argument("--image", action="store_true",
+                     help="lab 9: the record as a photograph of its paper record (JPEG, "
+                          "read with OpenCV)")
     syn.set_defaults(func=_synth)
     return p
 

@@ -35,10 +35,10 @@ from processing.decay import DecrementFit, RecordedDecay, analyse_decay, log_dec
 from processing.diagnostics import (InputError, collect_notices)
 from processing.load_cycle import out_of_order
 from processing.loops import branch_work, loop_area
-from processing.measurement import Field, Inputs, LabSpec, Section, bi
+from processing.measurement import Field, Inputs, LabSpec, Section, bi, image_section
 from processing.regression import LineFit, fit_line
 from processing.result import LabResult, compare, flag_estimates, result_values
-from processing.signals import open_channel
+from processing.signals import image_options, open_channel, read_figures
 from processing.uncertainty import Measured, propagate
 
 from . import lab9_damper_report as report
@@ -100,8 +100,10 @@ SPEC = LabSpec(
                     Field("I", bi("moment of inertia of the damper's ring",
                                   "момент инерции маховика демпфера"), unit="kg*m^2", symbol="I",
                           example="0.030 ± 0.0003 kg*m^2"),
-                    Field("signal", bi("record of the decay: CSV, WAV or HDF5 file",
-                                       "запись колебаний: файл CSV, WAV или HDF5"),
+                    Field("signal", bi("record of the decay: CSV, WAV or HDF5 file, or a "
+                                       "photograph or scan of the paper record ([image])",
+                                       "запись колебаний: файл CSV, WAV или HDF5 или снимок "
+                                       "бумажной записи ([image])"),
                           kind="file", required=False, example="decay.csv"),
                     Field("channel", bi("channel of the record", "канал записи"), kind="text",
                           required=False),
@@ -129,6 +131,7 @@ SPEC = LabSpec(
                           unit="", allow_zero=True, required=False, symbol="u_k",
                           example="[0, 0.301, 0.598, 0.902]"),
                 )),
+        image_section(),
     ),
 )
 
@@ -361,6 +364,8 @@ class Decay:
     scale: Measured | None = None
     """μ_φ from the calibration: twist per unit of the record (per mm of a paper record, as
     the readings were written) [rad/unit]."""
+    channel: object = None
+    """The record's channel (a paper record read off an image carries its overlay)."""
 
     @property
     def from_record(self) -> bool:
@@ -442,8 +447,11 @@ def _record_decay(inputs: Inputs, scale) -> Decay:
     path = d["signal"]
     key = d.get("channel")
     rate = d["sample_rate"].value if "sample_rate" in d else None
-    channel = open_channel(path, channel=key, sample_rate=rate, field="decay.signal")
+    channel = open_channel(path, channel=key, sample_rate=rate, field="decay.signal",
+                           image=image_options(inputs.sections.get("image")))
     x = channel.read().astype(float) * channel.volts_per_code
+    if getattr(channel, "unit", None) == "m":     # a photographed record: mm of paper, as
+        x = x * 1e3                               # the calibration's readings are written
     t = np.arange(x.size) / channel.sample_rate
 
     def refuse(problem: str, fix: str) -> InputError:
@@ -462,7 +470,7 @@ def _record_decay(inputs: Inputs, scale) -> Decay:
         raise refuse(str(exc), "check that the record holds a free decay after a sudden "
                      "release") from None
     return Decay(record.trace.measured("delta"), record.measured_period(), record.peaks,
-                 record, t, x, scale)
+                 record, t, x, scale, channel)
 
 
 def _check_decay(dec: Decay) -> None:
@@ -559,7 +567,8 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20039) -> LabR
     kind = inputs.sections.get("damper", {}).get("rubber")
     return LabResult.of(inputs, results, comparisons=comparisons,
                         tables=report.tables(runs, dec, results),
-                        figures=report.figures(runs, dec),
+                        figures=report.figures(runs, dec) + (
+                            read_figures([dec.channel]) if dec is not None else []),
                         formulas=report.FORMULAS, references=report.REFERENCES,
                         warnings=notices,
                         conclusion=report.conclusion(runs, dec, results, RUBBER_RATIO, kind))
@@ -567,9 +576,39 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20039) -> LabR
 
 # ------------------------------------------------------------------------ synthetic files
 
+PHOTO_MARKS = 1e-3
+"""Period of the time marks on the photographed decay record. [s]"""
+
+PHOTO_LAYOUT = dict(width=0.12, length=0.25, mark_period=PHOTO_MARKS)
+"""The light-beam oscillograph's paper: 120 mm wide, 250 mm of it photographed."""
+
+
+def paper_shot():
+    """The phone camera of the photographed decay records: a 2400 × 1200 px JPEG, the sheet
+    filling 85 % of its width, skewed 1.5°, its corners moved by up to 0.5 %, blurred, noisy,
+    vignetted."""
+    from processing.synth.paper_record import Shot
+
+    return Shot(size=(2400, 1200), fill=0.85, rotation=1.5, perspective=0.005, blur=1.0,
+                noise=3.0, jpeg=90, vignetting=0.2, gradient=0.05)
+
+
+def paper_photo(rec, metres_per_volt: float, seed: int):
+    """The photographed paper record (:class:`processing.synth.paper_record.PaperScene`) of a
+    recorded decay: the whole record across 250 mm of paper, the beam's zero at mid-width,
+    ``metres_per_volt`` of deflection per volt of the gauge."""
+    from processing.synth.paper_record import Beam, Layout, render
+
+    duration = float(rec.time[-1])
+    layout = Layout(speed=PHOTO_LAYOUT["length"] / duration, **PHOTO_LAYOUT)
+    centre = float(np.median(rec.signal))
+    beam = Beam(lambda t: np.interp(t, rec.time, rec.signal) - centre, 0.06, metres_per_volt)
+    return render(layout, [beam], paper_shot(), seed=seed)
+
 def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: float = 8.0,
                     amplitude_exponent: float = 0.0, ratio: float = 1.87, runs: int = 2,
-                    sample_rate: float = 20e3, paper: bool = False) -> dict[str, Path]:
+                    sample_rate: float = 20e3, paper: bool = False,
+                    image: bool = False) -> dict[str, Path]:
     """Write a synthetic lab 9 measurement: static runs, a decay record, the answer key.
 
     The scene of :mod:`processing.synth.damper`: a rubber layer of C = 2.6·10⁴ N·m/rad with a
@@ -598,6 +637,9 @@ def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: fl
         Static runs.
     paper : bool
         Write the paper readings instead of the record.
+    image : bool
+        Write the record as a photograph of the paper (``decay.jpg``) with an ``[image]``
+        table instead of a CSV.
 
     Returns
     -------
@@ -642,6 +684,11 @@ def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: fl
         t_N = 3 * rec.truth["T_d"] * 1e3 + rng.uniform(-0.1, 0.1)
         decay += [f"peaks = [{', '.join(f'{p:.1f}' for p in peaks)}]",
                   f't_N = "{t_N:.2f} ms"', "N = 3"]
+    elif image:
+        scale = 3.5e3                               # mm of trace per rad
+        written["record"] = paper_photo(rec, 1e-3 * scale / gauge.volts_per_rad, seed).write(
+            out / "decay.jpg")
+        decay.append('signal = "decay.jpg"')
     else:
         scale = gauge.volts_per_rad
         written["record"] = out / "decay.csv"
@@ -651,6 +698,9 @@ def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: fl
     decay += [f"cal_phi = [{', '.join(f'{1e3 * p:.2f}' for p in cal_phi)}]",
               f"cal_reading = [{', '.join(f'{r:.4g}' for r in cal_reading)}]"]
     body.append("\n".join(decay) + "\n")
+    if image:
+        body.append(f'[image]\nmark_period = "{1e3 * PHOTO_MARKS:g} ms"\n'
+                    f'paper_width = "{1e3 * PHOTO_LAYOUT["width"]:g} mm"\n')
     written["toml"] = out / f"lab9_seed{seed}.toml"
     written["toml"].write_text("\n".join(body), encoding="utf-8")
     truth = {"C_static": layer.stiffness, **layer.energies(moment_max, steps), **rec.truth,

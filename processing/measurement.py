@@ -150,6 +150,38 @@ class LabSpec:
         return next(s for s in self.sections if s.name == name)
 
 
+def image_section(name: str = "image") -> Section:
+    """The ``[image]`` table of a lab whose records may be photographs or scans of paper:
+    how to read them (:func:`processing.vision.read_paper_records`), for every image the file
+    names. The time base needs ``mark_period`` (or ``paper_speed`` with a length scale); a
+    length scale (``paper_width``, ``grid`` or ``dpi``) gives the deflection in mm of paper.
+    """
+    return Section(name, bi("Reading photographed or scanned paper records",
+                            "Считывание сфотографированных или отсканированных записей"), fields=(
+        Field("mark_period", bi("period of the time marks", "период отметок времени"),
+              unit="ms", required=False, symbol="T_mark", example=1),
+        Field("paper_speed", bi("speed of the paper (without time marks, or as a check)",
+                                "скорость ленты (без отметок времени или для проверки)"),
+              unit="mm/s", required=False, symbol="v_л"),
+        Field("paper_width", bi("width of the paper between its edges (both in the picture)",
+                                "ширина ленты между краями (оба видны на снимке)"),
+              unit="mm", limit="0.5 mm", required=False, symbol="b", example=120),
+        Field("grid", bi("pitch of a printed grid", "шаг отпечатанной сетки"), unit="mm",
+              required=False),
+        Field("dpi", bi("a flatbed scan's resolution, dots per inch",
+                        "разрешение сканера, точек на дюйм"), unit="", required=False),
+        Field("traces", bi("how many traces the sheet carries (default: as found)",
+                           "сколько линий записи на ленте (по умолчанию — по снимку)"),
+              kind="count", required=False),
+        Field("zero", bi("deflection from the trace's mean level or from its zero line",
+                         "отклонение от среднего уровня линии или от её нулевой линии"),
+              kind="choice", choices=("mean", "line"), default="mean"),
+        Field("bridge", bi("longest gap in a trace to interpolate across",
+                           "наибольший разрыв линии, заполняемый интерполяцией"),
+              unit="ms", allow_zero=True, required=False),
+    ))
+
+
 @dataclass
 class Inputs:
     """A validated measurement file: SI values ready for a lab's ``reduce``.

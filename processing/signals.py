@@ -25,6 +25,12 @@ HDF5 (``.h5``, ``.hdf5``)
     One 1-D dataset per channel, named by its path in the file. The sample rate is the
     attribute ``sample_rate`` (or ``fs``) [Hz] of the dataset, else of the file; the
     attribute ``volts_per_code`` scales stored codes to volts.
+Image (``.png``, ``.jpg``, ``.jpeg``, ``.tif``, ``.tiff``, ``.bmp``)
+    A photograph or scan of a paper record, read by :mod:`processing.vision` into a
+    :class:`~processing.vision.record.PaperRecord` (the same interface as a channel, with the
+    overlay of what was read, :func:`read_figures`); the channel is the trace's index from the
+    top of the sheet, and ``image`` gives the reader's options (the ``[image]`` table of a
+    measurement file, :func:`processing.measurement.image_section`).
 
 Every problem with a file raises :class:`~processing.diagnostics.InputError` naming the file,
 the measurement-file field that pointed to it (``field=``) and the fix.
@@ -66,7 +72,10 @@ relative deviation of a CSV time step from the usual (median) step."""
 _FORMATS = {".csv": "csv", ".txt": "csv", ".tsv": "csv", ".dat": "csv", ".wav": "wav",
             ".h5": "hdf5", ".hdf5": "hdf5"}
 _FORMAT_HINTS = {"csv": ".csv or .txt (a table of numbers)", "wav": ".wav (a sound-card recording)",
-                 "hdf5": ".h5 or .hdf5"}
+                 "hdf5": ".h5 or .hdf5", "image": ".png, .jpg or .tif (a photograph or scan of "
+                 "a paper record)"}
+_IMAGES = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp")
+_FORMATS.update(dict.fromkeys(_IMAGES, "image"))
 _TIME_UNITS = {"s": 1.0, "с": 1.0, "ms": 1e-3, "мс": 1e-3, "us": 1e-6, "µs": 1e-6, "μs": 1e-6,
                "мкс": 1e-6, "ns": 1e-9}
 _TIME_NAME = re.compile(r"(?:t|time|время)(?:\s*[,_\[(/]\s*(" + "|".join(_TIME_UNITS)
@@ -206,8 +215,9 @@ class _Source:
 
 
 def open_channel(path, *, channel: str | int | None = None, sample_rate: float | None = None,
-                 field: str | None = None) -> Channel:
-    """Open one channel of a recording (CSV, WAV or HDF5) without reading its samples.
+                 field: str | None = None, image: dict | None = None) -> Channel:
+    """Open one channel of a recording (CSV, WAV or HDF5) without reading its samples, or
+    read one trace of a photographed paper record.
 
     Parameters
     ----------
@@ -223,10 +233,15 @@ def open_channel(path, *, channel: str | int | None = None, sample_rate: float |
         must agree to 0.1 %.
     field : str, optional
         The measurement-file field that named the file (``"regime[0].signal"``), for errors.
+    image : dict, optional
+        For an image: the keyword options of
+        :func:`processing.vision.read_paper_records` (``mark_period``, ``paper_width``, ...),
+        as :func:`image_options` makes them from a measurement file's ``[image]`` table.
 
     Returns
     -------
     Channel
+        Or, for an image, a :class:`~processing.vision.record.PaperRecord`.
 
     Raises
     ------
@@ -247,11 +262,11 @@ def open_channel(path, *, channel: str | int | None = None, sample_rate: float |
     [4, 4, 2]
     >>> shutil.rmtree(folder)
     """
-    return open_channels(path, [channel], sample_rate=sample_rate, field=field)[0]
+    return open_channels(path, [channel], sample_rate=sample_rate, field=field, image=image)[0]
 
 
 def open_channels(path, names: Iterable[str | int | None], *, sample_rate: float | None = None,
-                  field: str | None = None) -> list[Channel]:
+                  field: str | None = None, image: dict | None = None) -> list[Channel]:
     """Open several channels recorded together in one file (a tooth and a TDC channel).
 
     Parameters
@@ -265,11 +280,14 @@ def open_channels(path, names: Iterable[str | int | None], *, sample_rate: float
         As in :func:`open_channel`. [Hz]
     field : str, optional
         The measurement-file field, for errors.
+    image : dict, optional
+        As in :func:`open_channel`.
 
     Returns
     -------
     list of Channel
-        In the order of ``names``, all with the same sample rate and length.
+        In the order of ``names``, all with the same sample rate and length (traces of one
+        image share its time base).
 
     Raises
     ------
@@ -280,12 +298,54 @@ def open_channels(path, names: Iterable[str | int | None], *, sample_rate: float
     if not names:
         raise ValueError("open_channels: names must name at least one channel")
     src = _Source(Path(path), field)
-    kind = _file_format(src, ("csv", "wav", "hdf5"))
+    kind = _file_format(src, ("csv", "wav", "hdf5", "image"))
+    if kind == "image":
+        return _image_channels(src, names, sample_rate, image or {})
     given = _given_rate(src, sample_rate)
     channels = {"csv": _csv_channels, "wav": _wav_channels, "hdf5": _hdf5_channels}[kind](
         src, names, given)
     _check_simultaneous(src, channels)
     return channels
+
+
+def image_options(table: dict | None) -> dict:
+    """The reader's keyword options from a measurement file's ``[image]`` table (validated by
+    :func:`processing.measurement.image_section`: quantities as Measured in SI)."""
+    options = {}
+    for name, value in (table or {}).items():
+        options[name] = value.value if name == "bridge" else value
+    return options
+
+
+def read_figures(channels: Iterable) -> list:
+    """The overlay figure (:meth:`~processing.vision.record.PaperRecord.figure`) of every
+    channel read off an image, so that the report shows what was read; none for recordings."""
+    read = [c for c in channels if hasattr(c, "overlay")]
+    return [c.figure(f"paper_record_{k}" if len(read) > 1 else "paper_record")
+            for k, c in enumerate(read, 1)]
+
+
+def _image_channels(src: _Source, names: list, sample_rate, options: dict) -> list:
+    """The traces ``names`` (indices from the top; None: 0) of a photographed record."""
+    from .vision import read_paper_records
+
+    if sample_rate is not None:
+        raise src.error("a sample rate is given for an image",
+                        "leave sample_rate out: the time marks (mark_period in [image]) "
+                        "or the paper speed set an image's time base")
+    picked = []
+    for name in names:
+        if name is not None and not isinstance(name, int):
+            raise src.error(f"channel {name!r} of an image", "give the trace's number, 0 for "
+                            "the topmost trace on the sheet, 1 for the next")
+        picked.append(0 if name is None else name)
+    records = read_paper_records(src.path, field=src.field, **options)
+    for k in picked:
+        if not -len(records) <= k < len(records):
+            raise src.error(f"trace {k} asked for, {len(records)} trace(s) found on the sheet",
+                            f"choose channel = 0 … {len(records) - 1} (0 is the topmost), or "
+                            "look at the photograph for the trace missed")
+    return [records[k] for k in picked]
 
 
 def read_edge_times(path, *, column: str | int | None = None,

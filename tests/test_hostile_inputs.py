@@ -14,6 +14,7 @@ import struct
 import tomllib
 from pathlib import Path
 
+import cv2
 import h5py
 import numpy as np
 import pytest
@@ -33,6 +34,7 @@ SAMPLES = {
     "lab8-inline4": ROOT / "sample_data" / "lab8" / "inline4.toml",
     "lab9": ROOT / "sample_data" / "lab9" / "synthetic_damper.toml",
     "lab9-table": ROOT / "sample_data" / "lab9" / "table1.toml",
+    "lab9-photo": ROOT / "sample_data" / "lab9-photo" / "photographed_decay.toml",
     "dyncalc": ROOT / "sample_data" / "dyncalc" / "car_petrol.toml",
     "dyncalc-diesel": ROOT / "sample_data" / "dyncalc" / "marine_diesel.toml",
 }
@@ -336,6 +338,23 @@ def test_bad_recording_of_other_labs(tmp_path, capsys, sample, where, name, prob
     if (sample, name) == ("lab7", "corrupt.h5"):  # lab 7 looks for its TDC channel first
         problem = r"no dataset 'tdc'"
     run_bad(tmp_path, capsys, _with_record(sample, where, name), where, problem,
+            blamed=tmp_path / name)
+
+
+IMAGES = [
+    ("text.jpg", b"a photo of my oscillogram\n", r"not an image"),
+    ("random.png", os.urandom(3000), r"not an image"),
+    ("blank.png", cv2.imencode(".png", np.full((600, 1500, 3), 230, np.uint8))[1].tobytes(),
+     r"no (time base|trace)|sheet|mark"),
+    ("empty.jpg", b"", r"empty|not an image"),
+]
+
+
+@pytest.mark.parametrize("name, blob, problem", [pytest.param(*r, id=r[0]) for r in IMAGES])
+def test_bad_photograph(tmp_path, capsys, name, blob, problem):
+    """A photographed record that is no photograph, or shows no record: the image is blamed."""
+    (tmp_path / name).write_bytes(blob)
+    run_bad(tmp_path, capsys, _with_record("lab9-photo", "decay.signal", name), None, problem,
             blamed=tmp_path / name)
 
 
