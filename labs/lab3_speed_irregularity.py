@@ -29,14 +29,15 @@ import numpy as np
 from labs import lab3_speed_irregularity_report as report
 from processing.angular_speed import (CycleSpeeds, Irregularity, fit_cycles, jackknife,
                                       pitch_uncertainty, tooth_cycles)
+from processing.cycle_range import cycle_range
 from processing.diagnostics import (GapNotFoundWarning, InconsistentInputWarning, InputError,
                                     PitchErrorWarning, ShortRecordWarning, TeethMiscountedWarning,
                                     UndersampledWarning, UnequalCyclesWarning, collect_notices)
 from processing.edges import METHODS as EDGE_METHODS
 from processing.edges import stream_edges
-from processing.measurement import Field, Inputs, LabSpec, Section, bi
+from processing.measurement import Field, Inputs, LabSpec, Section, bi, image_section
 from processing.result import LabResult, compare, flag_estimates, result_values
-from processing.signals import open_channel, read_edge_times
+from processing.signals import image_options, open_channel, read_edge_times, read_figures
 from processing.toothwheel import ToothTrack, calibrate_pitch, recurring_gap, track_teeth
 from processing.uncertainty import Measured, propagate
 
@@ -127,7 +128,16 @@ SPEC = LabSpec(
             Field("h_mean", bi("oscillogram: mean level (default (h_max + h_min)/2)",
                                "осциллограмма: средний уровень (по умолчанию (h_max + h_min)/2)"),
                   unit="mm", limit="0.5 mm", required=False, symbol="h_cp"),
+            Field("oscillogram", bi("or: a photograph or scan of the oscillogram, with its zero "
+                                    "line and TDC marks ([image])",
+                                    "или: снимок осциллограммы с нулевой линией и отметками ВМТ "
+                                    "([image])"),
+                  kind="file", required=False, example="regime1.jpg"),
+            Field("trace", bi("the speed trace on the photograph (0: the topmost)",
+                              "линия скорости на снимке (0 — верхняя)"),
+                  kind="count", allow_zero=True, required=False),
         )),
+        image_section(),
     ),
 )
 
@@ -209,6 +219,45 @@ REFERENCES = [
 
 # ------------------------------------------------------------------------ one regime
 
+@dataclass(frozen=True)
+class Oscillogram:
+    """The speed trace read off a photographed oscillogram: its cycles' fits and δ."""
+
+    channel: object
+    cycles: object
+    """:class:`processing.cycle_range.CycleRange` of the working cycles between TDC marks."""
+    delta: Measured
+
+
+def _oscillogram(inputs: Inputs, i: int, entry: dict, revolutions: int) -> Oscillogram | None:
+    """δ of the mean working cycle of a photographed speed trace: its swing over its level
+    above the zero line (the manual's (h_max − h_min)/h_cp, read by the machine), the cycles
+    bounded by every ``revolutions``-th TDC mark, u by the jackknife over the cycles."""
+    if "oscillogram" not in entry:
+        return None
+    field, path = f"regime[{i}].oscillogram", entry["oscillogram"]
+    if "h_max" in entry or "h_min" in entry:
+        raise inputs.error("both a photograph of the oscillogram and readings off it are given",
+                           "give the photograph (oscillogram) or the readings (h_max, h_min), "
+                           "not both", field)
+    options = {**image_options(inputs.sections.get("image")), "zero": "line"}
+    channel = open_channel(path, channel=entry.get("trace"), field=field, image=options)
+    tdc = channel.marks.get("tdc", np.array([]))
+    starts = tdc[::revolutions]
+    if starts.size < 3:
+        raise InputError(f"{tdc.size} TDC mark(s) found on the oscillogram: δ needs at least two "
+                         "whole working cycles between them", "photograph the record with its "
+                         "TDC mark line and at least two working cycles", file=str(path),
+                         field=field)
+    try:
+        cycles = cycle_range(channel.time, channel.value, starts)
+    except ValueError as exc:
+        raise InputError(str(exc), "photograph the trace sharply, its whole length",
+                         file=str(path), field=field) from None
+    delta, u = cycles.relative_swing()
+    return Oscillogram(channel, cycles, _jack(delta, u, cycles.cycles))
+
+
 @dataclass
 class Regime:
     """What one recorded regime reduces to."""
@@ -221,6 +270,7 @@ class Regime:
     u_tooth: Irregularity
     samples_per_tooth: float | None
     pitch_bias: dict
+    oscillogram: Oscillogram | None = None
 
 
 def _edges_of(channel, method: str) -> np.ndarray:
@@ -314,7 +364,8 @@ def _regime(inputs: Inputs, i: int, entry: dict, calibration) -> Regime:
         raise InputError(exc.problem, exc.fix, file=str(source), field=field) from None
     _check_cycles(fourier, label, field, source)
     bias = _pitch_bias(track, fourier, tooth, calibration, analysis.get("orders"), revolutions)
-    return Regime(i + 1, track, fourier, tooth, jackknife(fourier), jackknife(tooth), spt, bias)
+    return Regime(i + 1, track, fourier, tooth, jackknife(fourier), jackknife(tooth), spt, bias,
+                  _oscillogram(inputs, i, entry, revolutions))
 
 
 def _check_track(track: ToothTrack, label) -> None:
@@ -420,7 +471,8 @@ def _signal_inputs(reg: Regime) -> dict[str, Measured]:
             f"s{r}.delta_mid": _jack(mc.delta_mid, u.delta_mid, n, reg.pitch_bias["u"],
                                      f.selection),
             f"s{r}.delta_tooth": _jack(reg.tooth.mean_cycle.delta, reg.u_tooth.delta,
-                                       reg.tooth.cycles)}
+                                       reg.tooth.cycles),
+            **({f"s{r}.delta_osc": reg.oscillogram.delta} if reg.oscillogram else {})}
 
 
 def _check_inputs(inputs: Inputs) -> None:
@@ -458,6 +510,8 @@ def _model(regimes: list[Regime], entries: list[dict]):
                 mean = x.get(f"regime[{r - 1}].h_mean")
                 out[f"delta_osc_{r}"] = delta_oscillogram(x[f"regime[{r - 1}].h_max"],
                                                           x[f"regime[{r - 1}].h_min"], mean)
+            elif reg.oscillogram is not None:
+                out[f"delta_osc_{r}"] = x[f"s{r}.delta_osc"]
         return out
 
     return model
@@ -506,7 +560,9 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
     return LabResult.of(inputs, results, comparisons=comparisons,
                         tables=[report.regime_table(regimes, results, _scales(entries)),
                                 report.pitch_table(regimes)],
-                        figures=report.figures(regimes, ranges), formulas=FORMULAS,
+                        figures=report.figures(regimes, ranges) + read_figures(
+                            [r.oscillogram.channel for r in regimes if r.oscillogram]),
+                        formulas=FORMULAS,
                         references=REFERENCES, warnings=notices,
                         conclusion=report.conclusion(regimes, results, ranges))
 
@@ -558,10 +614,34 @@ def _check_pitch(reg: Regime) -> None:
 
 SYNTH_FORMATS = ("wav", "csv", "h5")
 
+PHOTO_MARKS = 0.01
+"""Period of the time marks on the photographed oscillograms. [s]"""
+
+
+def oscillogram_photo(run, *, cycles: int = 8, seed: int = 0):
+    """A phone photograph (:data:`processing.synth.paper_record.PHONE`) of the
+    frequency-to-voltage oscillogram of an engine run's first ``cycles`` working cycles.
+
+    On 250 mm of 120 mm paper: the speed trace ω(t) with its mean level 70 mm above its zero
+    line (drawn, 20 mm from the lower edge), a TDC pip every revolution, a time mark every
+    :data:`PHOTO_MARKS`. Returns the :class:`~processing.synth.paper_record.PaperScene`."""
+    from processing.synth.paper_record import PHONE, Beam, Layout, render
+
+    duration = cycles * run.cycle_angle / run.mean_angular_speed
+    revolutions = np.arange(0.0, run.crank_angle[-1], 2 * np.pi)
+    tdc = np.interp(revolutions, run.crank_angle, run.time)
+    layout = Layout(length=0.25, speed=0.25 / duration, mark_period=PHOTO_MARKS,
+                    tdc_times=tuple(tdc[tdc < duration]))
+    beam = Beam(lambda t: run.speed_at_angle(run.angle_at(t)) / run.mean_angular_speed, 0.02,
+                0.07, zero_line=True)
+    return render(layout, [beam], PHONE, seed=seed)
+
+
 
 def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=(1800.0, 1840.0),
                     cycles: int = 40, snr_db: float = 30.0, pitch_error_deg: float = 0.03,
-                    sample_rate: float = 48e3, calibrate: bool = True) -> dict[str, Path]:
+                    sample_rate: float = 48e3, calibrate: bool = True,
+                    image: bool = False) -> dict[str, Path]:
     """Write a synthetic lab 3 measurement: recordings, a measurement file and the answer key.
 
     Two regimes of the default four-cylinder engine (:class:`processing.synth.engine.Engine`)
@@ -585,6 +665,10 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=(1800.0,
         Sensor SNR [dB], σ of the wheel's tooth-angle errors [°], sample rate [Hz].
     calibrate : bool
         Also write the coast-down record and name it in the file.
+    image : bool
+        Instead of the readings, a phone photograph of each regime's frequency-to-voltage
+        oscillogram (:func:`oscillogram_photo`: eight working cycles, the zero line, TDC and
+        time marks), named in the file with an ``[image]`` table.
 
     Returns
     -------
@@ -630,9 +714,15 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=(1800.0,
         h = h_cp * np.array([mean_cycle.max(), mean_cycle.min()]) / run.mean_angular_speed
         h_read = np.round((h + rng.normal(0, 0.1, 2)) / 0.2) * 0.2
         n_tach = round(float(run.mean_angular_speed * 30 / np.pi) + rng.normal(0, 2))
-        regimes.append(f'[[regime]]\nsignal = "{file}"\nn_tach = "{n_tach} ± 5 rpm"\n'
-                       f'h_max = "{h_read[0]:.1f} ± 0.2 mm"\nh_min = "{h_read[1]:.1f} ± 0.2 mm"\n'
+        regime = f'[[regime]]\nsignal = "{file}"\nn_tach = "{n_tach} ± 5 rpm"\n'
+        if image:
+            photo = oscillogram_photo(run, seed=seed * 100 + i).write(out / f"regime{i}.jpg")
+            written[f"oscillogram{i}"] = photo
+            regime += f'oscillogram = "{photo.name}"\n'
+        else:
+            regime += (f'h_max = "{h_read[0]:.1f} ± 0.2 mm"\nh_min = "{h_read[1]:.1f} ± 0.2 mm"\n'
                        f'h_mean = "{h_cp:.1f} ± 0.2 mm"\n')
+        regimes.append(regime)
         answers.append(rec.answer_key())
     calibration = ""
     if calibrate:
@@ -642,7 +732,9 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=(1800.0,
     toml = (f'lab = "lab3"\n[meta]\nstudent = "synthetic (dynlab synth lab3 --seed {seed})"\n'
             f'notes = "generated; the true answers are in answer_key.json"\n\n'
             f'[wheel]\nz = 60\nmissing = 2\n{calibration}\n'
-            f'[engine]\nstrokes = 4\ncylinders = 4\nkind = "automotive"\n\n' + "\n".join(regimes))
+            f'[engine]\nstrokes = 4\ncylinders = 4\nkind = "automotive"\n\n' + "\n".join(regimes)
+            + (f'\n[image]\nmark_period = "{1e3 * PHOTO_MARKS:g} ms"\npaper_width = "120 mm"\n'
+               if image else ""))
     written["toml"] = out / f"lab3_seed{seed}.toml"
     written["toml"].write_text(toml, encoding="utf-8")
     written["answer"] = out / "answer_key.json"

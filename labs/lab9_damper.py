@@ -583,27 +583,17 @@ PHOTO_LAYOUT = dict(width=0.12, length=0.25, mark_period=PHOTO_MARKS)
 """The light-beam oscillograph's paper: 120 mm wide, 250 mm of it photographed."""
 
 
-def paper_shot():
-    """The phone camera of the photographed decay records: a 2400 × 1200 px JPEG, the sheet
-    filling 85 % of its width, skewed 1.5°, its corners moved by up to 0.5 %, blurred, noisy,
-    vignetted."""
-    from processing.synth.paper_record import Shot
-
-    return Shot(size=(2400, 1200), fill=0.85, rotation=1.5, perspective=0.005, blur=1.0,
-                noise=3.0, jpeg=90, vignetting=0.2, gradient=0.05)
-
-
 def paper_photo(rec, metres_per_volt: float, seed: int):
     """The photographed paper record (:class:`processing.synth.paper_record.PaperScene`) of a
     recorded decay: the whole record across 250 mm of paper, the beam's zero at mid-width,
     ``metres_per_volt`` of deflection per volt of the gauge."""
-    from processing.synth.paper_record import Beam, Layout, render
+    from processing.synth.paper_record import PHONE, Beam, Layout, render
 
     duration = float(rec.time[-1])
     layout = Layout(speed=PHOTO_LAYOUT["length"] / duration, **PHOTO_LAYOUT)
     centre = float(np.median(rec.signal))
     beam = Beam(lambda t: np.interp(t, rec.time, rec.signal) - centre, 0.06, metres_per_volt)
-    return render(layout, [beam], paper_shot(), seed=seed)
+    return render(layout, [beam], PHONE, seed=seed)
 
 def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: float = 8.0,
                     amplitude_exponent: float = 0.0, ratio: float = 1.87, runs: int = 2,

@@ -179,6 +179,13 @@ class Shot:
     desk: tuple[int, int, int] = (55, 70, 90)
 
 
+PHONE = Shot(size=(2400, 1200), fill=0.85, rotation=1.5, perspective=0.005, blur=1.0,
+             noise=3.0, jpeg=90, vignetting=0.2, gradient=0.05)
+"""A phone photograph of a record on a desk: 2400 × 1200 px JPEG (quality 90), the sheet
+filling 85 % of its width, skewed 1.5°, its corners moved by up to 0.5 %, blur σ 1 px, noise σ
+3 grey levels, 20 % vignetting (the labs' synthetic photographed records)."""
+
+
 @dataclass(frozen=True)
 class PaperScene:
     """A rendered record and its truth.
