@@ -293,7 +293,7 @@ def parser() -> argparse.ArgumentParser:
     syn.add_argument("--paper", action="store_true",
                      help="lab 9: maxima read off a paper record instead of a recording")
     syn.add_argument("--image", action="store_true",
-                     help="labs 3, 9: the oscillogram as a photograph of its paper record (JPEG, "
+                     help="labs 3, 7, 9: the records as photographs of their paper (JPEG, "
                           "read with OpenCV)")
     syn.set_defaults(func=_synth)
     return p

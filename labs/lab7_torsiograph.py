@@ -40,13 +40,14 @@ from labs import lab7_torsiograph_report as report
 from processing.diagnostics import InputError, collect_notices
 from processing.dynamics import firing_phases
 from processing.edges import detect_edges
-from processing.measurement import Field, Inputs, LabSpec, Section, bi
+from processing.measurement import Field, Inputs, LabSpec, Section, bi, image_section
 from processing.regression import fit_line
 from processing.resonance import Resonance, SweepEdge, locate_resonances, major_orders, \
     resonance_speed
 from processing.result import LabResult, compare, flag_estimates, result_values
 from processing.seismic import amplitude_ratio
-from processing.signals import open_channels
+from processing.signals import (image_options, is_image, open_channel, open_channels,
+                                read_figures)
 from processing.torsion import natural_modes
 from processing.torsiogram_analysis import Torsiogram, analyse_trace
 from processing.uncertainty import Measured, propagate
@@ -61,6 +62,12 @@ function's correction (the manual asks for 5–10)."""
 CARRYING_SHARE = 0.3
 """An order carries a record when its amplitude is at least this share of the largest: the
 frequencies the manual's 5–10 × f_c concerns."""
+
+PHOTO_AMPLITUDE = 0.035
+"""Limit of error (relative) of an amplitude read off a phone photograph of a torsiogram:
+the trace as read is smoothed by the camera's blur and the line's width, so peaks read 1–3.3 %
+low where an oscillation's period spans 50–170 px (14 records of ``dynlab synth lab7 --image
+--seed 7``, a phone's 2400 px across 250 mm of paper)."""
 
 MIN_CYCLES = 2
 """Working cycles a record needs at all: with fewer, a half order cannot be told from the
@@ -160,8 +167,10 @@ SPEC = LabSpec(
         )),
         Section("record", bi("Record", "Торсиограмма"), many=True, required=True,
                 help=report.RECORD_HELP, fields=(
-            Field("signal", bi("torsiograph record: CSV, WAV or HDF5 file",
-                               "запись торсиографа: файл CSV, WAV или HDF5"),
+            Field("signal", bi("torsiograph record: CSV, WAV or HDF5 file, or a photograph or "
+                               "scan of the paper torsiogram ([image])",
+                               "запись торсиографа: файл CSV, WAV или HDF5 или снимок "
+                               "бумажной торсиограммы ([image])"),
                   kind="file", example="r800.csv"),
             Field("channel", bi("the torsiograph's channel (default: the first)",
                                 "канал торсиографа (по умолчанию первый)"),
@@ -179,6 +188,7 @@ SPEC = LabSpec(
             Field("load", bi("load", "нагрузка"), kind="choice", choices=LOADS,
                   default="full"),
         )),
+        image_section(),
     ),
 )
 
@@ -279,6 +289,8 @@ class Recorded:
     speed: Measured
     """Its speed: type A from the revolutions' scatter, type B from the marks' timing (half
     a sample at either end of the span). [rad/s]"""
+    channel: object = None
+    """The torsiograph's channel (a photographed record carries its overlay)."""
 
 
 def _marks(x, rate: float) -> np.ndarray:
@@ -290,25 +302,15 @@ def _marks(x, rate: float) -> np.ndarray:
 def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
     where = f"record[{i}]"
     path = entry["signal"]
-    rate = entry["sample_rate"].value if "sample_rate" in entry else None
-    names = [entry.get("channel"), entry["tdc_channel"]]
-    if "marks_channel" in entry:
-        names.append(entry["marks_channel"])
-    channels = open_channels(path, names, sample_rate=rate, field=f"{where}.signal")
-    trace, tdc = (c.read().astype(float) * c.volts_per_code for c in channels[:2])
-    rate = channels[0].sample_rate
-    time = np.arange(trace.size) / rate
 
     def refuse(problem: str, fix: str, field: str = "signal") -> InputError:
         return InputError(problem, fix, file=str(path), field=f"{where}.{field}")
 
-    if len(channels) == 3:
-        _check_time_marks(inputs, channels[2], rate, refuse)
-    tdc_times = _marks(tdc, rate)
-    if tdc_times.size < 2:
-        raise refuse(f"channel '{channels[1].name}' holds {tdc_times.size} TDC mark(s)",
-                     "name the TDC channel (tdc_channel = ...) and check that it records a "
-                     "pulse every revolution", "tdc_channel")
+    if is_image(path):
+        trace_channel, trace, tdc_times, rate = _photographed(inputs, where, entry)
+    else:
+        trace_channel, trace, tdc_times, rate = _recorded(inputs, where, entry, refuse)
+    time = np.arange(trace.size) / rate
     settings = inputs["torsiograph"]
     strokes = inputs["engine"]["strokes"]
     try:
@@ -317,7 +319,7 @@ def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
                                damping_ratio=settings["zeta"].value,
                                per_revolution=settings["tdc_per_revolution"], strokes=strokes)
     except InputError as exc:
-        raise refuse(f"channel '{channels[0].name}': {exc.problem}", exc.fix) from None
+        raise refuse(f"channel '{trace_channel.name}': {exc.problem}", exc.fix) from None
     cycles = trace.size / rate * result.revolution_frequency / (strokes // 2)
     if cycles < MIN_CYCLES - CYCLE_SLACK:
         raise refuse(f"the record spans {cycles:.1f} working cycle(s); its half orders and "
@@ -325,7 +327,7 @@ def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
                      f"record at least {FEW_CYCLES} working cycles "
                      f"({FEW_CYCLES * strokes // 2} revolutions)")
     if not np.isfinite(result.frequency) and not result.drift_ratio > DRIFT_RATIO:
-        raise refuse(f"channel '{channels[0].name}' shows no oscillation above its noise "
+        raise refuse(f"channel '{trace_channel.name}' shows no oscillation above its noise "
                      f"(σ = {result.noise:.3g})", "check that this is the torsiograph's "
                      "channel and that the amplifier's gain lifts the trace out of the noise")
     _check_speed(entry, result, where, path)
@@ -333,7 +335,46 @@ def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
     span = revs.mark_times[-1] - revs.mark_times[0]
     speed = Measured(revs.angular_speed, revs.u_speed, max(revs.speeds.size - 1, 1),
                      limit=revs.angular_speed / (rate * span))
-    return Recorded(i + 1, entry["load"], Path(path), result, float(cycles), speed)
+    return Recorded(i + 1, entry["load"], Path(path), result, float(cycles), speed,
+                    trace_channel)
+
+
+def _recorded(inputs: Inputs, where: str, entry: dict, refuse):
+    """The torsiograph's channel, its trace, the TDC marks' times and the sample rate of a
+    recording (with a time-mark channel checked against T_mark)."""
+    rate = entry["sample_rate"].value if "sample_rate" in entry else None
+    names = [entry.get("channel"), entry["tdc_channel"]]
+    if "marks_channel" in entry:
+        names.append(entry["marks_channel"])
+    channels = open_channels(entry["signal"], names, sample_rate=rate, field=f"{where}.signal")
+    trace, tdc = (c.read().astype(float) * c.volts_per_code for c in channels[:2])
+    rate = channels[0].sample_rate
+    if len(channels) == 3:
+        _check_time_marks(inputs, channels[2], rate, refuse)
+    tdc_times = _marks(tdc, rate)
+    if tdc_times.size < 2:
+        raise refuse(f"channel '{channels[1].name}' holds {tdc_times.size} TDC mark(s)",
+                     "name the TDC channel (tdc_channel = ...) and check that it records a "
+                     "pulse every revolution", "tdc_channel")
+    return channels[0], trace, tdc_times, rate
+
+
+def _photographed(inputs: Inputs, where: str, entry: dict):
+    """The trace (in mm of paper, as the calibration's deflections are read) and the TDC
+    marks of a photographed torsiogram; its time marks set its time base."""
+    path, field = entry["signal"], f"{where}.signal"
+    channel = open_channel(path, channel=entry.get("channel"), field=field,
+                           image=image_options(inputs.sections.get("image")))
+    if channel.unit != "m":
+        raise InputError("the photograph's length scale is unknown, so its deflections "
+                         "cannot meet the calibration's (mm of paper)", "give paper_width, "
+                         "grid or dpi in [image]", file=str(path), field="image.paper_width")
+    tdc_times = channel.marks.get("tdc", np.array([]))
+    if tdc_times.size < 2:
+        raise InputError(f"{tdc_times.size} TDC mark(s) found on the photograph",
+                         "photograph the torsiogram with its TDC mark line over several "
+                         "revolutions", file=str(path), field=field)
+    return channel, channel.read() * 1e3, tdc_times, channel.sample_rate
 
 
 def _check_time_marks(inputs: Inputs, channel, rate: float, refuse) -> None:
@@ -466,7 +507,9 @@ def _flat(inputs: Inputs, recorded, slope, found, amplitudes) -> dict:
         flat[f"r{r.number}.omega"] = r.speed
         if t.frequency_fit is not None:
             flat[f"r{r.number}.half_period"] = t.frequency_fit.measured_slope()
-        flat[f"r{r.number}.A"] = Measured(t.cycle.largest, t.cycle.u_largest, t.cycle.dof)
+        photo = PHOTO_AMPLITUDE if is_image(r.source) else 0.0
+        flat[f"r{r.number}.A"] = Measured(t.cycle.largest, t.cycle.u_largest, t.cycle.dof,
+                                          limit=photo * t.cycle.largest)
         flat[f"r{r.number}.f"] = t.fit.order[np.argmax(t.order_amplitude)] \
             * t.revolution_frequency
     for f in found:
@@ -474,7 +517,9 @@ def _flat(inputs: Inputs, recorded, slope, found, amplitudes) -> dict:
         for n in f.records:
             orders, a, u = amplitudes[n]
             col = int(np.argmin(np.abs(orders - k)))
-            flat[f"r{n}.order{k:g}"] = Measured(float(a[col]), float(u[col]), np.inf)
+            photo = PHOTO_AMPLITUDE if is_image(recorded[n - 1].source) else 0.0
+            flat[f"r{n}.order{k:g}"] = Measured(float(a[col]), float(u[col]), np.inf,
+                                                limit=photo * float(a[col]))
         flat[f"res{f.number}.model"] = Measured(0.0, limit=RESONANCE_MODEL * f.resonance.step)
     if "chain" in inputs:
         chain = inputs["chain"]
@@ -611,7 +656,9 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20037) -> LabR
                  majors=majors, calibration=(inputs["calibration"], cal_fit),
                  f_c=inputs["torsiograph"]["f_c"].value)
     return LabResult.of(inputs, results, comparisons=comparisons,
-                        tables=report.tables(**parts), figures=report.figures(**parts),
+                        tables=report.tables(**parts),
+                        figures=report.figures(**parts) + read_figures(
+                            [r.channel for r in recorded]),
                         formulas=report.FORMULAS, references=report.REFERENCES,
                         warnings=notices, conclusion=report.conclusion(**parts))
 
@@ -655,13 +702,33 @@ def _warn(inputs: Inputs, recorded, found, edges, results) -> None:
 
 SYNTH_FORMATS = ("csv", "h5")
 
+PHOTO_MARKS = 0.005
+"""Period of the time marks on the photographed torsiograms. [s]"""
+
+
+def torsiogram_photo(rec, metres_per_volt: float, *, seed: int = 0):
+    """A phone photograph (:data:`processing.synth.paper_record.PHONE`) of a synthetic
+    record's paper torsiogram: the whole record over 250 mm of 120 mm paper, the trace about
+    mid-width at ``metres_per_volt``, a TDC pip at each TDC of cylinder 1 and a time mark
+    every :data:`PHOTO_MARKS`. Returns the
+    :class:`~processing.synth.paper_record.PaperScene`."""
+    from processing.synth.paper_record import PHONE, Beam, Layout, render
+
+    duration = float(rec.time[-1])
+    layout = Layout(length=0.25, speed=0.25 / duration, mark_period=PHOTO_MARKS,
+                    tdc_times=tuple(rec.tdc_times))
+    centre = float(np.median(rec.trace))
+    beam = Beam(lambda t: np.interp(t, rec.time, rec.trace) - centre, 0.06, metres_per_volt)
+    return render(layout, [beam], PHONE, seed=seed)
+
+
 
 def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float = 35.0,
                     sample_rate: float = 4000.0, drift: float = 1.0,
                     drift_frequency: float = 0.5, revolutions: int = 16,
                     step: float = 200.0, fine: float = 50.0, speeds=(800.0, 2100.0),
                     natural_frequency: float = 1.5, loads=("full",),
-                    chain: bool = True) -> dict[str, Path]:
+                    chain: bool = True, image: bool = False) -> dict[str, Path]:
     """Write a synthetic lab 7 measurement: the records of a speed sweep, a measurement file
     and the answer key.
 
@@ -699,6 +766,10 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
     loads : sequence of {"idle", "part", "full"}
     chain : bool
         Also write the equivalent chain (for the model's natural frequencies).
+    image : bool
+        Write each record as a phone photograph of its paper torsiogram (``rNN.jpg``,
+        :func:`torsiogram_photo`; ``revolutions`` 6 suits 250 mm of paper) with an
+        ``[image]`` table, the calibration's deflections in mm of paper.
 
     Returns
     -------
@@ -731,13 +802,30 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
     results["l"] = inst.scale
     number, res_number = 0, 0
     rng = np.random.default_rng([seed, 71])
+    recs = []
     for load in loads:
         share = SHARES[load]
         truths = resonances(shaft, lo, hi, load=share)
         for w in sweep(shaft, lo, hi, step=step * RPM, fine=fine * RPM, load=share,
                        found=truths):
             number += 1
-            rec = record(shaft, inst, w, load=share, seed=seed * 1000 + number)
+            recs.append((number, load, w, record(shaft, inst, w, load=share,
+                                                 seed=seed * 1000 + number)))
+        for r in truths:
+            if r.clear:
+                res_number += 1
+                results.update({f"n_res_{res_number}": r.speed, f"K_res_{res_number}": r.order,
+                                f"f_res_{res_number}": r.order * r.speed / (2 * np.pi)})
+    # on paper: 35 mm for the largest excursion of any record
+    gain = 0.035 / max(np.max(np.abs(rec.trace - np.median(rec.trace))) for *_, rec in recs)
+    if image:
+        results["l"] = inst.scale / (1e3 * gain)         # rad per mm of paper
+    for number, load, w, rec in recs:
+        if image:
+            name = f"r{number:02d}.jpg"
+            torsiogram_photo(rec, gain, seed=seed * 1000 + number).write(out / name)
+            rate = ""
+        else:
             name = f"r{number:02d}.{fmt}"
             columns = {"phi": np.round(rec.trace, 4), "tdc": np.round(rec.tdc, 2),
                        "marks": np.round(rec.timer, 2)}
@@ -747,17 +835,12 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
             else:
                 write_hdf5(out / name, columns, sample_rate)
                 rate = ""
-            written[f"r{number}"] = out / name
-            n_tach = round(w / RPM + rng.normal(0, 2))
-            bodies.append(f'[[record]]\nsignal = "{name}"\n{rate}channel = "phi"\n'
-                          f'marks_channel = "marks"\nn = "{n_tach} ± 5 rpm"\nload = "{load}"\n')
-            truth = rec.truth()
-            results.update({f"{k}_{number}": v for k, v in truth.items()})
-        for r in truths:
-            if r.clear:
-                res_number += 1
-                results.update({f"n_res_{res_number}": r.speed, f"K_res_{res_number}": r.order,
-                                f"f_res_{res_number}": r.order * r.speed / (2 * np.pi)})
+        written[f"r{number}"] = out / name
+        n_tach = round(w / RPM + rng.normal(0, 2))
+        channels = "" if image else 'channel = "phi"\nmarks_channel = "marks"\n'
+        bodies.append(f'[[record]]\nsignal = "{name}"\n{rate}{channels}'
+                      f'n = "{n_tach} ± 5 rpm"\nload = "{load}"\n')
+        results.update({f"{k}_{number}": v for k, v in rec.truth().items()})
     results["phi_max"] = max(v for k, v in results.items() if k.startswith("phi_max_"))
     chain_text = ""
     if chain:
@@ -770,7 +853,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
                         enumerate(shaft.natural_frequencies(), 1)})
     order = "-".join(map(str, shaft.firing_order))
     h = ", ".join(f"{1e3 * x:g}" for x in heights)
-    a = ", ".join(f"{x:.3f}" for x in deflection)
+    a = ", ".join(f"{1e3 * gain * x:.2f}" if image else f"{x:.3f}" for x in deflection)
     toml = (f'lab = "lab7"\n[meta]\nstudent = "synthetic (dynlab synth lab7 --seed {seed})"\n'
             'notes = "generated; the true answers are in answer_key.json"\n\n'
             f'[engine]\ncylinders = {shaft.cylinders}\nstrokes = {shaft.strokes}\n'
@@ -779,7 +862,9 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
             f'zeta = "{inst.damping_ratio:g} ± 0.05"\n'
             f'mark_period = "{1e3 * inst.mark_period:g} ms"\n\n'
             f'[calibration]\nR = "{1e3 * lever:g} ± 0.5 mm"\nh = [{h}]\ndeflection = [{a}]\n\n'
-            + chain_text + "\n".join(bodies))
+            + chain_text + "\n".join(bodies)
+            + (f'\n[image]\nmark_period = "{1e3 * PHOTO_MARKS:g} ms"\npaper_width = "120 mm"\n'
+               if image else ""))
     written["toml"] = out / f"lab7_seed{seed}.toml"
     written["toml"].write_text(toml, encoding="utf-8")
     written["answer"] = out / "answer_key.json"

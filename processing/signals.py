@@ -308,6 +308,11 @@ def open_channels(path, names: Iterable[str | int | None], *, sample_rate: float
     return channels
 
 
+def is_image(path) -> bool:
+    """Whether ``path`` names a photograph or scan (by its extension)."""
+    return Path(path).suffix.lower() in _IMAGES
+
+
 def image_options(table: dict | None) -> dict:
     """The reader's keyword options from a measurement file's ``[image]`` table (validated by
     :func:`processing.measurement.image_section`: quantities as Measured in SI)."""

@@ -243,3 +243,27 @@ def test_bad_settings_are_refused(base, old, new, field):
     folder, text = base
     assert old in text
     refused(folder, text.replace(old, new, 1), field)
+
+
+# ----------------------------------------------------------------------------- photographed torsiograms
+
+def test_photographed_sweep_gives_the_recorded_sweeps_results(tmp_path):
+    """The seeded sweep written twice — as recordings, and as phone photographs of its paper
+    torsiograms (6 revolutions across 250 mm each) — gives the same resonances (orders exact,
+    speeds within 0.05 %), the design value φ_max within 1 % of the truth, every stated
+    interval holding its truth (the photographs' amplitudes carry their reading's limit,
+    PHOTO_AMPLITUDE), and the report shows each photograph as read."""
+    photo = lab7.write_synthetic(tmp_path / "jpg", seed=7, image=True, revolutions=6)
+    recorded = lab7.write_synthetic(tmp_path / "csv", seed=7, revolutions=6)
+    key = json.loads(photo["answer"].read_text())["results"]
+    a, b = reduce(recorded["toml"]), reduce(photo["toml"])
+    for name in ("K_res_1", "K_res_2"):
+        assert b[name].value == key[name] == a[name].value
+    for name in ("n_res_1", "n_res_2"):
+        assert b[name].value == pytest.approx(a[name].value, rel=5e-4)
+    assert b["phi_max"].value == pytest.approx(key["phi_max"], rel=0.01)
+    for name, truth in key.items():
+        if name in b.results:
+            lo, hi = b[name].estimate.interval95
+            assert lo <= truth <= hi, (name, b[name].value, truth)
+    assert sum(f.name.startswith("paper_record") for f in b.figures) == 14
