@@ -199,6 +199,53 @@ def _kinematics(args) -> int:
     return 0
 
 
+def _check(args) -> int:
+    """Judge each submission's [reported] values; a folder is a class: every .toml in it,
+    a summary written, the pairs with the same readings named."""
+    import json
+
+    from .check import check, copied_pairs
+    from .check_report import terminal, write_summary
+
+    files, folders = [], []
+    for item in args.files:
+        p = Path(item)
+        if p.is_dir():
+            folders.append(p)
+            files += sorted(p.rglob("*.toml"))
+        else:
+            files.append(p)
+    if folders and not files:
+        raise InputError("no .toml submission in the folder", "give the folder holding the "
+                         "students' measurement files", file=str(folders[0]))
+    if args.policy is not None and not Path(args.policy).is_file():
+        raise InputError("the policy file is not found", "check the path of --policy",
+                         file=args.policy)
+    checks, refused = [], {}
+    for path in _progress(files, "check"):
+        try:
+            checks.append(check(path, policy=args.policy, confine=bool(folders)))
+        except InputError as exc:
+            if not folders:
+                raise
+            refused[str(path)] = str(exc)
+    pairs = copied_pairs(checks)
+    if args.json:
+        print(json.dumps([c.to_dict() for c in checks] if len(files) > 1 or folders
+                         else checks[0].to_dict(), ensure_ascii=False, indent=1))
+    else:
+        for c in checks:
+            print(terminal(c, args.lang))
+        for file, message in refused.items():
+            print(f"error: {message}", file=sys.stderr)
+        for a, b in pairs:
+            print(f"same readings: {a} and {b}")
+    if folders:
+        written = write_summary(Path(args.out), checks, refused, pairs, args.lang)
+        print(f"class summary: {', '.join(str(w) for w in written)}", file=sys.stderr)
+    return EXIT_INPUT if refused else 0
+
+
 def _list(_args) -> int:
     for lab_id, entry in CATALOGUE.items():
         print(f"{lab_id:8} {entry.title['en']}  /  {entry.title['ru']}")
@@ -272,6 +319,16 @@ def parser() -> argparse.ArgumentParser:
     kin.add_argument("--approx", action="store_true", help="the series to λ² instead of exact")
     kin.add_argument("--format", choices=("table", "csv"), default="table")
     kin.set_defaults(func=_kinematics)
+    chk = sub.add_parser("check", help="judge the values a student reported ([reported]) "
+                         "against the reduction; a folder checks a class")
+    chk.add_argument("files", nargs="+", metavar="FILE_OR_FOLDER")
+    chk.add_argument("--policy", help="the teacher's tolerances: a TOML file with rel_tol, "
+                     "sig_figs, expected (per lab in [labN] tables)")
+    chk.add_argument("--out", default="check", help="folder for a class's summary.csv and "
+                     "summary.html (default: check)")
+    chk.add_argument("--lang", choices=LANGS, default="en")
+    chk.add_argument("--json", action="store_true", help="print the verdicts as JSON")
+    chk.set_defaults(func=_check)
     syn = sub.add_parser("synth", help="write a synthetic measurement with its answer key")
     syn.add_argument("lab", choices=tuple(CATALOGUE))
     syn.add_argument("--seed", type=_seed, default=0)

@@ -26,7 +26,7 @@ from processing.reporting.content import fmt_pm
 from processing.reporting.figures import method_chart
 from processing.result import (Figure, LabResult, Table, compare, flag_estimates,
                                result_values)
-from processing.uncertainty import propagate
+from processing.uncertainty import Measured, propagate
 
 
 # ------------------------------------------------------------------------ formulas
@@ -388,6 +388,26 @@ FORMULAS = [
     bi("Physical pendulum: J_O = T² m g c/(4π²)  (15); J_c = J_O − m c²  (16)",
        "Физический маятник: J_O = T² m g c/(4π²)  (15); J_c = J_O − m c²  (16)"),
 ]
+def _platform_kept(inputs: Inputs) -> Inputs | None:
+    """The trifilar's empty platform not subtracted: the part and the platform timed together
+    taken for the part, J = g R₁R₂ (m + m_p) T²/(4π² H) without − m_p T_p²."""
+    tri = inputs.sections.get("trifilar")
+    if not tri or "m_p" not in tri or "t_p" not in tri:
+        return None
+    both = Measured(inputs["body"]["m"].value + tri["m_p"].value)
+    return inputs.changed("body", m=both).changed("trifilar", m_p=None, t_p=None)
+
+
+SLIPS = [
+    ("platform_not_subtracted",
+     bi("the empty platform not subtracted: J of the part and the platform together",
+        "не вычтен момент инерции пустой платформы: J детали вместе с платформой"),
+     ("J_trifilar",), _platform_kept),
+]
+"""The lab's classic slips (:mod:`labs.check`): name, text, the results they change, and the
+inputs as the slip leaves them."""
+
+
 REFERENCES = [
     bi("Dynamics of internal-combustion engines: lab manual. Vladimir State University, 2003, lab 1.",
        "Динамика двигателей внутреннего сгорания: метод. указания к лаб. работам. Владимир: ВлГУ, 2003. Лаб. работа №1."),

@@ -249,6 +249,24 @@ FORMULAS = [
     bi("Statistics: m_shp = (0.2…0.3) m_sh; petrol ≈ 0.25 m_sh, diesel ≈ 0.3 m_sh  (11), (12)",
        "Статистика: m_шп = (0,2…0,3) m_ш; бензиновые ≈ 0,25 m_ш, дизели ≈ 0,3 m_ш  (11), (12)"),
 ]
+def _pin_distance_for_prisms(inputs: Inputs) -> Inputs | None:
+    """The wrong pivot distance: the pin-axis distance l_ш taken for the prism edges' l_CD."""
+    if "swinging" not in inputs:
+        return None
+    return inputs.changed("swinging", l_CD=inputs["rod"]["l_sh"])
+
+
+SLIPS = [
+    ("wrong_pivot_distance",
+     bi("the wrong pivot distance: the axes' distance l_ш used for the prism edges' l_CD",
+        "неверное расстояние между осями качания: l_ш взято вместо l_CD"),
+     ("l_shp_swinging", "l_shk_swinging", "m_shp_swinging", "m_shk_swinging", "J_cm_swinging",
+      "l_C_swinging", "l_D_swinging"), _pin_distance_for_prisms),
+]
+"""The lab's classic slips (:mod:`labs.check`): name, text, the results they change, and the
+inputs as the slip leaves them."""
+
+
 REFERENCES = [
     bi("Dynamics of internal-combustion engines: lab manual. Vladimir State University, 2003, lab 2.",
        "Динамика двигателей внутреннего сгорания: метод. указания к лаб. работам. Владимир: ВлГУ, 2003. Лаб. работа №2."),

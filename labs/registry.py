@@ -41,14 +41,16 @@ def lab_module(lab_id: str, file: str | None = None):
     return LABS[lab_id]
 
 
-def evaluate(path: str | Path, *, confine: bool = False, **options) -> LabResult:
+def evaluate(path: str | Path, *, data: dict | None = None, confine: bool = False,
+             **options) -> LabResult:
     """Read, validate and reduce one measurement file; warnings of both steps are kept.
 
-    ``confine`` keeps every file the measurement names inside its folder (see
+    ``data`` is the file already parsed (a submission with its ``[reported]`` table taken
+    out); ``confine`` keeps every file the measurement names inside its folder (see
     :func:`processing.measurement.load`)."""
     from processing.measurement import load, read_toml  # pint and numpy: only when reducing
 
-    data = read_toml(path)
+    data = read_toml(path) if data is None else data
     lab_id = data.get("lab")
     if lab_id is None:
         raise InputError("the file does not say which lab it is",

@@ -26,7 +26,7 @@ import os
 import tomllib
 import warnings
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -201,6 +201,13 @@ class Inputs:
 
     def __getitem__(self, section: str):
         return self.sections[section]
+
+    def changed(self, section: str, **values) -> Inputs:
+        """A copy with fields of ``section`` replaced (a value of None removes the field): the
+        same measurements as a student who slipped would have used them."""
+        entry = {k: v for k, v in {**self.sections[section], **values}.items()
+                 if v is not None}
+        return replace(self, sections={**self.sections, section: entry})
 
     def flat(self) -> dict[str, Any]:
         """Every value keyed ``section.field`` (``section[i].field`` in a ``many`` section),

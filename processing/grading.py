@@ -1,0 +1,261 @@
+"""Judging a student's reported values against a reduction: right, rounded, over-precise,
+wrong (with the classic slip that explains it) or missing.
+
+A reported value r (± its own u_r, if the student gave one) is set against our value x ± u
+by two tests, either of which passes it, as a teacher's quiz does (Moodle's and STACK's
+relative tolerance, a z-score where both sides state an uncertainty):
+
+* the relative tolerance of the teacher's :class:`Policy`, |r − x| ≤ tol·|x|, widened by
+  half a unit of the last digit the student wrote (a value rounded to its digits is not
+  wrong for that);
+* the z-score z = (r − x)/√(u² + u_r²), |z| ≤ 2.
+
+A right value written to fewer significant figures than the policy asks is *rounded*; one
+written far beyond its uncertainty (its last digit below a thousandth of U = 2u) is
+*over-precise*. A wrong value is tried against each candidate :class:`Slip` — the value the
+student would have got through it, a known factor of ours (×1000, rpm taken as rad/s,
+degrees as radians, 2π dropped, diameter for radius) or a lab's own slip re-reduced from
+slipped inputs (the platform not subtracted, the wrong pivot distance) — by the same tests;
+the first that fits names the likely cause.
+"""
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+
+VERDICTS = ("right", "rounded", "over-precise", "wrong", "missing")
+"""Every verdict, best first."""
+
+OVER_PRECISE = 1e-3
+"""A value whose last written digit is worth less than this share of its U = 2u is
+over-precise: GUM rounds U to two figures and the value to the same place (about U/10 to
+U/100); one digit more is tolerated, two are not."""
+
+Z_LIMIT = 2.0
+"""|z| up to which a reported value agrees with ours (about 95 %)."""
+
+
+@dataclass(frozen=True)
+class Policy:
+    """A teacher's tolerance for one lab.
+
+    Parameters
+    ----------
+    rel_tol : float
+        Relative tolerance (0.01: within 1 %).
+    sig_figs : int
+        Significant figures a value must be written with; fewer is *rounded*.
+    expected : tuple of str
+        Result names every submission must report; absent ones are *missing*.
+    """
+
+    rel_tol: float = 0.01
+    sig_figs: int = 3
+    expected: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class Reported:
+    """What a student reported for one result, in SI.
+
+    ``digits`` is how many significant figures were written and ``last_place`` the SI value
+    of a unit in the last digit written (half of it is the rounding the student did)."""
+
+    name: str
+    value: float
+    u: float = 0.0
+    digits: int = 15
+    last_place: float = 0.0
+
+
+@dataclass(frozen=True)
+class Slip:
+    """A classic mistake: what a value would be through it.
+
+    ``value(x)`` maps our value to the slipped one (a factor, an offset), or ``reduced``
+    gives it from a re-reduction of slipped inputs; ``applies(unit)`` says whether the slip
+    is possible for a result in that SI unit."""
+
+    name: str
+    text: dict[str, str]
+    value: Callable[[float], float] | None = None
+    applies: Callable[[str], bool] = lambda unit: True
+    reduced: dict[str, float] = field(default_factory=dict)
+
+    def candidate(self, name: str, x: float, unit: str) -> float | None:
+        if self.value is not None:
+            return self.value(x) if self.applies(unit) else None
+        return self.reduced.get(name)
+
+
+def _is(*units: str) -> Callable[[str], bool]:
+    return lambda unit: unit in units
+
+
+FACTOR_SLIPS = (
+    Slip("prefix_x1000", {"en": "a unit prefix slipped (×1000: g for kg, mm for m, kN for N)",
+                          "ru": "ошибка в приставке единицы (×1000: г вместо кг, мм вместо м)"},
+         lambda x: 1e3 * x, lambda unit: unit != ""),
+    Slip("prefix_div1000", {"en": "a unit prefix slipped (÷1000)",
+                            "ru": "ошибка в приставке единицы (÷1000)"},
+         lambda x: 1e-3 * x, lambda unit: unit != ""),
+    Slip("rpm_as_rad_s", {"en": "min⁻¹ taken as rad/s (or the reverse): a factor π/30",
+                          "ru": "мин⁻¹ принята за рад/с (или наоборот): множитель π/30"},
+         lambda x: 30 / math.pi * x, _is("rad/s")),
+    Slip("rad_s_as_rpm", {"en": "rad/s taken as min⁻¹: a factor 30/π",
+                          "ru": "рад/с приняты за мин⁻¹: множитель 30/π"},
+         lambda x: math.pi / 30 * x, _is("rad/s")),
+    Slip("degrees_as_radians", {"en": "degrees taken as radians (×180/π)",
+                                "ru": "градусы приняты за радианы (×180/π)"},
+         lambda x: 180 / math.pi * x, _is("rad")),
+    Slip("radians_as_degrees", {"en": "radians taken as degrees (×π/180)",
+                                "ru": "радианы приняты за градусы (×π/180)"},
+         lambda x: math.pi / 180 * x, _is("rad")),
+    Slip("two_pi_dropped", {"en": "2π dropped (frequency in Hz for ω in rad/s, or the reverse)",
+                            "ru": "потерян множитель 2π (частота в Гц вместо ω в рад/с)"},
+         lambda x: x / (2 * math.pi), _is("rad/s", "Hz", "1/s", "s")),
+    Slip("two_pi_extra", {"en": "2π too many (ω in rad/s for a frequency in Hz, or the reverse)",
+                          "ru": "лишний множитель 2π"},
+         lambda x: 2 * math.pi * x, _is("rad/s", "Hz", "1/s", "s")),
+    Slip("diameter_for_radius", {"en": "a diameter used for a radius (×2; ×4 in a moment of "
+                                       "inertia)",
+                                 "ru": "диаметр взят вместо радиуса (×2; ×4 в моменте инерции)"},
+         lambda x: 2 * x, _is("m")),
+    Slip("diameter_for_radius_squared", {"en": "a diameter used for a radius in R² (×4)",
+                                         "ru": "диаметр вместо радиуса в R² (×4)"},
+         lambda x: 4 * x, _is("kg*m^2", "kg*m**2", "kg m^2")),
+    Slip("radius_for_diameter", {"en": "a radius used for a diameter (÷2; ÷4 in R²)",
+                                 "ru": "радиус взят вместо диаметра (÷2; ÷4 в R²)"},
+         lambda x: x / 2, _is("m")),
+    Slip("radius_for_diameter_squared", {"en": "a radius used for a diameter in R² (÷4)",
+                                         "ru": "радиус вместо диаметра в R² (÷4)"},
+         lambda x: x / 4, _is("kg*m^2", "kg*m**2", "kg m^2")),
+    Slip("gauge_pressure", {"en": "gauge and absolute pressure confused (p₀ = 0.1 MPa not "
+                                  "subtracted, or subtracted twice)",
+                            "ru": "перепутаны избыточное и абсолютное давление (p₀ = 0,1 МПа "
+                                  "не вычтено или вычтено дважды)"},
+         lambda x: x + 1e5, _is("Pa")),
+    Slip("gauge_pressure_minus", {"en": "gauge and absolute pressure confused (p₀ subtracted "
+                                        "where it should not be)",
+                                  "ru": "перепутаны избыточное и абсолютное давление (p₀ "
+                                        "вычтено лишний раз)"},
+         lambda x: x - 1e5, _is("Pa")),
+)
+"""Slips that act on a result through a factor or an offset, whatever the lab."""
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """One result judged.
+
+    Attributes
+    ----------
+    name : str
+    verdict : str
+        One of :data:`VERDICTS`.
+    reported : Reported or None
+    value, u : float
+        Ours, SI. (NaN for a name we do not compute.)
+    z : float
+        (r − x)/√(u² + u_r²); NaN where neither side states an uncertainty.
+    relative : float
+        (r − x)/|x|.
+    slip : Slip or None
+        The slip that explains a wrong value.
+    """
+
+    name: str
+    verdict: str
+    reported: Reported | None
+    value: float
+    u: float
+    z: float = math.nan
+    relative: float = math.nan
+    slip: Slip | None = None
+
+
+def _agrees(r: Reported, x: float, u: float, policy: Policy) -> tuple[bool, float, float]:
+    rel = (r.value - x) / abs(x) if x else (math.inf if r.value else 0.0)
+    combined = math.hypot(u, r.u)
+    z = (r.value - x) / combined if combined > 0 else math.nan
+    tolerance = policy.rel_tol * abs(x) + 0.5 * r.last_place
+    ok = abs(r.value - x) <= tolerance or (combined > 0 and abs(z) <= Z_LIMIT)
+    return ok, z, rel
+
+
+def judge(name: str, reported: Reported | None, value: float, u: float, unit: str,
+          policy: Policy = Policy(), slips: Iterable[Slip] = FACTOR_SLIPS) -> Verdict:
+    """Judge one reported value against ours.
+
+    Parameters
+    ----------
+    name : str
+        The result's name.
+    reported : Reported or None
+        The student's value; None: *missing*.
+    value, u : float
+        Our value and its standard uncertainty, SI.
+    unit : str
+        The result's SI unit (which slips are possible).
+    policy : Policy
+    slips : iterable of Slip
+        Candidates for a wrong value, tried in order.
+
+    Returns
+    -------
+    Verdict
+
+    Examples
+    --------
+    >>> judge("omega", Reported("omega", 188.5, digits=4, last_place=0.1), 188.496, 0.2,
+    ...       "rad/s").verdict
+    'right'
+    >>> v = judge("omega", Reported("omega", 1800.0, digits=4, last_place=1.0), 188.496, 0.2,
+    ...           "rad/s")
+    >>> v.verdict, v.slip.name
+    ('wrong', 'rpm_as_rad_s')
+    """
+    if reported is None:
+        return Verdict(name, "missing", None, value, u)
+    ok, z, rel = _agrees(reported, value, u, policy)
+    if ok:
+        scale = 2.0 * max(u, reported.u)
+        if reported.digits < policy.sig_figs and abs(rel) > 1e-12:
+            verdict = "rounded"
+        elif scale > 0 and reported.last_place < OVER_PRECISE * scale and reported.digits > 3:
+            verdict = "over-precise"
+        else:
+            verdict = "right"
+        return Verdict(name, verdict, reported, value, u, z, rel)
+    for slip in slips:
+        s = slip.candidate(name, value, unit)
+        if s is not None and math.isfinite(s) and _agrees(reported, s, u * abs(s / value)
+                                                          if value else u, policy)[0]:
+            return Verdict(name, "wrong", reported, value, u, z, rel, slip)
+    return Verdict(name, "wrong", reported, value, u, z, rel)
+
+
+_NUMBER = re.compile(r"^\s*([-+]?)(\d*)(?:\.(\d*))?(?:[eE]([-+]?\d+))?")
+
+
+def written_digits(text: str) -> tuple[int, int]:
+    """Significant figures of the number a text starts with, and the decimal exponent of its
+    last digit (``"0.01230 kg"`` → (4, −5); ``"1500 rpm"`` → (2, 2): an integer's trailing
+    zeros are not counted as significant).
+
+    Examples
+    --------
+    >>> written_digits("0.01230 kg*m^2"), written_digits("1500"), written_digits("2.5e3 N")
+    ((4, -5), (2, 2), (2, 2))
+    """
+    m = _NUMBER.match(text)
+    whole, frac, exp = m.group(2) or "", m.group(3), int(m.group(4) or 0)
+    if frac is None:
+        stripped = whole.lstrip("0")
+        zeros = len(stripped) - len(stripped.rstrip("0"))
+        digits = max(len(stripped) - zeros, 1)
+        return digits, zeros + exp
+    mantissa = (whole + frac).lstrip("0")
+    return max(len(mantissa), 1), exp - len(frac)

@@ -1,0 +1,184 @@
+"""``dynlab check``: a submission's reported values judged against the reduction.
+
+Every diagnosis is proven the same way: the slip is reproduced — the student's value made as
+the student would have made it — then the check must name it; right values, written to any
+sensible precision, must never be called wrong; bad submissions are refused with the file,
+the field and the fix.
+"""
+import csv
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+from labs.check import check
+from labs.cli import main
+from labs.registry import evaluate
+from processing.diagnostics import InputError
+from processing.grading import Reported, judge, written_digits
+
+ROOT = Path(__file__).resolve().parents[1]
+LAB1 = ROOT / "sample_data" / "lab1" / "flywheel.toml"
+LAB2 = ROOT / "sample_data" / "lab2" / "conrod.toml"
+LAB9 = ROOT / "sample_data" / "lab9" / "synthetic_damper.toml"
+
+
+@pytest.fixture(scope="module")
+def ours():
+    return {p: evaluate(p, n_samples=2000).results for p in (LAB1, LAB2, LAB9)}
+
+
+def submission(folder: Path, sample: Path, reported: str, name: str = "s.toml") -> Path:
+    """The sample's measurements with a [reported] table, in a folder of its own (with the
+    sample's recordings)."""
+    path = folder / name
+    text = sample.read_text(encoding="utf-8")
+    for other in sample.parent.iterdir():
+        if other.suffix in (".csv", ".wav", ".jpg") and not (folder / other.name).exists():
+            (folder / other.name).write_bytes(other.read_bytes())
+    path.write_text(f"{text}\n[reported]\n{reported}\n", encoding="utf-8")
+    return path
+
+
+def verdicts(path, **options):
+    return {v.name: v for v in check(path, **options).verdicts}
+
+
+def sig(x: float, figures: int) -> str:
+    return f"{x:.{figures}g}"
+
+
+# ----------------------------------------------------------------------------- right values
+
+@pytest.mark.parametrize("figures, expected", [(3, "right"), (4, "right"), (5, "right"),
+                                               (2, "rounded"), (9, "over-precise")])
+def test_our_own_values_written_to_any_precision_are_never_wrong(tmp_path, ours, figures,
+                                                                 expected):
+    results = ours[LAB1]
+    lines = "\n".join(f'{n} = "{sig(results[n].value, figures)} kg*m^2"'
+                      for n in ("J_trifilar", "J_unifilar", "J_pendulum_cm"))
+    found = verdicts(submission(tmp_path, LAB1, lines))
+    assert {v.verdict for v in found.values()} == {expected}, found
+
+
+def test_a_value_off_by_more_than_the_tolerance_is_right_within_the_students_own_u(ours):
+    x = ours[LAB1]["J_trifilar"]
+    off = Reported("J_trifilar", 1.03 * x.value, digits=4, last_place=1e-4)
+    assert judge("J_trifilar", off, x.value, x.u, "kg*m^2").verdict == "wrong"
+    stated = Reported("J_trifilar", 1.03 * x.value, u=0.004, digits=4, last_place=1e-4)
+    v = judge("J_trifilar", stated, x.value, x.u, "kg*m^2")
+    assert v.verdict == "right" and abs(v.z) <= 2
+
+
+def test_written_digits_count_as_a_teacher_counts():
+    assert written_digits("0.01230 kg") == (4, -5)
+    assert written_digits("1800 rpm") == (2, 2)
+    assert written_digits("1.800e3") == (4, 0)
+    assert written_digits("7") == (1, 0)
+
+
+# ----------------------------------------------------------------------------- slips, reproduced then found
+
+def test_platform_not_subtracted_is_found(tmp_path):
+    """Reproduced by hand from the sample's trifilar readings: J of the part and the platform
+    together, g R₁R₂ (m + m_p) T²/(4π² l) — the lab's formula without − m_p T_p² and without
+    its amplitude and thread-stretch corrections, as a student computes it."""
+    g, R1, R2, l, m, m_p = 9.8156, 0.0998, 0.1403, 0.7998, 11.800, 2.104
+    T = sum([36.07, 36.21, 36.22]) / 3 / 20
+    slipped = g * R1 * R2 * (m + m_p) * T ** 2 / (4 * math.pi ** 2 * l)
+    found = verdicts(submission(tmp_path, LAB1, f'J_trifilar = "{slipped:.4f} kg*m^2"'))
+    assert found["J_trifilar"].verdict == "wrong"
+    assert found["J_trifilar"].slip.name == "platform_not_subtracted"
+
+
+def test_wrong_pivot_distance_is_found(tmp_path, ours):
+    """Reproduced through the lab's own formula (10) with l_ш for l_CD."""
+    from processing.measurement import load, read_toml
+
+    from labs import lab2_conrod as lab2
+
+    inputs = load(LAB2, lab2.SPEC, read_toml(LAB2))
+    slipped = lab2.reduce(inputs.changed("swinging", l_CD=inputs["rod"]["l_sh"]),
+                          n_samples=200).results["l_shp_swinging"].value
+    assert abs(slipped / ours[LAB2]["l_shp_swinging"].value - 1) > 0.05
+    found = verdicts(submission(tmp_path, LAB2, f'l_shp_swinging = "{1e3 * slipped:.1f} mm"'))
+    assert found["l_shp_swinging"].slip.name == "wrong_pivot_distance"
+
+
+@pytest.mark.parametrize("sample, name, unit, make, slip", [
+    (LAB1, "J_analytic", "kg*m^2", lambda x: 1e3 * x, "prefix_x1000"),
+    (LAB2, "m_shp_weighing", "kg", lambda x: 1e-3 * x, "prefix_div1000"),
+    (LAB9, "omega_d", "rad/s", lambda x: 30 / math.pi * x, "rpm_as_rad_s"),
+    (LAB9, "omega_d", "rad/s", lambda x: x / (2 * math.pi), "two_pi_dropped"),
+    (LAB1, "J_unifilar", "kg*m^2", lambda x: 4 * x, "diameter_for_radius_squared"),
+    (LAB2, "l_shk_weighing", "m", lambda x: 2 * x, "diameter_for_radius"),
+])
+def test_factor_slips_are_found(tmp_path, ours, sample, name, unit, make, slip):
+    slipped = make(ours[sample][name].value)
+    found = verdicts(submission(tmp_path, sample, f'{name} = "{sig(slipped, 4)} {unit}"'))
+    assert found[name].verdict == "wrong" and found[name].slip.name == slip
+
+
+def test_a_wrong_value_no_slip_explains_is_wrong_without_a_cause(tmp_path, ours):
+    x = ours[LAB1]["J_trifilar"].value
+    found = verdicts(submission(tmp_path, LAB1, f'J_trifilar = "{1.37 * x:.4f} kg*m^2"'))
+    assert found["J_trifilar"].verdict == "wrong" and found["J_trifilar"].slip is None
+
+
+def test_expected_values_not_reported_are_missing(tmp_path, ours):
+    policy = tmp_path / "policy.toml"
+    policy.write_text('rel_tol = 0.02\n[lab1]\nexpected = ["J_trifilar", "J_analytic"]\n')
+    x = ours[LAB1]["J_trifilar"].value
+    found = verdicts(submission(tmp_path, LAB1, f'J_trifilar = "{x:.4f} kg*m^2"'),
+                     policy=policy)
+    assert found["J_trifilar"].verdict == "right" and found["J_analytic"].verdict == "missing"
+
+
+# ----------------------------------------------------------------------------- bad submissions, a class
+
+@pytest.mark.parametrize("reported, field, problem", [
+    ("", "reported", "no [reported] table"),
+    ('J_trifillar = "0.17 kg*m^2"', "reported.J_trifillar", "not a result"),
+    ("J_trifilar = 0.17", "reported.J_trifilar", "has no unit"),
+    ('J_trifilar = "0.17 kg"', "reported.J_trifilar", ""),
+])
+def test_bad_submissions_name_the_field_and_the_fix(tmp_path, reported, field, problem):
+    path = submission(tmp_path, LAB1, reported)
+    if not reported:
+        path.write_text(LAB1.read_text(encoding="utf-8"), encoding="utf-8")
+    with pytest.raises(InputError) as exc:
+        check(path)
+    assert exc.value.field == field and problem in exc.value.problem, exc.value
+    assert exc.value.fix
+
+
+def test_a_class_run_writes_its_summary_whole_and_names_copied_readings(tmp_path, ours,
+                                                                        capsys):
+    x = ours[LAB1]["J_trifilar"].value
+    for who, value in (("ann", x), ("bob", 1e3 * x)):
+        (tmp_path / "class" / who).mkdir(parents=True)
+        submission(tmp_path / "class" / who, LAB1, f'J_trifilar = "{value:.4g} kg*m^2"')
+    (tmp_path / "class" / "eve.toml").write_text('lab = "lab1"\n', encoding="utf-8")
+    out = tmp_path / "summary"
+    code = main(["check", str(tmp_path / "class"), "--out", str(out)])
+    captured = capsys.readouterr()
+    assert code == 2 and "eve.toml" in captured.err and "Fix:" in captured.err
+    assert "same readings" in captured.out
+    rows = list(csv.DictReader((out / "summary.csv").open(encoding="utf-8")))
+    by_file = {Path(r["file"]).parent.name + "/" + r["verdict"] for r in rows}
+    assert {"ann/right", "bob/wrong", "class/refused"} <= by_file
+    assert "prefix_x1000" in {r["slip"] for r in rows}
+    assert "<table" in (out / "summary.html").read_text(encoding="utf-8")
+    assert not list(out.glob("*.part"))
+
+
+def test_check_json_of_one_submission(tmp_path, ours, capsys):
+    x = ours[LAB1]["J_trifilar"].value
+    path = submission(tmp_path, LAB1, f'J_trifilar = {{ value = "{x:.4f} kg*m^2", '
+                                      'u = "0.002 kg*m^2" }')
+    assert main(["check", str(path), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    (v,) = data["verdicts"]
+    assert v["verdict"] == "right" and v["reported_u"] == pytest.approx(0.002)
+
