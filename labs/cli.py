@@ -276,6 +276,13 @@ def _synth(args) -> int:
     if foreign:
         raise InputError(f"dynlab synth {args.lab} takes no {', '.join(foreign)}",
                          f"leave those options out for {args.lab}")
+    if args.students is not None:
+        from .variants import write_variants
+
+        variants = write_variants(write, args.out, args.students, args.seed, **given)
+        for sid, files in variants.items():
+            print(f"{sid}: {files['toml']}")
+        return 0
     written = write(args.out, args.seed, **given)
     for path in written.values():
         print(path)
@@ -349,6 +356,9 @@ def parser() -> argparse.ArgumentParser:
                      help="lab 9: p in δ(A) = δ₀·(A/φ₀)^p (0: linear damping)")
     syn.add_argument("--paper", action="store_true",
                      help="lab 9: maxima read off a paper record instead of a recording")
+    syn.add_argument("--students", metavar="ROSTER.csv",
+                     help="one variant per student of a roster (columns id,name) in "
+                          "OUT/<id>/, each with its answer key")
     syn.add_argument("--image", action="store_true",
                      help="labs 3, 7, 9: the records as photographs of their paper (JPEG, "
                           "read with OpenCV)")

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import itertools
 import warnings
+from pathlib import Path
 
 import numpy as np
 
@@ -666,3 +667,73 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
     return LabResult.of(inputs, results, comparisons=comparisons, tables=tables, figures=figures,
                         formulas=FORMULAS, references=REFERENCES, warnings=notices,
                         conclusion=_conclusion(results, comparisons))
+
+
+# ------------------------------------------------------------------------ synthetic files
+
+def write_synthetic(out_dir, seed: int = 0) -> dict[str, Path]:
+    """Write a synthetic lab 1 measurement: a flywheel of its own size per seed, measured by
+    the analytic method, the trifilar suspension and as a physical pendulum, and its key.
+
+    The flywheel is a rim (R 130–170 mm, 25–40 mm thick radially, 30–50 mm wide) on a web
+    (12–20 mm thick, down to a 30–45 mm hub bore), cast iron of 7200 kg/m³; its true
+    J = ρπ/2 [h (R⁴ − r⁴) + h_w (r⁴ − r_h⁴)]. The trifilar (R₁ = 100 mm, R₂ = 140 mm,
+    l = 800 mm, a 2.105 kg platform) and the knife edge on the rim's inside (c = r) swing at
+    5–8°, their periods integrated from the nonlinear equations
+    (:mod:`processing.synth.pendulum`) and timed by hand over 20 oscillations, three times;
+    lengths read to ± 0.5 mm, masses to ± 1 g.
+
+    Returns
+    -------
+    dict
+        Paths written: ``toml`` and ``answer`` (``"results"``: J_trifilar, J_pendulum_cm,
+        J_analytic, m_measured, m_analytic, true, SI).
+    """
+    import json
+
+    from processing.synth.pendulum import (measured, physical_pendulum_period, stopwatch,
+                                           trifilar_period)
+    from processing.toml_writer import dumps
+
+    rng = np.random.default_rng([seed, 1])
+    g, rho = 9.8156, 7200.0
+    R = rng.uniform(0.13, 0.17)
+    r = R - rng.uniform(0.025, 0.04)
+    h, h_w, r_h = rng.uniform(0.03, 0.05), rng.uniform(0.012, 0.02), rng.uniform(0.03, 0.045)
+    J = rho * np.pi / 2 * (h * (R**4 - r**4) + h_w * (r**4 - r_h**4))
+    m = rho * np.pi * (h * (R**2 - r**2) + h_w * (r**2 - r_h**2))
+    R1, R2, l, m_p = 0.100, 0.140, 0.800, 2.105
+    J_p = 0.5 * m_p * 0.16**2
+    amp = np.radians(rng.uniform(5.0, 8.0))
+    T = trifilar_period(J + J_p, m + m_p, R1, R2, l, amp, g)
+    T_p = trifilar_period(J_p, m_p, R1, R2, l, amp, g)
+    T_pe = physical_pendulum_period(J + m * r**2, m, r, amp, g)
+
+    def mm(v):
+        return round(measured(1e3 * v, 0.5, rng), 1)
+
+    def times(period):
+        return [round(float(x), 2) for x in stopwatch(period, 20, 3, rng)]
+
+    deg = round(float(np.degrees(amp)))
+    doc = {"lab": "lab1",
+           "meta": {"student": f"synthetic (dynlab synth lab1 --seed {seed})",
+                    "notes": "generated; the true answers are in answer_key.json"},
+           "body": {"m": f"{measured(m, 0.001, rng):.4f} kg", "g": f"{g} ± 0.0005 m/s^2"},
+           "analytic": [{"shape": "cylinder", "R": mm(R), "r": mm(r), "h": mm(h),
+                         "rho": "7200 ± 100 kg/m^3"},
+                        {"shape": "cylinder", "R": mm(r), "r": mm(r_h), "h": mm(h_w),
+                         "rho": "7200 ± 100 kg/m^3"}],
+           "trifilar": {"R1": mm(R1), "R2": mm(R2), "l": mm(l), "n_osc": 20, "t": times(T),
+                        "m_p": f"{measured(m_p, 0.001, rng):.4f} kg", "t_p": times(T_p),
+                        "amplitude": f"{deg} deg"},
+           "pendulum": {"c": mm(r), "n_osc": 20, "t": times(T_pe), "amplitude": f"{deg} deg"}}
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    written = {"toml": out / f"lab1_seed{seed}.toml", "answer": out / "answer_key.json"}
+    written["toml"].write_text(dumps(doc), encoding="utf-8")
+    truth = {"J_trifilar": J, "J_pendulum_cm": J, "J_analytic": J, "m_measured": m,
+             "m_analytic": m}
+    written["answer"].write_text(json.dumps({"seed": seed, "results": truth}, indent=1),
+                                 encoding="utf-8")
+    return written

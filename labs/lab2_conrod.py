@@ -17,6 +17,7 @@ References
 from __future__ import annotations
 
 import warnings
+from pathlib import Path
 
 import numpy as np
 
@@ -438,3 +439,71 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
     return LabResult.of(inputs, results, comparisons=comparisons, tables=[_method_table(results)],
                         figures=figures, formulas=FORMULAS, references=REFERENCES,
                         warnings=notices, conclusion=_conclusion(results, inputs))
+
+
+# ------------------------------------------------------------------------ synthetic files
+
+SYNTH_RESULTS = ("l_shp", "l_shk", "m_shp", "m_shk")
+
+
+def write_synthetic(out_dir, seed: int = 0) -> dict[str, Path]:
+    """Write a synthetic lab 2 measurement: a connecting rod of its own per seed, weighed and
+    swung on its prisms, and its answer key.
+
+    The rod: 0.8–1.4 kg, 140–200 mm between its axes, the centre of mass 22–30 % of that
+    from the big end, its moment of inertia about the centre of mass 80–95 % of m l_шп l_шк
+    (the third condition's usual deficit), bores of 20–30 and 50–65 mm. Weighed on the
+    balance under the small end (R_A = m l_шк/l_ш, to ± 1 g); swung at 5–8° from prisms in
+    the bores' tops (pivots d/2 above the axes), the periods integrated from the nonlinear
+    pendulum (:mod:`processing.synth.pendulum`) and timed by hand over 20 oscillations, three
+    times; lengths read to ± 0.5 mm (bores to ± 0.05 mm), masses to ± 1 g.
+
+    Returns
+    -------
+    dict
+        Paths written: ``toml`` and ``answer`` (``"results"``: the weighing's and the
+        swinging's l_shp, l_shk, m_shp, m_shk, and J_cm_swinging, l_C_swinging,
+        l_D_swinging, true, SI).
+    """
+    import json
+
+    from processing.synth.pendulum import measured, physical_pendulum_period, stopwatch
+    from processing.toml_writer import dumps
+
+    rng = np.random.default_rng([seed, 2])
+    g = 9.8156
+    m, l_sh = rng.uniform(0.8, 1.4), rng.uniform(0.14, 0.20)
+    l_shk = rng.uniform(0.22, 0.30) * l_sh
+    l_shp = l_sh - l_shk
+    J_cm = rng.uniform(0.80, 0.95) * m * l_shp * l_shk
+    d_C, d_D = rng.uniform(0.020, 0.030), rng.uniform(0.050, 0.065)
+    l_C, l_D = l_shp + d_C / 2, l_shk + d_D / 2
+    amp = np.radians(rng.uniform(5.0, 8.0))
+    T_C = physical_pendulum_period(J_cm + m * l_C**2, m, l_C, amp, g)
+    T_D = physical_pendulum_period(J_cm + m * l_D**2, m, l_D, amp, g)
+
+    def times(period):
+        return [round(float(x), 2) for x in stopwatch(period, 20, 3, rng)]
+
+    doc = {"lab": "lab2",
+           "meta": {"student": f"synthetic (dynlab synth lab2 --seed {seed})",
+                    "notes": "generated; the true answers are in answer_key.json"},
+           "rod": {"m_sh": f"{measured(1e3 * m, 1.0, rng):.1f} g",
+                   "l_sh": f"{measured(1e3 * l_sh, 0.1, rng):.2f} mm", "engine": "petrol",
+                   "g": f"{g} ± 0.0005 m/s^2"},
+           "weighing": {"R_A": f"{measured(1e3 * m * l_shk / l_sh, 1.0, rng):.1f} g"},
+           "swinging": {"l_CD": round(measured(1e3 * (l_C + l_D), 0.5, rng), 1),
+                        "d_C": round(measured(1e3 * d_C, 0.05, rng), 3),
+                        "d_D": round(measured(1e3 * d_D, 0.05, rng), 3), "n_osc": 20,
+                        "t_C": times(T_C), "t_D": times(T_D),
+                        "amplitude": f"{round(float(np.degrees(amp)))} deg"}}
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    written = {"toml": out / f"lab2_seed{seed}.toml", "answer": out / "answer_key.json"}
+    written["toml"].write_text(dumps(doc), encoding="utf-8")
+    true = dict(zip(SYNTH_RESULTS, (l_shp, l_shk, m * l_shk / l_sh, m * l_shp / l_sh)))
+    truth = {f"{k}_{method}": v for method in ("weighing", "swinging") for k, v in true.items()}
+    truth.update(J_cm_swinging=J_cm, l_C_swinging=l_C, l_D_swinging=l_D)
+    written["answer"].write_text(json.dumps({"seed": seed, "results": truth}, indent=1),
+                                 encoding="utf-8")
+    return written

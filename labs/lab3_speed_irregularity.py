@@ -673,7 +673,9 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=(1800.0,
     Returns
     -------
     dict
-        Paths written: ``toml``, ``answer``, and the recordings.
+        Paths written: ``toml``, ``answer`` (``"results"``: ``delta_r`` and ``omega_mean_r``
+        of each regime r, true, SI; ``"regimes"``: every setting of each record), and the
+        recordings.
     """
     import json
 
@@ -738,6 +740,9 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=(1800.0,
     written["toml"] = out / f"lab3_seed{seed}.toml"
     written["toml"].write_text(toml, encoding="utf-8")
     written["answer"] = out / "answer_key.json"
-    written["answer"].write_text(json.dumps({"seed": seed, "regimes": answers}, indent=1),
-                                 encoding="utf-8")
+    results = {}
+    for r, a in enumerate(answers, 1):
+        results.update({f"delta_{r}": a["delta"], f"omega_mean_{r}": a["mean_angular_speed"]})
+    written["answer"].write_text(json.dumps({"seed": seed, "results": results,
+                                             "regimes": answers}, indent=1), encoding="utf-8")
     return written
