@@ -16,7 +16,8 @@ written far beyond its uncertainty (its last digit below a thousandth of U = 2u)
 student would have got through it, a known factor of ours (×1000, rpm taken as rad/s,
 degrees as radians, 2π dropped, diameter for radius) or a lab's own slip re-reduced from
 slipped inputs (the platform not subtracted, the wrong pivot distance) — by the same tests;
-the first that fits names the likely cause.
+of those that fit, the one nearest the student's value (and nearer than ours) names the likely
+cause.
 """
 from __future__ import annotations
 
@@ -176,7 +177,9 @@ class Verdict:
     slip: Slip | None = None
 
 
-def _agrees(r: Reported, x: float, u: float, policy: Policy) -> tuple[bool, float, float]:
+def agrees(r: Reported, x: float, u: float, policy: Policy) -> tuple[bool, float, float]:
+    """Whether ``r`` agrees with x ± u by the policy's tolerance or by |z| ≤ 2; z and the
+    relative difference."""
     rel = (r.value - x) / abs(x) if x else (math.inf if r.value else 0.0)
     combined = math.hypot(u, r.u)
     z = (r.value - x) / combined if combined > 0 else math.nan
@@ -219,7 +222,7 @@ def judge(name: str, reported: Reported | None, value: float, u: float, unit: st
     """
     if reported is None:
         return Verdict(name, "missing", None, value, u)
-    ok, z, rel = _agrees(reported, value, u, policy)
+    ok, z, rel = agrees(reported, value, u, policy)
     if ok:
         scale = 2.0 * max(u, reported.u)
         if reported.digits < policy.sig_figs and abs(rel) > 1e-12:
@@ -229,12 +232,15 @@ def judge(name: str, reported: Reported | None, value: float, u: float, unit: st
         else:
             verdict = "right"
         return Verdict(name, verdict, reported, value, u, z, rel)
+    best, closest = None, math.inf
     for slip in slips:
         s = slip.candidate(name, value, unit)
-        if s is not None and math.isfinite(s) and _agrees(reported, s, u * abs(s / value)
-                                                          if value else u, policy)[0]:
-            return Verdict(name, "wrong", reported, value, u, z, rel, slip)
-    return Verdict(name, "wrong", reported, value, u, z, rel)
+        if s is None or not math.isfinite(s):
+            continue
+        ok, _, rel_s = agrees(reported, s, u * abs(s / value) if value else u, policy)
+        if ok and abs(rel_s) < min(closest, abs(rel)):
+            best, closest = slip, abs(rel_s)
+    return Verdict(name, "wrong", reported, value, u, z, rel, best)
 
 
 _NUMBER = re.compile(r"^\s*([-+]?)(\d*)(?:\.(\d*))?(?:[eE]([-+]?\d+))?")

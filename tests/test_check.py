@@ -182,3 +182,15 @@ def test_check_json_of_one_submission(tmp_path, ours, capsys):
     (v,) = data["verdicts"]
     assert v["verdict"] == "right" and v["reported_u"] == pytest.approx(0.002)
 
+
+
+def test_a_seeded_class_with_injected_slips(tmp_path):
+    """The benchmark's quick class (21 variants of labs 1, 2, 9, half their values slipped):
+    every injected slip found and named, no right value called wrong. (Its timing target
+    lives in ``python -m processing.bench --topic check``.)"""
+    from labs import check_bench
+
+    frame, targets = check_bench.run(tmp_path, quick=True, log=lambda _: None)
+    found, alarms, _ = targets
+    assert found.passed and alarms.passed, (found.line(), alarms.line())
+    assert frame["injected"].notna().sum() > 100
