@@ -161,8 +161,25 @@ def _lab_slips(module, inputs, options) -> list[Slip]:
     return out
 
 
+def read_key(path: str | Path) -> dict[str, float]:
+    """The ``"results"`` of an answer key (``dynlab synth``): result names to true values."""
+    import json
+
+    if not Path(path).is_file():
+        raise InputError("no answer key for this submission", "name each submission's folder "
+                         "by the student's id, as in the roster the variants were written for",
+                         file=str(path))
+    try:
+        results = json.loads(Path(path).read_text(encoding="utf-8"))["results"]
+    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError) as exc:
+        raise InputError(f"not an answer key ({type(exc).__name__}: {exc})",
+                         "give the answer_key.json that dynlab synth wrote", file=str(path),
+                         field="results") from None
+    return {str(k): float(v) for k, v in results.items()}
+
+
 def check(path: str | Path, *, policy: str | Path | None = None, confine: bool = False,
-          **options) -> Check:
+          key: dict[str, float] | None = None, **options) -> Check:
     """Reduce a submission and judge every reported value.
 
     Parameters
@@ -173,6 +190,9 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
         The teacher's policy file (:func:`read_policy`).
     confine : bool
         Read no file outside the submission's folder.
+    key : dict, optional
+        The variant's answer key (:func:`read_key`): its results are expected (absent ones
+        are *missing*) on top of the policy's.
     **options
         For the lab's ``reduce``.
 
@@ -196,6 +216,9 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
     module = lab_module(result.lab)
     inputs = load(path, module.SPEC, data, confine=confine)
     rules = read_policy(policy, result.lab)
+    if key:
+        rules = Policy(rules.rel_tol, rules.sig_figs, tuple(dict.fromkeys(
+            [*rules.expected, *(k for k in key if k in result.results)])))
     slips = list(FACTOR_SLIPS) + _lab_slips(module, inputs, options)
     names = list(reported) + [n for n in rules.expected if n not in reported]
     verdicts = []

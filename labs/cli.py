@@ -204,7 +204,7 @@ def _check(args) -> int:
     a summary written, the pairs with the same readings named."""
     import json
 
-    from .check import check, copied_pairs
+    from .check import check, copied_pairs, read_key
     from .check_report import terminal, write_summary
 
     files, folders = [], []
@@ -221,10 +221,14 @@ def _check(args) -> int:
     if args.policy is not None and not Path(args.policy).is_file():
         raise InputError("the policy file is not found", "check the path of --policy",
                          file=args.policy)
+    if args.keys is not None and not folders:
+        raise InputError("--keys goes with a class folder", "give the folder of the students' "
+                         "subfolders (as dynlab synth --students wrote them)", file=args.keys)
     checks, refused = [], {}
     for path in _progress(files, "check"):
         try:
-            checks.append(check(path, policy=args.policy, confine=bool(folders)))
+            key = None if args.keys is None else read_key(_key_of(path, folders, args.keys))
+            checks.append(check(path, policy=args.policy, confine=bool(folders), key=key))
         except InputError as exc:
             if not folders:
                 raise
@@ -244,6 +248,17 @@ def _check(args) -> int:
         written = write_summary(Path(args.out), checks, refused, pairs, args.lang)
         print(f"class summary: {', '.join(str(w) for w in written)}", file=sys.stderr)
     return EXIT_INPUT if refused else 0
+
+
+def _key_of(path: Path, folders: list[Path], keys: str) -> Path:
+    """KEYDIR/<id>/answer_key.json of a submission in <folder>/<id>/…"""
+    for folder in folders:
+        try:
+            sid = path.resolve().relative_to(folder.resolve()).parts[0]
+        except ValueError:
+            continue
+        return Path(keys) / sid / "answer_key.json"
+    return Path(keys) / path.stem / "answer_key.json"
 
 
 def _list(_args) -> int:
@@ -333,6 +348,9 @@ def parser() -> argparse.ArgumentParser:
                      "sig_figs, expected (per lab in [labN] tables)")
     chk.add_argument("--out", default="check", help="folder for a class's summary.csv and "
                      "summary.html (default: check)")
+    chk.add_argument("--keys", metavar="KEYDIR", help="the answer keys of the variants "
+                     "(KEYDIR/<id>/answer_key.json for FOLDER/<id>/): their results are "
+                     "expected")
     chk.add_argument("--lang", choices=LANGS, default="en")
     chk.add_argument("--json", action="store_true", help="print the verdicts as JSON")
     chk.set_defaults(func=_check)

@@ -194,3 +194,31 @@ def test_a_seeded_class_with_injected_slips(tmp_path):
     found, alarms, _ = targets
     assert found.passed and alarms.passed, (found.line(), alarms.line())
     assert frame["injected"].notna().sum() > 100
+
+
+def test_a_class_of_variants_checked_against_its_keys(tmp_path, capsys):
+    """Variants written for a roster, two students submit: what the key holds and a student
+    left out is missing; a student whose folder has no key is refused."""
+    roster = tmp_path / "roster.csv"
+    roster.write_text("id,name\nst01,A\nst02,B\nst03,C\n", encoding="utf-8")
+    keys = tmp_path / "keys"
+    assert main(["synth", "lab2", "--students", str(roster), "--seed", "5",
+                 "--out", str(keys)]) == 0
+    subs = tmp_path / "subs"
+    for sid in ("st01", "st02"):
+        (subs / sid).mkdir(parents=True)
+        toml = next((keys / sid).glob("*.toml"))
+        value = evaluate(toml, n_samples=500)["l_shp_weighing"].value
+        (subs / sid / "mine.toml").write_text(
+            toml.read_text("utf-8") + f'\n[reported]\nl_shp_weighing = "{1e3 * value:.2f} mm"\n',
+            encoding="utf-8")
+    (subs / "st09").mkdir()
+    (subs / "st09" / "mine.toml").write_text((subs / "st01" / "mine.toml").read_text("utf-8"),
+                                             encoding="utf-8")
+    out = tmp_path / "summary"
+    code = main(["check", str(subs), "--keys", str(keys), "--out", str(out)])
+    captured = capsys.readouterr()
+    assert code == 2 and "st09" in captured.err and "answer_key.json" in captured.err
+    rows = list(csv.DictReader((out / "summary.csv").open(encoding="utf-8")))
+    st01 = {r["name"]: r["verdict"] for r in rows if "/st01/" in r["file"]}
+    assert st01["l_shp_weighing"] == "right" and st01["m_shk_swinging"] == "missing"
