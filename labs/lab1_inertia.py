@@ -28,6 +28,7 @@ from processing.reporting.figures import method_chart
 from processing.result import (Figure, LabResult, Table, compare, flag_estimates,
                                result_values)
 from processing.uncertainty import Measured, propagate
+from processing.vision.video import film_figures, filmed_times
 
 
 # ------------------------------------------------------------------------ formulas
@@ -315,12 +316,20 @@ SPEC = LabSpec(
             Field("l", bi("thread length", "длина нити"), **LENGTH),
             Field("n_osc", bi("full oscillations timed", "число полных колебаний"), **COUNT),
             Field("t", bi("time of n_osc oscillations, part on the platform",
-                          "время n колебаний, деталь на платформе"), **STOPWATCH),
+                          "время n колебаний, деталь на платформе"),
+                  **{**STOPWATCH, "required": False}),
+            Field("video", bi("or: a film of the swing, part on the platform (MP4, MOV, AVI; "
+                              "a marker on the platform's edge)",
+                              "или: видео качаний платформы с деталью (MP4, MOV, AVI; метка на "
+                              "краю платформы)"), kind="file", required=False),
             Field("m_p", bi("mass of the empty platform", "масса пустой платформы"), **MASS,
                   required=False, symbol="m_p"),
             Field("t_p", bi("time of n_osc oscillations, empty platform",
                             "время n колебаний пустой платформы"), **STOPWATCH, required=False,
                   symbol="t_p"),
+            Field("video_p", bi("or: a film of the empty platform's swing",
+                                "или: видео качаний пустой платформы"), kind="file",
+                  required=False),
             Field("amplitude", bi("twist amplitude", "амплитуда закрутки"), **AMPLITUDE),
         )),
         Section("unifilar", bi("Unifilar torsion pendulum", "Унифилярный подвес"), fields=(
@@ -349,11 +358,18 @@ SPEC = LabSpec(
             Field("c", bi("distance from the pivot to the centre of mass",
                           "расстояние от оси подвеса до центра масс"), **LENGTH),
             Field("n_osc", bi("full oscillations timed", "число полных колебаний"), **COUNT),
-            Field("t", bi("time of n_osc oscillations", "время n колебаний"), **STOPWATCH),
+            Field("t", bi("time of n_osc oscillations", "время n колебаний"),
+                  **{**STOPWATCH, "required": False}),
+            Field("video", bi("or: a film of the swing (MP4, MOV, AVI; a marker on the part)",
+                              "или: видео качаний (MP4, MOV, AVI; метка на детали)"),
+                  kind="file", required=False),
             Field("amplitude", bi("swing amplitude", "амплитуда качаний"), **AMPLITUDE),
         )),
     ),
 )
+
+FILMS = {"trifilar": {"video": "t", "video_p": "t_p"}, "pendulum": {"video": "t"}}
+"""The films that may stand for the stopwatch (:func:`processing.vision.video.filmed_times`)."""
 
 RESULTS = {
     "J_analytic": (bi("analytic (sum of regular bodies)", "расчётный (сумма простых тел)"),
@@ -650,6 +666,7 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
         measures), pairwise comparisons of the central-axis values, warnings.
     """
     with collect_notices() as notices:
+        inputs, films = filmed_times(inputs, FILMS)
         _check_sections(inputs)
         prop = propagate(_model(inputs), inputs.flat(), n_samples=n_samples, seed=seed)
         results = result_values(prop, RESULTS)
@@ -664,14 +681,15 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
                                     "Момент инерции по методам (отрезки: k = 2; штрихи: интервал "
                                     "Монте-Карло 95 %)"),
                       lambda fig, lang: method_chart(fig, [results[n] for n in shown], lang))]
-    return LabResult.of(inputs, results, comparisons=comparisons, tables=tables, figures=figures,
-                        formulas=FORMULAS, references=REFERENCES, warnings=notices,
+    return LabResult.of(inputs, results, comparisons=comparisons, tables=tables,
+                        figures=figures + film_figures(films), formulas=FORMULAS,
+                        references=REFERENCES, warnings=notices,
                         conclusion=_conclusion(results, comparisons))
 
 
 # ------------------------------------------------------------------------ synthetic files
 
-def write_synthetic(out_dir, seed: int = 0) -> dict[str, Path]:
+def write_synthetic(out_dir, seed: int = 0, *, film: bool = False) -> dict[str, Path]:
     """Write a synthetic lab 1 measurement: a flywheel of its own size per seed, measured by
     the analytic method, the trifilar suspension and as a physical pendulum, and its key.
 
@@ -681,13 +699,16 @@ def write_synthetic(out_dir, seed: int = 0) -> dict[str, Path]:
     l = 800 mm, a 2.105 kg platform) and the knife edge on the rim's inside (c = r) swing at
     5–8°, their periods integrated from the nonlinear equations
     (:mod:`processing.synth.pendulum`) and timed by hand over 20 oscillations, three times;
-    lengths read to ± 0.5 mm, masses to ± 1 g.
+    lengths read to ± 0.5 mm, masses to ± 1 g. With ``film``, each swing is filmed instead
+    of timed (:mod:`processing.synth.swing_film`, 10 oscillations at 30 frames per second:
+    the platform's edge from above, the pendulum from the side) and the amplitude is left to
+    the films.
 
     Returns
     -------
     dict
         Paths written: ``toml`` and ``answer`` (``"results"``: J_trifilar, J_pendulum_cm,
-        J_analytic, m_measured, m_analytic, true, SI).
+        J_analytic, m_measured, m_analytic, true, SI), and the films.
     """
     import json
 
@@ -730,7 +751,22 @@ def write_synthetic(out_dir, seed: int = 0) -> dict[str, Path]:
            "pendulum": {"c": mm(r), "n_osc": 20, "t": times(T_pe), "amplitude": f"{deg} deg"}}
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    written = {"toml": out / f"lab1_seed{seed}.toml", "answer": out / "answer_key.json"}
+    written = {}
+    if film:
+        from processing.synth.swing_film import Film, render
+
+        above = dict(arm=200.0, pivot=(320.0, 240.0), oscillations=10.0, amplitude=amp)
+        side = dict(arm=600.0, pivot=(320.0, -360.0), oscillations=10.0, amplitude=amp)
+        for section, key, period, view in (("trifilar", "t", T, above),
+                                           ("trifilar", "t_p", T_p, above),
+                                           ("pendulum", "t", T_pe, side)):
+            name = f"{section}{'_p' if key == 't_p' else ''}.mp4"
+            written[name] = render(Film(period=period, **view), out / name,
+                                   seed=seed * 10 + len(written))
+            doc[section].pop(key)
+            doc[section].pop("amplitude", None)
+            doc[section]["video" + key[1:]] = name
+    written.update(toml=out / f"lab1_seed{seed}.toml", answer=out / "answer_key.json")
     written["toml"].write_text(dumps(doc), encoding="utf-8")
     truth = {"J_trifilar": J, "J_pendulum_cm": J, "J_analytic": J, "m_measured": m,
              "m_analytic": m}

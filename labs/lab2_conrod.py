@@ -29,6 +29,7 @@ from processing.reporting.content import fmt_pm
 from processing.reporting.figures import histogram, method_chart
 from processing.result import SIGNED, Figure, LabResult, Table, compare, flag_estimates, result_values
 from processing.uncertainty import Measured, propagate
+from processing.vision.video import film_figures, filmed_times
 
 KATER_CONDITION_LIMIT = 10.0
 """Condition number of formula (10) above which the swinging method is called ill-conditioned.
@@ -201,14 +202,25 @@ SPEC = LabSpec(
                   unit="mm", limit="0.05 mm", symbol="d_D"),
             Field("n_osc", bi("full oscillations timed", "число полных колебаний"), **COUNT),
             Field("t_C", bi("time of n_osc oscillations hung at the small end",
-                            "время n колебаний на поршневой головке"), **STOPWATCH, symbol="t_C"),
+                            "время n колебаний на поршневой головке"),
+                  **{**STOPWATCH, "required": False}, symbol="t_C"),
+            Field("video_C", bi("or: a film of the swing hung at the small end (MP4, MOV, AVI; "
+                                "a marker on the rod)", "или: видео качаний на поршневой "
+                                "головке (MP4, MOV, AVI; метка на шатуне)"), kind="file",
+                  required=False),
             Field("t_D", bi("time of n_osc oscillations hung at the big end",
-                            "время n колебаний на кривошипной головке"), **STOPWATCH,
-                  symbol="t_D"),
+                            "время n колебаний на кривошипной головке"),
+                  **{**STOPWATCH, "required": False}, symbol="t_D"),
+            Field("video_D", bi("or: a film of the swing hung at the big end",
+                                "или: видео качаний на кривошипной головке"), kind="file",
+                  required=False),
             Field("amplitude", bi("swing amplitude", "амплитуда качаний"), **AMPLITUDE),
         )),
     ),
 )
+
+FILMS = {"swinging": {"video_C": "t_C", "video_D": "t_D"}}
+"""The films that may stand for the stopwatch (:func:`processing.vision.video.filmed_times`)."""
 
 _QUANTITIES = {
     "l_shp": (bi("centre of mass from the piston-pin axis", "центр масс от оси поршневого пальца"),
@@ -410,9 +422,11 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
         ``statistics`` (those measured), ``J_cm_swinging``, ``dJ_third_condition``,
         ``l_C_swinging``, ``l_D_swinging``, ``kappa_swinging``.
     """
-    flat = inputs.flat()
-    flat["statistics.share"] = Measured(STATISTICAL_SHARE[inputs["rod"]["engine"]], limit=0.05)
     with collect_notices() as notices:
+        inputs, films = filmed_times(inputs, FILMS, needed=("t_C", "t_D"))
+        flat = inputs.flat()
+        flat["statistics.share"] = Measured(STATISTICAL_SHARE[inputs["rod"]["engine"]],
+                                            limit=0.05)
         prop = propagate(_model(inputs), flat, n_samples=n_samples, seed=seed)
         _checks(inputs, prop)
         results = result_values(prop, RESULTS)
@@ -437,7 +451,8 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
                                   fig, samples, 1e3 * l_C.value,
                                   [1e3 * v for v in l_C.estimate.interval95], "l_C, mm", lang)))
     return LabResult.of(inputs, results, comparisons=comparisons, tables=[_method_table(results)],
-                        figures=figures, formulas=FORMULAS, references=REFERENCES,
+                        figures=figures + film_figures(films), formulas=FORMULAS,
+                        references=REFERENCES,
                         warnings=notices, conclusion=_conclusion(results, inputs))
 
 
@@ -446,7 +461,7 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
 SYNTH_RESULTS = ("l_shp", "l_shk", "m_shp", "m_shk")
 
 
-def write_synthetic(out_dir, seed: int = 0) -> dict[str, Path]:
+def write_synthetic(out_dir, seed: int = 0, *, film: bool = False) -> dict[str, Path]:
     """Write a synthetic lab 2 measurement: a connecting rod of its own per seed, weighed and
     swung on its prisms, and its answer key.
 
@@ -456,7 +471,9 @@ def write_synthetic(out_dir, seed: int = 0) -> dict[str, Path]:
     balance under the small end (R_A = m l_шк/l_ш, to ± 1 g); swung at 5–8° from prisms in
     the bores' tops (pivots d/2 above the axes), the periods integrated from the nonlinear
     pendulum (:mod:`processing.synth.pendulum`) and timed by hand over 20 oscillations, three
-    times; lengths read to ± 0.5 mm (bores to ± 0.05 mm), masses to ± 1 g.
+    times; lengths read to ± 0.5 mm (bores to ± 0.05 mm), masses to ± 1 g. With ``film``,
+    both swings are filmed from the side instead (:mod:`processing.synth.swing_film`, 10
+    oscillations at 30 frames per second) and the amplitude is left to the films.
 
     Returns
     -------
@@ -499,7 +516,18 @@ def write_synthetic(out_dir, seed: int = 0) -> dict[str, Path]:
                         "amplitude": f"{round(float(np.degrees(amp)))} deg"}}
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    written = {"toml": out / f"lab2_seed{seed}.toml", "answer": out / "answer_key.json"}
+    written = {}
+    if film:
+        from processing.synth.swing_film import Film, render
+
+        for end, period in (("C", T_C), ("D", T_D)):
+            name = f"swing_{end}.mp4"
+            written[name] = render(Film(period=period, amplitude=amp, oscillations=10.0),
+                                   out / name, seed=seed * 10 + len(written))
+            doc["swinging"].pop(f"t_{end}")
+            doc["swinging"][f"video_{end}"] = name
+        doc["swinging"].pop("amplitude")
+    written.update(toml=out / f"lab2_seed{seed}.toml", answer=out / "answer_key.json")
     written["toml"].write_text(dumps(doc), encoding="utf-8")
     true = dict(zip(SYNTH_RESULTS, (l_shp, l_shk, m * l_shk / l_sh, m * l_shp / l_sh)))
     truth = {f"{k}_{method}": v for method in ("weighing", "swinging") for k, v in true.items()}

@@ -205,6 +205,13 @@ class BlurredMarksWarning(DynlabWarning):
     code = "blurred_marks"
 
 
+class IrregularFrameRateWarning(DynlabWarning):
+    """A film's frame intervals vary (a phone's variable frame rate): each frame's own
+    timestamp is used, but a film whose clock stutters times the swing less well."""
+
+    code = "irregular_frame_rate"
+
+
 class TorsiographResponseWarning(DynlabWarning):
     """A torsiograph's own natural frequency is not 5–10 times below the frequencies it
     records: their amplitudes rest on its transfer function's correction."""

@@ -1,0 +1,133 @@
+"""A phone film of a swinging part with a marker on it, drawn from a known oscillation.
+
+The marker (a dark disc with a light rim, stuck on the part) swings on an arc about the
+pivot — a pendulum seen from the side, or a trifilar platform's edge seen from above: the
+same picture — by θ(t) = θ₀ e^{−δt/T} cos(2πt/T), the linear damped oscillation the lab's
+period is defined by (the amplitude correction is the lab's business). The camera sees it on
+a still, textured background at ``fps`` frames per second, each frame the mean of the
+exposure's sub-frames (motion blur), with sensor noise, mains flicker (100 Hz, aliased by the
+frame rate), a slow change of lighting, a few frames where a hand hides the marker, and the
+codec's compression (OpenCV's MPEG-4 writer).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Film:
+    """What the camera films and how.
+
+    Parameters
+    ----------
+    period : float
+        T. [s]
+    decrement : float
+        δ per period.
+    amplitude : float
+        θ₀ at t = 0. [rad]
+    oscillations : float
+        Length of the film in periods.
+    arm : float
+        Distance of the marker from the pivot. [px]
+    pivot : (float, float)
+        The pivot in the frame. [px]
+    size : (int, int)
+        Frame width and height. [px]
+    fps : float
+        Frames per second.
+    exposure : float
+        Share of a frame interval the shutter is open (motion blur).
+    noise : float
+        Sensor noise σ. [grey levels]
+    flicker : float
+        Relative depth of the 100 Hz mains flicker.
+    lighting : float
+        Relative change of the light over the film.
+    occluded : int
+        Frames in which a hand hides the marker.
+    marker : float
+        Radius of the marker. [px]
+    """
+
+    period: float = 1.2
+    decrement: float = 0.02
+    amplitude: float = math.radians(6.0)
+    oscillations: float = 20.0
+    arm: float = 600.0
+    pivot: tuple[float, float] = (320.0, -360.0)
+    size: tuple[int, int] = (640, 480)
+    fps: float = 30.0
+    exposure: float = 0.25
+    noise: float = 2.0
+    flicker: float = 0.03
+    lighting: float = 0.1
+    occluded: int = 5
+    marker: float = 9.0
+
+    def angle(self, t) -> np.ndarray:
+        """θ(t). [rad]"""
+        t = np.asarray(t, dtype=float)
+        return self.amplitude * np.exp(-self.decrement * t / self.period) * np.cos(
+            2 * np.pi * t / self.period)
+
+    def position(self, t) -> tuple[np.ndarray, np.ndarray]:
+        """The marker's centre at ``t``. [px]"""
+        th = self.angle(t)
+        return self.pivot[0] + self.arm * np.sin(th), self.pivot[1] + self.arm * np.cos(th)
+
+    def truth(self) -> dict:
+        return {"period": self.period, "decrement": self.decrement,
+                "amplitude_deg": math.degrees(self.amplitude),
+                "oscillations": self.oscillations}
+
+
+def _background(size, rng) -> np.ndarray:
+    w, h = size
+    base = 170 + 25 * cv2.GaussianBlur(rng.standard_normal((h, w)).astype(np.float32),
+                                       (0, 0), 6)
+    base += np.linspace(-10, 10, w, dtype=np.float32)[None, :]
+    cv2.rectangle(base, (40, 30), (110, 440), 120, -1)          # a stand's leg
+    return base
+
+
+def _draw_marker(canvas, x, y, r) -> None:
+    centre = (int(round(x * 16)), int(round(y * 16)))
+    cv2.circle(canvas, centre, int(r * 1.6 * 16), 235, -1, cv2.LINE_AA, 4)
+    cv2.circle(canvas, centre, int(r * 16), 25, -1, cv2.LINE_AA, 4)
+
+
+def render(film: Film, path, *, seed: int = 0, subframes: int = 5) -> Path:
+    """Film the swing into ``path`` (MP4, MPEG-4 part 2). Returns the path."""
+    rng = np.random.default_rng([seed, 18])
+    w, h = film.size
+    background = _background(film.size, rng)
+    n = int(round(film.oscillations * film.period * film.fps))
+    hidden = set(rng.choice(np.arange(n // 4, n), size=min(film.occluded, n // 2),
+                            replace=False).tolist()) if film.occluded else set()
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"mp4v"), film.fps, (w, h),
+                             False)
+    for k in range(n):
+        t0 = k / film.fps
+        frame = np.zeros((h, w), np.float32)
+        for s in range(subframes):
+            t = t0 + film.exposure / film.fps * (s + 0.5) / subframes
+            canvas = background.copy()
+            x, y = film.position(t)
+            _draw_marker(canvas, float(x), float(y), film.marker)
+            frame += canvas
+        frame /= subframes
+        if k in hidden:
+            x, y = film.position(t0)
+            cv2.rectangle(frame, (int(x) - 40, int(y) - 30), (int(x) + 40, int(y) + 60), 95, -1)
+        light = (1 + film.flicker * math.sin(2 * math.pi * 100 * t0 + 0.7)) * (
+            1 - film.lighting * k / max(n - 1, 1))
+        frame = frame * light + film.noise * rng.standard_normal(frame.shape)
+        writer.write(np.clip(frame, 0, 255).astype(np.uint8))
+    writer.release()
+    return Path(path)

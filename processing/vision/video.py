@@ -1,0 +1,462 @@
+"""A phone film of a swinging part: the marker on it tracked frame by frame, and the period of
+its oscillation fitted over the whole film.
+
+:func:`track_marker` reads the film with OpenCV, frame by frame with each frame's own
+timestamp (a phone films at a variable rate: the spread of the intervals is reported). The
+marker — the patch that moves most against the still background (the median of the first
+frames), or the one inside a given region — becomes a template; each frame it is found again
+by normalised cross-correlation in a window about its last place (:func:`cv2.matchTemplate`,
+so an even change of lighting does not matter), to a fraction of a pixel by a parabola through
+the correlation peak. The peak's height is the frame's confidence; frames below
+:data:`MIN_CONFIDENCE` (blurred, occluded) are left out, not guessed.
+
+:func:`swing_of` projects the track on its principal direction and fits a damped sinusoid on
+a polynomial baseline over every frame kept (:func:`processing.decay.fit_damped_sine`): the
+period with its u from the fit, the amplitude and its decay.
+"""
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from ..decay import DampedSineFit, fit_damped_sine
+from ..diagnostics import InconsistentInputWarning, InputError, IrregularFrameRateWarning
+from ..uncertainty import Measured
+
+MIN_CONFIDENCE = 0.75
+"""Normalised correlation below which a frame's marker position is left out (the marker
+itself matches at 0.9–0.97 through blur, noise and flicker; a hand half over it, at 0.6)."""
+
+BACKGROUND_FRAMES = 64
+"""Frames at the start whose median is the still background (they must span a swing)."""
+
+SEARCH = 4.0
+"""Half-width of the search window, in marker sizes."""
+
+NYQUIST_SHARE = 0.8
+"""A fitted swing above this share of half the frame rate is refused: near the Nyquist
+frequency a swing cannot be told from an alias (below it, an alias looks like a slower swing
+that no film alone can unmask; the stopwatch's period, given too, is checked against it)."""
+
+SWING_SNR = 5.0
+"""The swing's amplitude over the track's residual σ below which there is no swing."""
+
+AMPLITUDE_LIMIT = 0.3
+"""Limit of error of a swing's amplitude read off its film's arc. [deg] (Measured on the
+synthetic films: 0.05° from the side at 600 px from the pivot, 0.2–0.3° from above at 200 px,
+where the arc's sagitta is 2 px.)"""
+
+IRREGULAR = 0.02
+"""Relative spread of the frame intervals above which the timestamps are called irregular."""
+
+
+@dataclass(frozen=True)
+class Track:
+    """The marker's path through a film.
+
+    Attributes
+    ----------
+    path : str
+    time : numpy.ndarray
+        Each frame's timestamp. [s]
+    x, y : numpy.ndarray
+        The marker's centre (NaN where left out). [px]
+    confidence : numpy.ndarray
+        Peak normalised correlation of each frame, 0–1.
+    size : int
+        The template's side. [px]
+    interval_spread : float
+        Standard deviation of the frame intervals over their median.
+    frames : list
+        A few (index, grey frame) pairs kept for the report.
+    """
+
+    path: str
+    time: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    confidence: np.ndarray
+    size: int
+    interval_spread: float
+    frames: list = field(default_factory=list, repr=False)
+
+    @property
+    def kept(self) -> np.ndarray:
+        return np.isfinite(self.x)
+
+    @property
+    def frame_rate(self) -> float:
+        """Median frames per second. [1/s]"""
+        return float(1.0 / np.median(np.diff(self.time)))
+
+    def displacement(self) -> tuple[np.ndarray, np.ndarray]:
+        """(times, s) of the frames kept: the position along the track's principal
+        direction, from its mean. [s], [px]"""
+        k = self.kept
+        xy = np.column_stack([self.x[k], self.y[k]])
+        xy -= xy.mean(axis=0)
+        _, _, vt = np.linalg.svd(xy, full_matrices=False)
+        return self.time[k], xy @ vt[0]
+
+
+@dataclass(frozen=True)
+class Swing:
+    """The oscillation fitted to a track.
+
+    Attributes
+    ----------
+    fit : DampedSineFit
+        The damped sinusoid on the track's displacement (px).
+    period : Measured
+        T = 2π/ω_d with its type A u from the fit. [s]
+    oscillations : float
+        Periods the kept frames span.
+    amplitude : float
+        The displacement's amplitude at the film's first frame kept. [px]
+    kept_share : float
+        Share of the frames kept.
+    """
+
+    fit: DampedSineFit
+    period: Measured
+    oscillations: float
+    amplitude: float
+    kept_share: float
+
+
+def _refuse(path, field_name, problem: str, fix: str) -> InputError:
+    return InputError(problem, fix, file=str(path), field=field_name)
+
+
+def _grey(frame: np.ndarray) -> np.ndarray:
+    return cv2.cvtColor(frame, cv2.COLOR_BGR2GRAY) if frame.ndim == 3 else frame
+
+
+def _open(path, field_name):
+    if not Path(path).is_file():
+        raise _refuse(path, field_name, "the film is not found", "check the file's name and "
+                      "that it lies beside the measurement file")
+    capture = cv2.VideoCapture(str(path))
+    ok, first = capture.read() if capture.isOpened() else (False, None)
+    if not ok:
+        raise _refuse(path, field_name, "not a film OpenCV can read", "give an MP4, MOV or "
+                      "AVI file as the phone recorded it")
+    return capture, first
+
+
+def _marker(frames: list[np.ndarray], roi) -> tuple[float, float, int, float]:
+    """Centre, template side and contrast of the marker in the first frame: the compact
+    patch that differs most from the still background (within ``roi`` = (x, y, w, h) if
+    given)."""
+    stack = np.stack(frames).astype(np.float32)
+    background = np.median(stack, axis=0)
+    diff = cv2.GaussianBlur(np.abs(stack[0] - background), (0, 0), 2.0)
+    if roi is not None:
+        x0, y0, w, h = (int(v) for v in roi)
+        mask = np.zeros_like(diff)
+        mask[y0:y0 + h, x0:x0 + w] = 1.0
+        diff *= mask
+    peak = float(diff.max())
+    cy, cx = np.unravel_index(int(np.argmax(diff)), diff.shape)
+    blob = diff > 0.5 * peak
+    n, labels = cv2.connectedComponents(blob.astype(np.uint8))
+    area = int(np.sum(labels == labels[cy, cx])) if n > 1 else 1
+    side = int(np.clip(2 * math.sqrt(area / math.pi) * 2.2, 11, 81)) | 1
+    ys, xs = np.nonzero(labels == labels[cy, cx])
+    return float(xs.mean()), float(ys.mean()), side, peak
+
+
+def _subpixel(c: np.ndarray, i: int, j: int) -> tuple[float, float]:
+    """Parabola through the peak and its neighbours, each axis."""
+    def vertex(a, b, d):
+        den = a - 2 * b + d
+        return 0.0 if den >= 0 else 0.5 * (a - d) / den
+
+    dx = vertex(c[i, j - 1], c[i, j], c[i, j + 1]) if 0 < j < c.shape[1] - 1 else 0.0
+    dy = vertex(c[i - 1, j], c[i, j], c[i + 1, j]) if 0 < i < c.shape[0] - 1 else 0.0
+    return dx, dy
+
+
+def track_marker(path, *, roi=None, field: str | None = None,
+                 min_confidence: float = MIN_CONFIDENCE, keep_frames: int = 4) -> Track:
+    """Track the marker on a swinging part through a film.
+
+    Parameters
+    ----------
+    path : str or Path
+        The film (MP4, MOV, AVI).
+    roi : (x, y, w, h), optional
+        Where the marker is in the first frame. [px]
+    field : str, optional
+        The measurement-file field that named the film, for errors.
+    min_confidence : float
+        Frames whose correlation peak is lower are left out.
+    keep_frames : int
+        Frames kept (evenly spaced) for the report's pictures.
+
+    Returns
+    -------
+    Track
+
+    Raises
+    ------
+    InputError
+        Not a film; too short; nothing moves; the marker lost in most frames.
+    """
+    capture, first = _open(path, field)
+    buffered, stamps = [_grey(first)], [capture.get(cv2.CAP_PROP_POS_MSEC) / 1e3]
+    total = int(capture.get(cv2.CAP_PROP_FRAME_COUNT)) or 0
+    while len(buffered) < BACKGROUND_FRAMES:
+        ok, frame = capture.read()
+        if not ok:
+            break
+        buffered.append(_grey(frame))
+        stamps.append(capture.get(cv2.CAP_PROP_POS_MSEC) / 1e3)
+    if len(buffered) < 16:
+        raise _refuse(path, field, f"the film holds {len(buffered)} frames",
+                      "film the whole swing: 20 oscillations or more")
+    cx, cy, side, contrast = _marker(buffered, roi)
+    noise = float(np.std(buffered[0].astype(np.float32) - buffered[1]))
+    if contrast < max(3.0 * noise, 8.0):
+        raise _refuse(path, field, "nothing moves in the film's first frames",
+                      "start filming while the part swings, with the marker in view")
+    half = side // 2
+    y0, x0 = int(round(cy)), int(round(cx))
+    template = buffered[0][y0 - half:y0 + half + 1, x0 - half:x0 + half + 1].copy()
+    if template.shape != (side, side):
+        raise _refuse(path, field, "the marker is at the frame's edge",
+                      "frame the swing so that the marker stays inside the picture")
+    xs, ys, conf, times = [], [], [], []
+    reach = int(SEARCH * side)
+    px, py = cx, cy
+    snapshots = []
+    index = 0
+    pending = list(zip(buffered, stamps))
+    while True:
+        if pending:
+            grey, stamp = pending.pop(0)
+        else:
+            ok, frame = capture.read()
+            if not ok:
+                break
+            grey, stamp = _grey(frame), capture.get(cv2.CAP_PROP_POS_MSEC) / 1e3
+        h, w = grey.shape
+        ax, ay = int(max(px - half - reach, 0)), int(max(py - half - reach, 0))
+        bx, by = int(min(px + half + reach + 1, w)), int(min(py + half + reach + 1, h))
+        window = grey[ay:by, ax:bx]
+        x = y = math.nan
+        c = 0.0
+        if window.shape[0] > side and window.shape[1] > side:
+            corr = cv2.matchTemplate(window, template, cv2.TM_CCOEFF_NORMED)
+            i, j = np.unravel_index(int(np.argmax(corr)), corr.shape)
+            c = float(corr[i, j])
+            if c >= min_confidence:
+                dx, dy = _subpixel(corr, i, j)
+                x, y = ax + j + dx + half, ay + i + dy + half
+                px, py = x, y
+        xs.append(x)
+        ys.append(y)
+        conf.append(c)
+        times.append(stamp)
+        if total and keep_frames and index in np.linspace(0, total - 1, keep_frames).astype(int):
+            snapshots.append((index, grey.copy()))
+        index += 1
+    capture.release()
+    time = np.asarray(times)
+    steps = np.diff(time)
+    if not np.all(steps > 0):
+        raise _refuse(path, field, "the frames' timestamps do not rise",
+                      "export the film again from the phone without editing it")
+    spread = float(np.std(steps) / np.median(steps))
+    if spread > IRREGULAR:
+        name = Path(path).name
+        warnings.warn(IrregularFrameRateWarning(
+            f"{name}: the frames' intervals vary by {100 * spread:.1f} % (a variable frame "
+            "rate): each frame's own timestamp is used; film at a fixed frame rate if the "
+            "phone allows",
+            f"{name}: интервалы между кадрами меняются на {100 * spread:.1f} % (переменная "
+            "частота кадров): используется метка времени каждого кадра; снимайте с "
+            "постоянной частотой кадров, если телефон позволяет"))
+    track = Track(str(path), time, np.asarray(xs), np.asarray(ys), np.asarray(conf), side,
+                  spread, snapshots)
+    if track.kept.mean() < 0.5:
+        raise _refuse(path, field, f"the marker was found in {100 * track.kept.mean():.0f} % "
+                      "of the frames", "stick a high-contrast marker on the part, light it "
+                      "evenly and keep it in view (or give its region, roi)")
+    return track
+
+
+def swing_of(track: Track, *, field: str | None = None) -> Swing:
+    """Fit the track's oscillation (see the module's notes).
+
+    Raises
+    ------
+    InputError
+        No swing above the track's noise, fewer than three oscillations, or a frame rate
+        below twice the oscillation's frequency (the swing cannot be told from its alias).
+    """
+    t, s = track.displacement()
+    try:
+        fit = fit_damped_sine(t, s, baseline_order=1)
+    except RuntimeError as exc:
+        raise _refuse(track.path, field, f"no oscillation fits the track ({exc})",
+                      "film the part swinging freely, the marker in view") from None
+    if not abs(fit.amplitude) > SWING_SNR * fit.residual_sd:
+        raise _refuse(track.path, field, f"no swing stands out of the track's noise (amplitude "
+                      f"{abs(fit.amplitude):.2g} px, noise {fit.residual_sd:.2g} px)",
+                      "film the part while it swings, the marker large and sharp in the frame")
+    rate = track.frame_rate
+    if fit.omega_d / (2 * math.pi) > NYQUIST_SHARE * rate / 2:
+        raise _refuse(track.path, field, f"the film's {rate:.3g} frames per second barely "
+                      f"follow a swing of {fit.omega_d / (2 * math.pi):.3g} Hz (the swing may "
+                      "be an alias of a faster one)", "film at 30 frames per second or more")
+    span = (t[-1] - t[0]) / fit.period
+    if span < 3:
+        raise _refuse(track.path, field, f"the film spans {span:.1f} oscillations",
+                      "film at least 10 oscillations (the manual times 20)")
+    u = 2 * math.pi / fit.omega_d ** 2 * fit.u("omega_d")
+    return Swing(fit, Measured(fit.period, u, fit.dof), float(span), float(fit.amplitude),
+                 float(track.kept.mean()))
+
+
+def arc(track: Track) -> tuple[float, float, float]:
+    """The circle the marker runs on: its centre and radius, by a geometric least-squares
+    fit through the track (robust: soft-L1), started from the algebraic one. [px]"""
+    from scipy.optimize import least_squares
+
+    k = track.kept
+    x, y = track.x[k], track.y[k]
+    design = np.column_stack([x, y, np.ones_like(x)])
+    c, *_ = np.linalg.lstsq(design, x**2 + y**2, rcond=None)
+    start = [c[0] / 2, c[1] / 2, math.sqrt(c[2] + c[0] ** 2 / 4 + c[1] ** 2 / 4)]
+    fit = least_squares(lambda p: np.hypot(x - p[0], y - p[1]) - p[2], start, loss="soft_l1",
+                        f_scale=0.5)
+    return float(fit.x[0]), float(fit.x[1]), float(abs(fit.x[2]))
+
+
+@dataclass(frozen=True)
+class Filmed:
+    """One film of a lab: where it was named, the track and the fitted swing."""
+
+    field: str
+    track: Track
+    swing: Swing
+    stopwatch: Measured | None = None
+    """The stopwatch's time of the same oscillations, if the file gives it too."""
+
+    @property
+    def amplitude(self) -> float:
+        """The swing's angle amplitude at the film's start, from the arc's radius. [rad]"""
+        radius = arc(self.track)[2]
+        return float(math.asin(min(abs(self.swing.amplitude) / radius, 1.0)))
+
+
+def filmed_times(inputs, films: dict[str, dict[str, str]], needed=("t",)):
+    """Replace the stopwatch times of a lab's sections by the films that give them.
+
+    Parameters
+    ----------
+    inputs : processing.measurement.Inputs
+    films : dict
+        Per section, each film field and the time field it stands for (``{"trifilar":
+        {"video": "t", "video_p": "t_p"}}``); the time of ``n_osc`` oscillations becomes
+        n_osc·T ± n_osc·u(T) from the film, and the section's ``amplitude``, if not given,
+        the first film's.
+    needed : sequence of str
+        Time fields a section must have, from the stopwatch or from a film.
+
+    Returns
+    -------
+    inputs, list of Filmed
+        The inputs as the lab reduces them, and every film read.
+
+    Raises
+    ------
+    InputError
+        A needed time with neither the stopwatch's readings nor a film; any film's (see
+        :func:`track_marker`, :func:`swing_of`).
+    """
+    read = []
+    for section, pairs in films.items():
+        if section not in inputs:
+            continue
+        entry = inputs[section]
+        changes = {}
+        for video, time_field in pairs.items():
+            if video not in entry:
+                if time_field in needed and time_field not in entry:
+                    raise inputs.error(f"[{section}] has neither the stopwatch's time "
+                                       f"{time_field} nor a film", f"write {time_field} = "
+                                       f"[...] (the time of n_osc oscillations) or {video} = "
+                                       "\"swing.mp4\"", f"{section}.{time_field}")
+                continue
+            where = f"{section}.{video}"
+            track = track_marker(entry[video], field=where)
+            swing = swing_of(track, field=where)
+            n = entry["n_osc"]
+            changes[time_field] = Measured(n * swing.period.value, n * swing.period.u,
+                                           swing.period.dof_a)
+            film = Filmed(where, track, swing, entry.get(time_field))
+            read.append(film)
+            _compare_stopwatch(film, n)
+            if "amplitude" not in entry and "amplitude" not in changes:
+                changes["amplitude"] = Measured(film.amplitude, limit=math.radians(AMPLITUDE_LIMIT))
+        if changes:
+            inputs = inputs.changed(section, **changes)
+    return inputs, read
+
+
+def _compare_stopwatch(film: Filmed, n: int) -> None:
+    """Warn where the stopwatch's period and the film's disagree beyond both their u."""
+    if film.stopwatch is None:
+        return
+    T_sw, u_sw = film.stopwatch.value / n, film.stopwatch.u / n
+    T, u = film.swing.period.value, film.swing.period.u
+    if abs(T_sw - T) > 2 * math.hypot(u_sw, u):
+        warnings.warn(InconsistentInputWarning(
+            f"{film.field}: the stopwatch's period {T_sw:.4f} s and the film's {T:.5f} s "
+            f"differ by {100 * (T_sw / T - 1):+.2f} %, beyond both uncertainties: the film's "
+            "is used; check n_osc and the stopwatch readings",
+            f"{film.field}: период по секундомеру {T_sw:.4f} с и по видео {T:.5f} с "
+            f"различаются на {100 * (T_sw / T - 1):+.2f} %, больше обеих погрешностей: "
+            "принят период по видео; проверьте n_osc и показания секундомера"))
+
+
+def film_figures(films: list[Filmed]) -> list:
+    """A report figure per film: a frame with the marker's track drawn, the track's
+    displacement against time with the fitted damped sinusoid, and the residual."""
+    from ..result import Figure
+
+    def draw(film: Filmed):
+        def paint(fig, lang: str) -> None:
+            top, middle, bottom = fig.subplots(3, 1, height_ratios=(3, 2, 1))
+            if film.track.frames:
+                top.imshow(film.track.frames[0][1], cmap="gray")
+            top.plot(film.track.x, film.track.y, color="C1", lw=0.8)
+            top.set_axis_off()
+            t, s = film.track.displacement()
+            fit = film.swing.fit
+            middle.plot(t, s, ".", ms=2, color="C0",
+                        label="track" if lang == "en" else "траектория")
+            middle.plot(t, fit.predict(t), color="C1", lw=0.8,
+                        label=(f"fit: T = {fit.period:.5f} s" if lang == "en"
+                               else f"аппроксимация: T = {fit.period:.5f} с"))
+            middle.legend(fontsize=7, loc="upper right")
+            middle.set_ylabel("px")
+            bottom.plot(t, s - fit.predict(t), ".", ms=2, color="C3")
+            bottom.set_xlabel("t, s" if lang == "en" else "t, с")
+            bottom.set_ylabel("px")
+            fig.tight_layout()
+        return paint
+
+    return [Figure(f"film_{f.field.replace('.', '_')}",
+                   {"en": f"The film of {f.field}: the marker's track over a frame; its "
+                          "displacement with the fitted damped oscillation; the residual",
+                    "ru": f"Видео {f.field}: траектория метки на кадре; её смещение и "
+                          "подобранные затухающие колебания; остаток"},
+                   draw(f), (6.4, 6.4)) for f in films]

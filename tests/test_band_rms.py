@@ -1,0 +1,87 @@
+"""The meter's bands: closed-form sines in every band, the band edges as the meter's filters,
+white noise against the integral of the weight, no drift from an offset, and the time
+signals' peaks."""
+import numpy as np
+import pytest
+
+from processing.band_rms import (BANDS, QUANTITIES, REFERENCES, Band, band_rms, band_signal,
+                                 level_db, meter_gain, peaks, sine_band_rms, window_spread)
+
+RATE = 25600.0
+T = np.arange(int(2.4 * RATE)) / RATE   # 2.4 s: the issue's record length
+
+
+@pytest.mark.parametrize("frequency", [5.3, 8.33, 21.7, 97.1, 612.4, 2113.0, 5021.7])
+def test_sine_comes_out_at_its_closed_form_in_every_band(frequency):
+    # a non-whole number of periods in the record, with a DC offset of the sensor
+    acc = 12.0 * np.cos(2 * np.pi * frequency * T + 0.7) + 0.8
+    r = band_rms(acc, RATE)
+    for q in QUANTITIES:
+        truth = float(sine_band_rms(12.0, frequency, q))
+        # the deconvolution leaves (σ_f/f)⁴ terms: 2·10⁻⁴ of x at 5 Hz on 2.4 s
+        assert r[q] == pytest.approx(truth, rel=5e-4), f"{q} at {frequency} Hz"
+
+
+def test_band_edges_behave_like_butterworth_filters():
+    # at an edge −3 dB; an octave outside 6N dB down (order N: 1/√(1 + 2^2N)); N = 2, 3, 4
+    for q, order in zip(QUANTITIES, (2, 3, 4)):
+        b = BANDS[q]
+        assert b.order == order
+        octave = (1 + 2 ** (2 * order)) ** -0.5
+        for f, gain in ((b.low, 2 ** -0.5), (b.high, 2 ** -0.5), (b.low / 2, octave),
+                        (b.high * 2, octave)):
+            if f < RATE / 2:
+                t = np.arange(int(20 * RATE)) / RATE     # 0.7 Hz: long enough for the lobe
+                acc = 10.0 * np.sin(2 * np.pi * f * t)
+                expected = 10.0 / np.sqrt(2) * gain / (2 * np.pi * f) ** "avx".index(q)
+                assert band_rms(acc, RATE)[q] == pytest.approx(expected, rel=5e-3), (q, f)
+    assert BANDS["v"].high == 2800.0 and BANDS["a"].high == BANDS["x"].high == 8000.0
+    assert Band(1.4, 8000.0, order=4).gain(0.7) == pytest.approx((1 + 2 ** 8) ** -0.5)
+
+
+def test_white_noise_reads_the_integral_of_the_weight():
+    # S_a = 2σ²/f_s one-sided: X² = (2σ²/f_s) ∫ g df (Parseval through the band)
+    rng = np.random.default_rng(3)
+    sigma = 5.0
+    runs = [band_rms(sigma * rng.standard_normal(T.size), RATE) for _ in range(20)]
+    f = np.linspace(0, RATE / 2, 2_000_001)[1:]
+    for q in QUANTITIES:
+        expected = np.sqrt(2 * sigma ** 2 / RATE * np.trapezoid(meter_gain(f, q) ** 2, f))
+        got = np.sqrt(np.mean([r[q] ** 2 for r in runs]))
+        # v and x of white noise sit in the few bins near 1.4 Hz: three standard errors
+        scatter = np.std([r[q] for r in runs]) / expected / np.sqrt(len(runs))
+        assert got == pytest.approx(expected, rel=max(0.01, 3 * scatter)), q
+
+
+def test_two_lines_add_in_power_and_nothing_drifts():
+    # an offset and a slow sensor wander below the band stay out of velocity and displacement
+    acc = 8 * np.cos(2 * np.pi * 12.5 * T) + 3 * np.cos(2 * np.pi * 37.5 * T + 1)
+    wander = 0.5 + 0.3 * np.cos(2 * np.pi * 0.1 * T)
+    r = band_rms(acc + wander, RATE)
+    for q in QUANTITIES:
+        truth = np.hypot(sine_band_rms(8, 12.5, q), sine_band_rms(3, 37.5, q))
+        assert r[q] == pytest.approx(float(truth), rel=2e-3), q
+
+
+def test_whole_periods_integrate_exactly_in_time():
+    cycle = int(RATE / 6.25)                # 6.25 Hz: the half order at 750 min⁻¹
+    t = np.arange(8 * cycle) / RATE
+    acc = 10 * np.cos(2 * np.pi * 6.25 * t) + 4 * np.cos(2 * np.pi * 50 * t + 0.3)
+    x = band_signal(acc, RATE, "x", periodic=True)
+    x_true = (10 * meter_gain(6.25, "x") * np.cos(2 * np.pi * 6.25 * t)
+              + 4 * meter_gain(50, "x") * np.cos(2 * np.pi * 50 * t + 0.3))
+    # zero-phase band: cos in, −cos out for two integrations
+    assert np.max(np.abs(x + x_true)) < 1e-3 * np.max(np.abs(x_true))
+    p = peaks(x)
+    assert p.peak_to_peak == pytest.approx(np.ptp(x_true), rel=1e-3)
+
+
+def test_levels_name_their_reference():
+    assert level_db(REFERENCES["iso1683"]["v"], "v") == pytest.approx(0.0)
+    assert level_db(1e-3, "v", "gost25275") == pytest.approx(20 * np.log10(1e-3 / 5e-8))
+
+
+def test_window_spread_and_short_record_refused():
+    assert window_spread(64) == pytest.approx(1 / 3, rel=0.01)
+    with pytest.raises(ValueError, match="too few"):
+        band_rms(np.ones(8), RATE)
