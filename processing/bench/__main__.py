@@ -20,10 +20,10 @@ import importlib  # noqa: E402
 import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from . import damper, paper, speed, torsion, valve  # noqa: E402
+from . import damper, film, paper, speed, torsion, valve  # noqa: E402
 
 TOPICS = {"speed": speed, "torsion": torsion, "damper": damper, "valve": valve, "paper": paper,
-          "check": "labs.check_bench"}
+          "film": film, "check": "labs.check_bench"}
 """The benchmark topics, by name: a module, or the name of one imported when run (the
 teachers' tools live with the labs they check)."""
 

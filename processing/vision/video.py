@@ -36,7 +36,8 @@ BACKGROUND_FRAMES = 64
 """Frames at the start whose median is the still background (they must span a swing)."""
 
 SEARCH = 4.0
-"""Half-width of the search window, in marker sizes."""
+"""Half-width of the search window where the marker is not found near its predicted place
+(last place plus last step), in template sizes."""
 
 NYQUIST_SHARE = 0.8
 """A fitted swing above this share of half the frame rate is refused: near the Nyquist
@@ -182,6 +183,23 @@ def _subpixel(c: np.ndarray, i: int, j: int) -> tuple[float, float]:
     return dx, dy
 
 
+def _match(grey: np.ndarray, template: np.ndarray, ex: float, ey: float, reach: int):
+    """The template's best match within ``reach`` px of (ex, ey): centre and correlation,
+    or None where the window leaves the frame."""
+    side = template.shape[0]
+    half = side // 2
+    h, w = grey.shape
+    ax, ay = int(max(ex - half - reach, 0)), int(max(ey - half - reach, 0))
+    bx, by = int(min(ex + half + reach + 1, w)), int(min(ey + half + reach + 1, h))
+    window = grey[ay:by, ax:bx]
+    if window.shape[0] <= side or window.shape[1] <= side:
+        return None
+    corr = cv2.matchTemplate(window, template, cv2.TM_CCOEFF_NORMED)
+    i, j = np.unravel_index(int(np.argmax(corr)), corr.shape)
+    dx, dy = _subpixel(corr, i, j)
+    return ax + j + dx + half, ay + i + dy + half, float(corr[i, j])
+
+
 def track_marker(path, *, roi=None, field: str | None = None,
                  min_confidence: float = MIN_CONFIDENCE, keep_frames: int = 4) -> Track:
     """Track the marker on a swinging part through a film.
@@ -232,8 +250,8 @@ def track_marker(path, *, roi=None, field: str | None = None,
         raise _refuse(path, field, "the marker is at the frame's edge",
                       "frame the swing so that the marker stays inside the picture")
     xs, ys, conf, times = [], [], [], []
-    reach = int(SEARCH * side)
-    px, py = cx, cy
+    near, far = side // 2 + 2, int(SEARCH * side)
+    px, py, vx, vy = cx, cy, 0.0, 0.0
     snapshots = []
     index = 0
     pending = list(zip(buffered, stamps))
@@ -245,20 +263,18 @@ def track_marker(path, *, roi=None, field: str | None = None,
             if not ok:
                 break
             grey, stamp = _grey(frame), capture.get(cv2.CAP_PROP_POS_MSEC) / 1e3
-        h, w = grey.shape
-        ax, ay = int(max(px - half - reach, 0)), int(max(py - half - reach, 0))
-        bx, by = int(min(px + half + reach + 1, w)), int(min(py + half + reach + 1, h))
-        window = grey[ay:by, ax:bx]
         x = y = math.nan
         c = 0.0
-        if window.shape[0] > side and window.shape[1] > side:
-            corr = cv2.matchTemplate(window, template, cv2.TM_CCOEFF_NORMED)
-            i, j = np.unravel_index(int(np.argmax(corr)), corr.shape)
-            c = float(corr[i, j])
-            if c >= min_confidence:
-                dx, dy = _subpixel(corr, i, j)
-                x, y = ax + j + dx + half, ay + i + dy + half
+        for reach, (ex, ey) in ((near, (px + vx, py + vy)), (far, (px, py))):
+            found = _match(grey, template, ex, ey, reach)
+            if found is not None and found[2] >= min_confidence:
+                x, y, c = found
+                vx, vy = x - px, y - py
                 px, py = x, y
+                break
+            c = max(c, found[2] if found is not None else 0.0)
+        if not math.isfinite(x):
+            vx = vy = 0.0
         xs.append(x)
         ys.append(y)
         conf.append(c)
