@@ -132,23 +132,12 @@ def _run(args) -> int:
                       args.confine)
 
 
-def _sample_dir(given: str | None) -> Path:
-    """The sample data: ``--data``, else ./sample_data, else the source tree's, else the copy
-    the wheel ships (``labs/sample_data``)."""
-    here = Path(__file__).resolve().parent
-    candidates = [Path(given)] if given else [Path.cwd() / "sample_data",
-                                              here.parent / "sample_data", here / "sample_data"]
-    for c in candidates:
-        if c.is_dir() and any(c.glob("*/*.toml")):
-            return c
-    raise InputError("no sample data found", "run from the dynlab source folder, or give "
-                     "--data DIR with the sample_data folder", file=str(candidates[0]))
-
-
 def _demo(args) -> int:
     from processing.reporting.render import FORMATS, to_terminal
 
-    data = _sample_dir(args.data)
+    from .samples import sample_dir
+
+    data = sample_dir(args.data)
     files = sorted(data.glob("*/*.toml"))
     out = Path(args.out)
     print(f"dynlab demo: {len(files)} sample files from {data} → {out}/")

@@ -1366,3 +1366,19 @@ def _conclusion(calc: DynamicCalculation) -> list[dict]:
         f"{d2:.4g} по уравнению движения ({100 * (d2 / d1 - 1):+.2f} %); типичные δ: "
         f"автомобильные 0,01–0,02, тракторные 0,003–0,01."))
     return lines
+
+
+# ------------------------------------------------------------------------ variants
+
+VARIED = {"engine": ("n",), "cycle": ("p_a", "p_z", "eps", "n1", "n2"),
+          "geometry": ("D", "S", "lambda"), "masses": ("m_j_spec",),
+          "flywheel": ("delta", "D_rim")}
+"""The example's data a variant changes (each by up to ± 10 %)."""
+
+
+def write_synthetic(out_dir, seed: int = 0) -> dict:
+    """Write a variant of the bundled 1.8 L petrol four (:data:`VARIED` changed by up to
+    ± 10 %) with its answer key (:func:`labs.variants.design_variant`)."""
+    from .variants import design_variant
+
+    return design_variant("dyncalc", "car_petrol.toml", out_dir, seed, VARIED)

@@ -805,3 +805,19 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
     return LabResult.of(inputs, results, tables=[_phase_table(results, nominal)], figures=figures,
                         formulas=FORMULAS, references=REFERENCES, warnings=notices,
                         conclusion=_conclusion(results, inputs, notices))
+
+
+# ------------------------------------------------------------------------ variants
+
+VARIED = {"engine": ("r", "lambda", "n", "D"),
+          "masses": ("m_piston", "m_shp", "m_shk", "m_pin", "m_web1", "m_web2"),
+          "crankshaft": ("a", "l2", "l3"), "balancer": ("m_pr",)}
+"""The D-120 data a variant changes (each by up to ± 10 %)."""
+
+
+def write_synthetic(out_dir, seed: int = 0) -> dict:
+    """Write a variant of the manual's D-120 (:data:`VARIED` changed by up to ± 10 %) with its
+    answer key (:func:`labs.variants.design_variant`)."""
+    from .variants import design_variant
+
+    return design_variant("lab8", "d120.toml", out_dir, seed, VARIED)

@@ -380,10 +380,10 @@ def test_installed_console_script_reports_bad_input(tmp_path):
 
 def test_demo_finds_the_sample_data_from_any_folder(tmp_path, monkeypatch):
     # installed from a wheel, the copy shipped in labs/sample_data; from the source tree, its own
-    from labs.cli import _sample_dir
+    from labs.samples import sample_dir
 
     monkeypatch.chdir(tmp_path)
-    found = _sample_dir(None)
+    found = sample_dir(None)
     source = Path(__file__).resolve().parents[1] / "sample_data"
     assert sorted(p.relative_to(found) for p in found.rglob("*") if p.is_file()) == \
         sorted(p.relative_to(source) for p in source.rglob("*") if p.is_file())
