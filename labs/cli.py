@@ -274,7 +274,8 @@ def _synth(args) -> int:
               ("contact", None if args.contact is None else args.contact * 1e-6),
               ("lash", None if args.lash is None else args.lash * 1e-6),
               ("periods", args.periods), ("amplitude_exponent", args.amplitude_exponent),
-              ("paper", args.paper or None), ("image", args.image or None))
+              ("paper", args.paper or None), ("image", args.image or None),
+              ("film", args.film or None))
              if value is not None}
     foreign = [name for name in given if name not in takes]
     if foreign:
@@ -363,6 +364,8 @@ def parser() -> argparse.ArgumentParser:
                      help="lab 9: p in δ(A) = δ₀·(A/φ₀)^p (0: linear damping)")
     syn.add_argument("--paper", action="store_true",
                      help="lab 9: maxima read off a paper record instead of a recording")
+    syn.add_argument("--film", action="store_true",
+                     help="labs 1, 2: the swings filmed (MP4) instead of timed by hand")
     syn.add_argument("--students", metavar="ROSTER.csv",
                      help="one variant per student of a roster (columns id,name) in "
                           "OUT/<id>/, each with its answer key")

@@ -335,13 +335,22 @@ SPEC = LabSpec(
         Section("unifilar", bi("Unifilar torsion pendulum", "Унифилярный подвес"), fields=(
             Field("n_osc", bi("full oscillations timed", "число полных колебаний"), **COUNT),
             Field("t", bi("time of n_osc oscillations with the part",
-                          "время n колебаний с деталью"), **STOPWATCH),
+                          "время n колебаний с деталью"), **{**STOPWATCH, "required": False}),
+            Field("video", bi("or: a film of the twist with the part (a marker on it)",
+                              "или: видео крутильных колебаний с деталью (метка на ней)"),
+                  kind="file", required=False),
             Field("t_0", bi("time of n_osc oscillations of the empty clamp",
                             "время n колебаний пустого подвеса"), **STOPWATCH, required=False,
                   symbol="t₀"),
+            Field("video_0", bi("or: a film of the empty clamp's twist",
+                                "или: видео колебаний пустого подвеса"), kind="file",
+                  required=False),
             Field("t_ref", bi("time of n_osc oscillations with the reference body",
                               "время n колебаний с эталоном"), **STOPWATCH, required=False,
                   symbol="t_э"),
+            Field("video_ref", bi("or: a film of the twist with the reference body",
+                                  "или: видео колебаний с эталоном"), kind="file",
+                  required=False),
             Field("J_ref", bi("reference body's moment of inertia", "момент инерции эталона"),
                   unit="kg*m^2", required=False, symbol="J_э"),
             Field("m_ref", bi("reference cylinder's mass (instead of J_ref)",
@@ -368,7 +377,8 @@ SPEC = LabSpec(
     ),
 )
 
-FILMS = {"trifilar": {"video": "t", "video_p": "t_p"}, "pendulum": {"video": "t"}}
+FILMS = {"trifilar": {"video": "t", "video_p": "t_p"}, "pendulum": {"video": "t"},
+         "unifilar": {"video": "t", "video_0": "t_0", "video_ref": "t_ref"}}
 """The films that may stand for the stopwatch (:func:`processing.vision.video.filmed_times`)."""
 
 RESULTS = {

@@ -98,3 +98,19 @@ def test_stopwatch_and_film_disagreeing_warn(tmp_path):
     result = evaluate(written["toml"], n_samples=1000)
     assert "inconsistent_input" in {w.code for w in result.warnings}
     assert np.isfinite(result["J_pendulum_cm"].value)
+
+
+def test_unifilar_from_films_gives_the_closed_form(tmp_path):
+    """Films of the wire's twist with the part (T = 2 s) and empty (T₀ = 1.5 s), the wire's
+    constants given: J = G π d⁴/(32 l) · (T² − T₀²)/(4π²) to the films' precision."""
+    for name, period, seed in (("u.mp4", 2.0, 0), ("u0.mp4", 1.5, 1)):
+        render(Film(period=period, arm=200, pivot=(320, 240), amplitude=math.radians(20),
+                    oscillations=8), tmp_path / name, seed=seed)
+    path = tmp_path / "m.toml"
+    path.write_text('lab = "lab1"\n[body]\nm = "10 kg"\n[unifilar]\nn_osc = 20\n'
+                    'video = "u.mp4"\nvideo_0 = "u0.mp4"\nG = "79 GPa"\nd = "3 mm"\n'
+                    'l = "1000 mm"\n', encoding="utf-8")
+    k = 79e9 * math.pi * 3e-3 ** 4 / 32
+    expected = k * (2.0**2 - 1.5**2) / (4 * math.pi**2)
+    assert evaluate(path, n_samples=500)["J_unifilar_wire"].value == pytest.approx(
+        expected, rel=1e-4)

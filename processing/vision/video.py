@@ -420,11 +420,18 @@ def filmed_times(inputs, films: dict[str, dict[str, str]], needed=("t",)):
             film = Filmed(where, track, swing, entry.get(time_field))
             read.append(film)
             _compare_stopwatch(film, n)
-            if "amplitude" not in entry and "amplitude" not in changes:
+            if ("amplitude" not in entry and "amplitude" not in changes
+                    and _declares(inputs, section, "amplitude")):
                 changes["amplitude"] = Measured(film.amplitude, limit=math.radians(AMPLITUDE_LIMIT))
         if changes:
             inputs = inputs.changed(section, **changes)
     return inputs, read
+
+
+def _declares(inputs, section: str, name: str) -> bool:
+    """Whether the lab's section has the field ``name``."""
+    spec = inputs.spec
+    return spec is not None and any(f.name == name for f in spec.section(section).fields)
 
 
 def _compare_stopwatch(film: Filmed, n: int) -> None:
