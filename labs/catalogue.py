@@ -23,9 +23,15 @@ CATALOGUE: dict[str, Entry] = {
     "lab3": Entry("labs.lab3_speed_irregularity", {
         "en": "Speed irregularity of the engine on a steady regime",
         "ru": "Определение неравномерности хода двигателя на установившемся режиме"}),
+    "lab4": Entry("labs.lab4_vibration", {
+        "en": "Engine vibration on the test bench",
+        "ru": "Изучение вибраций двигателя в стендовых условиях"}),
     "lab5": Entry("labs.lab5_valve_stiffness", {
         "en": "Stiffness of the valve-train parts",
         "ru": "Исследование жесткости деталей механизма газораспределения двигателя"}),
+    "lab6": Entry("labs.lab6_valve_dynamics", {
+        "en": "Valve-train oscillations on a running engine",
+        "ru": "Исследование колебаний клапанного механизма двигателя"}),
     "lab7": Entry("labs.lab7_torsiograph", {
         "en": "Torsional vibration of the crankshaft (torsiograph)",
         "ru": "Экспериментальное исследование крутильных колебаний коленчатого вала"}),

@@ -348,9 +348,9 @@ def parser() -> argparse.ArgumentParser:
     syn.add_argument("lab", choices=tuple(CATALOGUE))
     syn.add_argument("--seed", type=_seed, default=0)
     syn.add_argument("--out", default="synthetic", help="folder to write (default: synthetic)")
-    syn.add_argument("--format", help="labs 3 and 7: recording format, wav, csv or h5 (lab 3's "
-                     "default wav, lab 7's csv)")
-    syn.add_argument("--snr", type=float, help="sensor SNR, dB")
+    syn.add_argument("--format", help="labs 3, 4, 6, 7: recording format, wav, csv or h5 "
+                     "(lab 3's default wav, lab 4's h5, labs 6 and 7 csv)")
+    syn.add_argument("--snr", type=float, help="sensor SNR, dB (lab 4: in the worst band)")
     syn.add_argument("--pitch-error", type=float,
                      help="lab 3: σ of the wheel's tooth angles, degrees (default 0.03)")
     syn.add_argument("--sample-rate", type=float, help="sample rate, kHz")

@@ -205,6 +205,47 @@ class BlurredMarksWarning(DynlabWarning):
     code = "blurred_marks"
 
 
+class ContactLossWarning(DynlabWarning):
+    """The valve drive loses contact (the force falls to zero while the valve is open): the
+    kinematic chain breaks and closes again with an impact."""
+
+    code = "contact_lost"
+
+
+class FreeOscillationWarning(DynlabWarning):
+    """The drive's free oscillations are too few or too weak on a record for a sound
+    frequency."""
+
+    code = "free_oscillation_poor"
+
+
+class ClippedRecordWarning(DynlabWarning):
+    """A channel sat at its converter's or amplifier's limit: its peaks and the orders it
+    carries are cut, its readings low."""
+
+    code = "clipped_record"
+
+
+class NoiseFloorWarning(DynlabWarning):
+    """A band reading rests on the record's broadband floor (sensor noise, or broadband
+    vibration) rather than on the engine's orders."""
+
+    code = "noise_floor"
+
+
+class CutCylinderWarning(DynlabWarning):
+    """A record marked with a cylinder cut shows no cut cylinder, shows another one than
+    stated, or has no healthy record at its speed to be compared with."""
+
+    code = "cut_cylinder"
+
+
+class SpeedDisagreesWarning(DynlabWarning):
+    """The TDC marks' speed and the tachometer's differ beyond the tachometer's error."""
+
+    code = "speed_disagrees"
+
+
 class IrregularFrameRateWarning(DynlabWarning):
     """A film's frame intervals vary (a phone's variable frame rate): each frame's own
     timestamp is used, but a film whose clock stutters times the swing less well."""

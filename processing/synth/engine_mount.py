@@ -14,7 +14,8 @@ lateral y, roll θ_x about the crankshaft's axis, pitch θ_y), excited by
   :func:`processing.dynamics.indicator_pressure`), with a small cylinder-to-cylinder spread of
   combustion and, optionally, one cylinder without combustion (ignition cut: the motored
   cycle, compression and expansion on the n₁ polytrope);
-- the pitch moments of the cylinders' vertical forces about the centre of mass.
+- the pitch moments of the cylinders' vertical forces and of the unbalance about the centre
+  of mass, and a share of the torque reaction (mounts whose elastic axis is inclined).
 
 Over a working cycle everything is periodic in the crank angle, so each excitation is a sum of
 orders (half orders for a four-stroke engine) and the block's response to each is exact in the
@@ -83,6 +84,11 @@ class Block:
     """Residual unbalance of the crank train (mass times radius). [kg·m]"""
     unbalance_angle: float = 0.7
     """Its angle ahead of crank 1. [rad]"""
+    unbalance_position: float = -0.25
+    """Its place along the crankshaft from the centre of mass (the flywheel's end). [m]"""
+    roll_to_pitch: float = 0.1
+    """Share of the torque reaction that turns the block about its transverse axis: the
+    mounts' elastic axis is inclined to the crankshaft's. [1]"""
     spread: float = 0.03
     """Relative standard deviation of the cylinders' combustion (fixed per engine). [1]"""
 
@@ -150,9 +156,19 @@ class Response:
         g = meter_gain(self.frequency, quantity) ** 2
         return float(np.sqrt(np.sum(np.abs(self.coefficient) ** 2 / 2 * g)))
 
+    def peak_to_peak(self, quantity: str) -> float:
+        """True peak-to-peak of the band signal over a working cycle: each order through the
+        meter's zero-phase band and (i kω)⁻ⁿ. [m/s², m/s or m]"""
+        n = "avx".index(quantity)
+        c = self.coefficient * meter_gain(self.frequency, quantity) * (-1j) ** n
+        alpha = np.linspace(0, 4 * np.pi, 8 * GRID, endpoint=False)
+        return float(np.ptp((c[None, :] * np.exp(1j * np.outer(alpha, self.order))).real.sum(1)))
+
     def truth(self) -> dict:
-        """The band readings a, v, x and the first and second orders' amplitudes."""
+        """The band readings a, v, x, their peak-to-peak values (``a_pp`` …) and the first and
+        second orders' amplitudes."""
         out = {q: self.band_rms(q) for q in QUANTITIES}
+        out.update({f"{q}_pp": self.peak_to_peak(q) for q in QUANTITIES})
         for k in (1, 2):
             out[f"order{k}"] = float(np.abs(self.coefficient[self.order == k][0]))
         return out
@@ -199,11 +215,10 @@ def excitation(engine: Engine, block: Block, angular_speed: float, *, factors=No
     p_c = engine.p_a * engine.compression_ratio ** engine.n1
     positions = (np.arange(i) - (i - 1) / 2) * block.cylinder_spacing
     w2 = angular_speed ** 2
-    heave = np.zeros(GRID)
     lateral = block.unbalance * w2 * np.sin(alpha + block.unbalance_angle)
-    heave += block.unbalance * w2 * np.cos(alpha + block.unbalance_angle)
+    heave = block.unbalance * w2 * np.cos(alpha + block.unbalance_angle)
     roll = np.zeros(GRID)
-    pitch = np.zeros(GRID)
+    pitch = -block.unbalance_position * heave
     for c in range(i):
         theta = alpha - phases[c]                       # from cylinder c's firing TDC
         at_intake = theta + 2 * np.pi                   # processing.dynamics counts from here
@@ -219,7 +234,7 @@ def excitation(engine: Engine, block: Block, angular_speed: float, *, factors=No
         heave += up
         lateral += block.rotating_mass * engine.crank_radius * w2 * np.sin(theta)
         roll -= torque
-        pitch -= positions[c] * up
+        pitch -= positions[c] * up + block.roll_to_pitch * torque
     spectrum = np.fft.rfft(np.stack([heave, lateral, roll, pitch]), axis=1) * (2.0 / GRID)
     m = int(2 * MAX_ORDER)
     return 0.5 * np.arange(1, m + 1), spectrum[:, 1:m + 1]

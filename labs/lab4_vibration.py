@@ -1,0 +1,842 @@
+"""Lab 4. Engine vibration on the test bench.
+
+The manual's chapter: an engine on elastic mounts vibrates under the variable overturning
+(reaction) torque, the unbalanced inertia forces and moments of the crank train
+(P_j = −m_j R ω²(cos ωt + λ cos 2ωt) along each cylinder, P_r = −m_r R ω² along each crank), a
+residual unbalance at 1×, the valve train and, in a petrol engine, a misfiring cylinder: a
+polyharmonic excitation at orders of the crankshaft's speed. An accelerometer on a chosen
+point and direction feeds the vibration meter ВМ-1 (acceleration and displacement 1.4–8000 Hz,
+velocity 1.4–2800 Hz, RMS and peak-to-peak detectors, ±15 % basic error, a dB scale); the
+student reads it over a speed range at several points, then cuts one cylinder's ignition and
+reads again, and charts the readings against the speed.
+
+Here the meter's readings are tabulated and charted as they are ([[reading]]: RMS a, v, x,
+peak-to-peak, with the meter's ±15 %), or the accelerometer's records (CSV, WAV, HDF5: a
+channel per point and the ignition pickup's TDC marks) are reduced the meter's way: the band
+readings by a frequency-domain integration that does not drift (:mod:`processing.band_rms`),
+the peak-to-peak values on the mean working cycle; beyond the meter, each record's order
+spectrum against the crank angle (:mod:`processing.orders`), the order map over the sweep, the first and second
+orders against the excitation formulas, and the cut cylinder found from the orders' change
+against the healthy record at the same speed (:mod:`processing.misfire`). Where a record and a
+meter reading share a point, speed and ignition, they are compared within the meter's ±15 %.
+
+Results are numbered by measurement j (a record's channel, in file order, then the meter's
+readings not paired with a record): ``a_rms_j``, ``v_rms_j``, ``x_rms_j``.
+
+References
+----------
+.. [1] Dynamics of internal-combustion engines: lab manual, Vladimir State University, 2003,
+       lab 4 ("Изучение вибраций двигателя в стендовых условиях").
+"""
+from __future__ import annotations
+
+import re
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from labs import catalogue, lab4_vibration_report as report
+from processing.band_rms import (QUANTITIES, BandRMS, band_rms, band_signal, level_db,
+                                 peaks)
+from processing.balance import phasor_sum
+from processing.diagnostics import InputError, collect_notices
+from processing.dynamics import firing_phases
+from processing.edges import detect_edges
+from processing.measurement import Field, Inputs, LabSpec, Section, bi
+from processing.misfire import CutCylinder, find_cut_cylinder
+from processing.orders import OrderFit, order_fit
+from processing.result import LabResult, compare, flag_estimates, result_values
+from processing.signals import open_channels
+from processing.steady_record import clipped_share, decimate, mean_cycle
+from processing.torsiogram import revolutions, steady_crank_angle
+from processing.uncertainty import Measured, propagate
+from processing.units import parse_quantity
+
+DIRECTIONS = ("vertical", "transverse", "longitudinal")
+IGNITION = ("all", "cut")
+RPM = 30 / np.pi
+"""min⁻¹ per rad/s."""
+
+METER_LIMIT = 0.15
+"""The meter's basic error (relative limit), the manual's ±15 %."""
+
+METHOD_LIMIT = 0.01
+"""Relative limit of error of a band reading from a record, the reduction's own: the
+benchmark's worst band at 20 dB in the worst band is 0.9 %, the noise's share (``python -m
+processing.bench --topic vibration``)."""
+
+MAX_ORDER = 12.0
+"""Highest order fitted in a record's order spectrum."""
+
+SPEED_REFUSED = 0.15
+"""Relative disagreement between the TDC marks' speed and the tachometer's n beyond which
+the record (or n, or the marks' kind) is wrong."""
+
+SPEED_WARNED = 0.03
+"""Relative disagreement (beyond 2 u of n) that is warned about."""
+
+SAME_SPEED = 0.03
+"""Records or readings within this share of each other's speed are "at the same speed"."""
+
+CLIP_SHARE = 1e-3
+"""Share of a channel's samples at its extremes above which it is called clipped."""
+
+FLOOR_SHARE = 0.3
+"""The broadband floor's reading over the band reading above which the reading is said to
+rest on the floor (noise or broadband vibration, not the orders): at 0.3, the floor holds
+9 % of its power."""
+
+RANGE = (0.1, 1600.0)
+"""Band accelerations (RMS) a mounted engine can show [m/s²]: the manual's 4–160 m/s² with a
+decade of margin each way; beyond it a sensitivity in the wrong unit is the likely cause."""
+
+G_RATIO = 9.80665
+"""mV per g over mV per m/s²: the factor a sensitivity given in the wrong one of them makes."""
+
+SPEC = LabSpec(
+    id="lab4", number="4",
+    title=catalogue.title("lab4"),
+    goal=bi("To study why a piston engine vibrates, to get to know the vibration-measuring "
+            "equipment and to measure the vibration at several points of an engine running "
+            "on a test bench, over its speed range and with one cylinder's ignition cut.",
+            "Изучить условия возникновения вибраций поршневого двигателя, ознакомиться с "
+            "аппаратурой для измерения вибрации и экспериментально определить уровень "
+            "вибрации в различных точках двигателя при его работе в стендовых условиях."),
+    sections=(
+        Section("engine", bi("Engine", "Двигатель"), required=True, fields=(
+            Field("cylinders", bi("number of cylinders", "число цилиндров"), kind="count",
+                  symbol="i", example=4),
+            Field("strokes", bi("strokes per cycle (4 or 2)", "тактность (4 или 2)"),
+                  kind="count", default=4, symbol="τ"),
+            Field("firing_order", bi("firing order, e.g. 1-3-4-2 (default 1, 2, …, i)",
+                                     "порядок работы цилиндров, напр. 1-3-4-2"),
+                  kind="text", required=False),
+            Field("R", bi("crank radius", "радиус кривошипа"), unit="mm", limit="0.1 mm",
+                  required=False, symbol="R", example=35),
+            Field("lambda", bi("crank radius over rod length", "отношение R/L"), unit="",
+                  limit="0.005", required=False, symbol="λ", example=0.28),
+            Field("m_j", bi("reciprocating mass of one cylinder", "масса поступательно "
+                            "движущихся частей одного цилиндра"), unit="kg", limit="0.01 kg",
+                  required=False, symbol="m_j", example=0.55),
+            Field("m_r", bi("rotating mass of one crank left after the counterweights",
+                            "неуравновешенная вращающаяся масса одного кривошипа"),
+                  unit="kg", limit="0.01 kg", required=False, allow_zero=True, symbol="m_r",
+                  example=0),
+            Field("mass", bi("mass of the engine on its mounts", "масса двигателя на опорах"),
+                  unit="kg", limit="1 kg", required=False, symbol="m_дв", example=140),
+        )),
+        Section("sensor", bi("Accelerometer", "Вибродатчик"), help=report.SENSOR_HELP,
+                fields=(
+            Field("sensitivity", bi("sensitivity with its limit, e.g. \"10.2 mV/(m/s^2) "
+                                    "± 2 %\" or \"100 mV/g ± 2 %\"",
+                                    "коэффициент преобразования с погрешностью, напр. "
+                                    "\"10.2 mV/(m/s^2) ± 2 %\" или \"100 mV/g ± 2 %\""),
+                  kind="text", symbol="S"),
+        )),
+        Section("meter", bi("Vibration meter", "Виброметр"), fields=(
+            Field("limit", bi("basic error of the meter", "основная погрешность виброметра"),
+                  unit="%", default="15 %", symbol="δ_м"),
+            Field("db_reference", bi("reference values of the dB scale: ISO 1683 "
+                                     "(10⁻⁶ m/s², 10⁻⁹ m/s, 10⁻¹² m) or GOST 25275 "
+                                     "(3·10⁻⁴ m/s², 5·10⁻⁸ m/s, 8·10⁻¹² m)",
+                                     "опорные значения шкалы дБ: ISO 1683 или ГОСТ 25275"),
+                  kind="choice", choices=("iso1683", "gost25275"), default="iso1683"),
+        )),
+        Section("point", bi("Measuring point", "Точка измерения"), many=True, required=True,
+                fields=(
+            Field("name", bi("where the sensor sits", "место установки датчика"), kind="text",
+                  example="cylinder head"),
+            Field("direction", bi("direction of measurement", "направление измерения"),
+                  kind="choice", choices=DIRECTIONS),
+        )),
+        Section("record", bi("Record", "Запись"), many=True, help=report.RECORD_HELP,
+                fields=(
+            Field("signal", bi("the record: CSV, WAV or HDF5 file", "файл записи: CSV, WAV "
+                               "или HDF5"), kind="file", example="n2000.csv"),
+            Field("channels", bi("the accelerometers' channels, one per point in the order of "
+                                 "[[point]], e.g. \"acc1, acc2, acc3\"",
+                                 "каналы вибродатчиков, по одному на точку в порядке "
+                                 "[[point]]"), kind="text"),
+            Field("tdc_channel", bi("channel of the TDC marks", "канал отметок ВМТ"),
+                  kind="text", default="tdc"),
+            Field("tdc", bi("what the marks are: cylinder 1's firing TDC once per working cycle "
+                            "(an ignition pickup), or TDC once per revolution",
+                            "отметки: ВМТ сгорания 1-го цилиндра раз за цикл (датчик "
+                            "зажигания) или ВМТ раз за оборот"),
+                  kind="choice", choices=("cycle", "revolution"), default="cycle"),
+            Field("sample_rate", bi("sample rate, if the file does not say",
+                                    "частота дискретизации, если её нет в файле"),
+                  unit="kHz", required=False, symbol="f_s"),
+            Field("n", bi("speed by the tachometer", "частота вращения по тахометру"),
+                  unit="rpm", limit="10 rpm", required=False, symbol="n"),
+            Field("ignition", bi("ignition: all cylinders, or one cylinder cut",
+                                 "зажигание: все цилиндры или один отключён"),
+                  kind="choice", choices=IGNITION, default="all"),
+            Field("cut_cylinder", bi("the cylinder whose ignition was cut, if known (to check "
+                                     "the finding)", "цилиндр с отключённым зажиганием, если "
+                                     "известен (для проверки)"), kind="count",
+                  required=False),
+        )),
+        Section("reading", bi("Meter reading", "Показания виброметра"), many=True,
+                help=report.READING_HELP, fields=(
+            Field("point", bi("number of the point (1, 2, … in the order of [[point]])",
+                              "номер точки"), kind="count"),
+            Field("n", bi("speed", "частота вращения"), unit="rpm", limit="10 rpm",
+                  symbol="n"),
+            Field("ignition", bi("ignition", "зажигание"), kind="choice", choices=IGNITION,
+                  default="all"),
+            Field("a", bi("RMS acceleration", "СКЗ виброускорения"), unit="m/s^2",
+                  required=False, symbol="a"),
+            Field("v", bi("RMS velocity", "СКЗ виброскорости"), unit="mm/s", required=False,
+                  symbol="v"),
+            Field("x", bi("RMS displacement", "СКЗ виброперемещения"), unit="um",
+                  required=False, symbol="x"),
+            Field("a_pp", bi("peak-to-peak acceleration", "размах виброускорения"),
+                  unit="m/s^2", required=False, symbol="2a"),
+            Field("v_pp", bi("peak-to-peak velocity", "размах виброскорости"), unit="mm/s",
+                  required=False, symbol="2v"),
+            Field("x_pp", bi("peak-to-peak displacement", "размах виброперемещения"),
+                  unit="um", required=False, symbol="2x"),
+        )),
+    ),
+)
+
+
+# ------------------------------------------------------------------------ the sensor
+
+_PER_G = re.compile(r"/\s*g\b")
+
+
+def sensitivity(text: str, *, file: str | None = None) -> Measured:
+    """An accelerometer's sensitivity from the file's text, in V per m/s².
+
+    Accepts any voltage over an acceleration ("10.2 mV/(m/s^2)", "100 mV/g" with g =
+    9.80665 m/s²), and a ± limit absolute or in % of the value.
+
+    Examples
+    --------
+    >>> s = sensitivity("100 mV/g ± 2 %")
+    >>> round(s.value, 6), round(s.limit / s.value, 6)
+    (0.010197, 0.02)
+    """
+    def refuse(problem: str) -> InputError:
+        return InputError(problem, "write the sensor's sensitivity from its calibration "
+                          "chart as a voltage over an acceleration, e.g. \"10.2 mV/(m/s^2) "
+                          "± 2 %\" or \"100 mV/g ± 2 %\"", file=file, field="sensor.sensitivity")
+
+    main, _, tol = text.partition("±")
+    main = _PER_G.sub("/g_n", main.strip())
+    try:
+        value, _ = parse_quantity(main, "mV/(m/s^2)")
+    except ValueError as exc:
+        raise refuse(f"sensitivity {text!r}: {exc}") from None
+    if not value > 0:
+        raise refuse(f"sensitivity {text!r} is not positive")
+    limit = 0.0
+    tol = tol.strip()
+    if tol.endswith("%"):
+        try:
+            limit = float(tol[:-1]) / 100 * value
+        except ValueError:
+            raise refuse(f"cannot read the limit {tol!r}") from None
+    elif tol:
+        try:
+            limit = parse_quantity(_PER_G.sub("/g_n", tol), "mV/(m/s^2)")[0]
+        except ValueError as exc:
+            raise refuse(f"the limit {tol!r}: {exc}") from None
+    return Measured(value, limit=limit)
+
+
+# ------------------------------------------------------------------------ one record
+
+@dataclass
+class Channel:
+    """One accelerometer channel of a record, reduced (in volts: the sensitivity enters the
+    measurement model)."""
+
+    number: int
+    """The measurement j."""
+    point: int
+    """The point (1-based)."""
+    name: str
+    rms: BandRMS
+    """Band readings of the record in V (V·s, V·s²)."""
+    pp: dict
+    """Peak-to-peak of each band signal over whole working cycles. [V, V·s, V·s²]"""
+    fit: OrderFit | None
+    """The order spectrum in V."""
+    clipped: float
+    """Share of samples at the extremes."""
+
+
+@dataclass
+class Recorded:
+    """One record of the sweep and what it reduced to."""
+
+    number: int
+    source: Path
+    ignition: str
+    speed: Measured
+    """From the TDC marks. [rad/s]"""
+    channels: list[Channel]
+    cycle_marks: bool
+    cut_stated: int | None = None
+    cut: dict = field(default_factory=dict)
+    """Per channel name, the :class:`CutCylinder` against the healthy record."""
+    healthy: int | None = None
+    """Number of the healthy record it was compared with."""
+
+
+def _tdc_times(x: np.ndarray, rate: float) -> np.ndarray:
+    """Times of the TDC pulses' falling edges (:func:`processing.edges.detect_edges`). [s]"""
+    return detect_edges(np.asarray(x, dtype=float), "fit") / rate
+
+
+def _record(inputs: Inputs, i: int, entry: dict, points: int, phases) -> Recorded:
+    where = f"record[{i}]"
+    path = entry["signal"]
+
+    def refuse(problem: str, fix: str, name: str = "signal") -> InputError:
+        return InputError(problem, fix, file=str(path), field=f"{where}.{name}")
+
+    names = [c.strip() for c in entry["channels"].split(",") if c.strip()]
+    if len(names) != points:
+        raise inputs.error(f"{len(names)} channel(s) named for {points} point(s)",
+                           "name one accelerometer channel per [[point]], in their order, "
+                           "e.g. channels = \"acc1, acc2, acc3\"", f"{where}.channels")
+    rate = entry["sample_rate"].value if "sample_rate" in entry else None
+    opened = open_channels(path, [*names, entry["tdc_channel"]], sample_rate=rate,
+                           field=f"{where}.signal")
+    rate = opened[0].sample_rate
+    data = [c.read().astype(float) * c.volts_per_code for c in opened]
+    tdc = _tdc_times(data[-1], rate)
+    cycle_marks = entry["tdc"] == "cycle"
+    strokes = inputs["engine"]["strokes"]
+    per_mark = 4 * np.pi if cycle_marks and strokes == 4 else 2 * np.pi
+    if tdc.size < 2:
+        revs_seen = data[0].size / rate * (entry["n"].value / (2 * np.pi)) if "n" in entry \
+            else None
+        raise refuse(f"channel '{entry['tdc_channel']}' holds {tdc.size} TDC mark(s)"
+                     + (f" over a record of {revs_seen:.2f} revolution(s)" if revs_seen else "")
+                     + ": the record is shorter than a revolution between marks, or the "
+                     "channel is not the TDC marks",
+                     "record at least two working cycles (the manual's steady regime: a few "
+                     "seconds) and name the TDC channel (tdc_channel = ...)", "tdc_channel")
+    try:
+        revs = revolutions(tdc)
+    except InputError as exc:
+        raise refuse(exc.problem, exc.fix, "tdc_channel") from None
+    speed = revs.angular_speed * per_mark / (2 * np.pi)
+    time = np.arange(data[0].size) / rate
+    angle = steady_crank_angle(time, revs) * per_mark / (2 * np.pi)
+    _check_speed(entry, speed, refuse, where)
+    cycle = 4 * np.pi if strokes == 4 else 2 * np.pi
+    per_cycle = int(round(cycle / per_mark))
+    last = (tdc.size - 1) // per_cycle * per_cycle
+    if last == 0:
+        raise refuse(f"the record spans {(tdc.size - 1) * per_mark / cycle:.1f} working "
+                     "cycle(s) between its TDC marks; a whole cycle at least is needed",
+                     "record at least two working cycles (a few seconds)", "tdc_channel")
+    span = slice(int(np.ceil(tdc[0] * rate)), int(np.ceil(tdc[last] * rate)))
+    step = 0.5 if strokes == 4 else 1.0     # with marks per revolution: their phase is lost
+    chans = []
+    for p, (name, x) in enumerate(zip(names, data[:-1])):
+        rms = band_rms(x, rate)
+        pp = {q: peaks(mean_cycle(band_signal(x[span], rate, q, periodic=True),
+                                   angle[span], cycle)).peak_to_peak for q in QUANTITIES}
+        try:
+            fit = order_fit(*decimate(time, angle, x, rate, MAX_ORDER * speed / (2 * np.pi)),
+                            step=step, max_order=MAX_ORDER)
+        except ValueError:
+            fit = None
+        chans.append(Channel(0, p + 1, name, rms, pp, fit, clipped_share(x)))
+    stated = entry.get("cut_cylinder")
+    if stated is not None and not 1 <= stated <= len(phases):
+        raise inputs.error(f"cut_cylinder = {stated}: the engine has {len(phases)} cylinders",
+                           f"give a cylinder 1…{len(phases)}", f"{where}.cut_cylinder")
+    n = revs.speeds.size
+    u_speed = revs.u_speed * per_mark / (2 * np.pi)
+    return Recorded(i + 1, Path(path), entry["ignition"],
+                    Measured(speed, u_speed, max(n - 1, 1), limit=speed / (rate * (tdc[-1]
+                                                                              - tdc[0]))),
+                    chans, cycle_marks, stated)
+
+
+def _check_speed(entry: dict, w: float, refuse, where: str) -> None:
+    """The TDC marks' speed against the tachometer's n."""
+    if "n" not in entry:
+        return
+    n = entry["n"]
+    gap = w / n.value - 1
+    if abs(gap) > SPEED_REFUSED:
+        raise refuse(f"the TDC marks give {w * RPM:.0f} min⁻¹ but n = {n.value * RPM:.0f} "
+                     f"min⁻¹ ({100 * gap:+.0f} %): marks once per cycle taken for once per "
+                     "revolution (or back), marks missed, or the wrong record",
+                     "check n, the TDC channel and tdc = \"cycle\" or \"revolution\"", "n")
+    if abs(gap) > SPEED_WARNED + 2 * n.u / n.value:
+        warnings.warn(report.speed_disagrees(where, w, n.value))
+
+
+# ------------------------------------------------------------------------ the sweep
+
+def _cut_cylinders(recorded: list[Recorded], phases) -> None:
+    """Each record with the ignition cut against the healthy record nearest in speed."""
+    healthy = [r for r in recorded if r.ignition == "all"]
+    for r in recorded:
+        if r.ignition != "cut":
+            continue
+        near = [h for h in healthy if abs(h.speed.value / r.speed.value - 1) <= SAME_SPEED
+                and h.cycle_marks == r.cycle_marks]
+        if not near:
+            warnings.warn(report.no_healthy(r.number, r.speed.value))
+            continue
+        h = min(near, key=lambda h: abs(h.speed.value - r.speed.value))
+        r.healthy = h.number
+        for c, ch in zip(h.channels, r.channels):
+            if c.fit is not None and ch.fit is not None and c.fit.order.size == ch.fit.order.size:
+                r.cut[ch.name] = find_cut_cylinder(c.fit, ch.fit, phases,
+                                                   cycle_marks=r.cycle_marks, seed=r.number)
+
+
+def verdict(r: Recorded) -> CutCylinder | None:
+    """The channel whose finding is the most certain: found with the largest half-order
+    rise, else the largest rise."""
+    if not r.cut:
+        return None
+    return max(r.cut.values(), key=lambda c: (c.found, c.rise))
+
+
+# ------------------------------------------------------------------------ meter readings
+
+@dataclass
+class Reading:
+    """A meter reading with the measurement it belongs to."""
+
+    index: int
+    """Its place in [[reading]]."""
+    entry: dict
+    number: int = 0
+    """The measurement j (a record's channel, or its own)."""
+    paired: bool = False
+
+
+def _pair_readings(inputs: Inputs, recorded: list[Recorded], points: int) -> list[Reading]:
+    """Each meter reading paired with a record's channel at its point, speed and ignition,
+    or numbered after the records' channels."""
+    readings = [Reading(k, e) for k, e in enumerate(inputs.sections.get("reading", []))]
+    next_number = sum(len(r.channels) for r in recorded)
+    for rd in readings:
+        e = rd.entry
+        if not 1 <= e["point"] <= points:
+            raise inputs.error(f"point = {e['point']}: there are {points} [[point]] tables",
+                               f"give the point's number 1…{points}", f"reading[{rd.index}].point")
+        if not any(k in e for k in ("a", "v", "x", "a_pp", "v_pp", "x_pp")):
+            raise inputs.error("the reading holds no value", "write at least one of a, v, x "
+                               "(RMS) or a_pp, v_pp, x_pp", f"reading[{rd.index}].a")
+        match = [r for r in recorded if r.ignition == e["ignition"]
+                 and abs(r.speed.value / e["n"].value - 1) <= SAME_SPEED]
+        if match:
+            r = min(match, key=lambda r: abs(r.speed.value - e["n"].value))
+            rd.number, rd.paired = r.channels[e["point"] - 1].number, True
+        else:
+            next_number += 1
+            rd.number = next_number
+    return readings
+
+
+# ------------------------------------------------------------------------ the model
+
+def _flat(inputs: Inputs, recorded: list[Recorded], readings: list[Reading]) -> dict:
+    """The measured inputs of the model: the sensitivity, each channel's readings in volts
+    (the method's limit), the orders, the speeds, the meter's readings, the engine's data."""
+    flat = {}
+    if recorded:
+        flat["S"] = sensitivity(inputs["sensor"]["sensitivity"], file=inputs.file)
+    for r in recorded:
+        flat[f"r{r.number}.omega"] = r.speed
+        for c in r.channels:
+            j = c.number
+            for q in QUANTITIES:
+                flat[f"c{j}.{q}"] = Measured(c.rms[q], limit=METHOD_LIMIT * c.rms[q])
+                flat[f"c{j}.{q}_pp"] = Measured(c.pp[q], limit=METHOD_LIMIT * c.pp[q])
+            if c.fit is not None:
+                for k in (1, 2):
+                    hit = np.flatnonzero(np.isclose(c.fit.order, k))
+                    if hit.size:
+                        flat[f"c{j}.order{k}"] = Measured(float(c.fit.amplitude[hit[0]]),
+                                                          float(c.fit.u[hit[0]]), c.fit.dof)
+    limit = inputs["meter"]["limit"].value if "meter" in inputs else METER_LIMIT
+    for rd in readings:
+        for key, m in rd.entry.items():
+            if key in ("a", "v", "x", "a_pp", "v_pp", "x_pp"):
+                flat[f"m{rd.number}.{key}"] = Measured(m.value, limit=limit * m.value)
+    engine = inputs["engine"]
+    for k in ("R", "lambda", "m_j", "m_r", "mass"):
+        if k in engine:
+            flat[f"engine.{k}"] = engine[k]
+    return flat
+
+
+def free_force_factors(crank_angles) -> tuple[float, float]:
+    """|Σ_c e^{iθ_c}| and |Σ_c e^{2iθ_c}| over the cranks: the free first-order force is
+    (m_j + m_r) R ω² times the first, the second-order one λ m_j R ω² times the second.
+
+    .. math:: P_{j1} = m_j R\\omega^2 \\Big|\\sum_c e^{i\\theta_c}\\Big|,\\quad
+              P_{j2} = \\lambda m_j R\\omega^2 \\Big|\\sum_c e^{2i\\theta_c}\\Big|
+
+    Examples
+    --------
+    A four-cylinder in-line engine (cranks at 0°, 180°, 180°, 0°): first orders cancel,
+    second orders add:
+
+    >>> free_force_factors(np.radians([0, 180, 180, 0]))
+    (0.0, 4.0)
+    """
+    theta = np.asarray(crank_angles, dtype=float)
+    return (float(abs(phasor_sum(theta, 1.0))), float(abs(phasor_sum(theta, 1.0, order=2))))
+
+
+def _model(recorded: list[Recorded], readings: list[Reading], crank_angles, forces: bool):
+    """Every result from the inputs of :func:`_flat`. The free forces of the cylinders' row
+    are the manual's P_j and P_r summed over the cranks (:func:`free_force_factors`)."""
+    first, second = free_force_factors(crank_angles)
+
+    def model(**x):
+        out = {}
+        for r in recorded:
+            out[f"n_{r.number}"] = x[f"r{r.number}.omega"]
+            for c in r.channels:
+                j = c.number
+                for q in QUANTITIES:
+                    out[f"{q}_rms_{j}"] = x[f"c{j}.{q}"] / x["S"]
+                    out[f"{q}_pp_{j}"] = x[f"c{j}.{q}_pp"] / x["S"]
+                for k in (1, 2):
+                    if f"c{j}.order{k}" in x:
+                        out[f"a{k}_{j}"] = x[f"c{j}.order{k}"] / x["S"]
+            if forces:
+                w2 = x["engine.R"] * x[f"r{r.number}.omega"] ** 2
+                out[f"F1_{r.number}"] = w2 * (x["engine.m_j"] * first + x.get("engine.m_r", 0.0)
+                                              * first)
+                out[f"F2_{r.number}"] = w2 * x["engine.lambda"] * x["engine.m_j"] * second
+                if "engine.mass" in x:
+                    for k in (1, 2):
+                        out[f"a{k}_model_{r.number}"] = out[f"F{k}_{r.number}"] / x["engine.mass"]
+        for rd in readings:
+            for key in ("a", "v", "x"):
+                if f"m{rd.number}.{key}" in x:
+                    name = f"{key}_meter_{rd.number}" if rd.paired else f"{key}_rms_{rd.number}"
+                    out[name] = x[f"m{rd.number}.{key}"]
+            for key in ("a_pp", "v_pp", "x_pp"):
+                if f"m{rd.number}.{key}" in x:
+                    base = key.replace("_pp", "")
+                    name = (f"{base}_pp_meter_{rd.number}" if rd.paired
+                            else f"{base}_pp_{rd.number}")
+                    out[name] = x[f"m{rd.number}.{key}"]
+        return out
+
+    return model
+
+
+# ------------------------------------------------------------------------ reduction
+
+def _firing_order(inputs: Inputs):
+    text = inputs["engine"].get("firing_order")
+    if text is None:
+        return None
+    parts = text.replace(",", "-").replace(" ", "").split("-")
+    if not all(p.isdigit() for p in parts):
+        raise inputs.error(f"firing order '{text}' is not a list of cylinder numbers",
+                           "write it as 1-3-4-2", "engine.firing_order")
+    return [int(p) for p in parts]
+
+
+def _check_inputs(inputs: Inputs) -> np.ndarray:
+    """What the file says, checked before any record is read; the firing phases."""
+    engine = inputs["engine"]
+    if engine["strokes"] not in (2, 4):
+        raise inputs.error(f"strokes = {engine['strokes']}", "write 4 (four-stroke) or 2",
+                           "engine.strokes")
+    try:
+        phases = firing_phases(engine["cylinders"], strokes=engine["strokes"],
+                               firing_order=_firing_order(inputs))
+    except InputError as exc:
+        raise inputs.error(exc.problem, exc.fix, "engine.firing_order") from None
+    if "record" in inputs and "sensor" not in inputs:
+        raise inputs.error("records are given but not the accelerometer's sensitivity",
+                           "add [sensor] sensitivity = \"10.2 mV/(m/s^2) ± 2 %\" (from the "
+                           "sensor's calibration chart)", "sensor.sensitivity")
+    if "record" not in inputs and "reading" not in inputs:
+        raise inputs.error("neither records nor meter readings are given",
+                           "add [[reading]] tables (the meter's readings) or [[record]] "
+                           "tables (the accelerometer's records)", "reading")
+    lam = engine.get("lambda")
+    if lam is not None and not 0 < lam.value < 0.5:
+        raise inputs.error(f"λ = {lam.value:g}", "λ = R/L lies between 0.2 and 0.35 in "
+                           "engines", "engine.lambda")
+    return phases
+
+
+def _check_records(inputs: Inputs, recorded: list[Recorded], readings: list[Reading]) -> None:
+    """Sensitivities in the wrong unit (a g taken for a m/s²), clipped channels, readings
+    resting on the broadband floor."""
+    if not recorded:
+        return
+    S = sensitivity(inputs["sensor"]["sensitivity"], file=inputs.file).value
+    for r in recorded:
+        for c in r.channels:
+            a = c.rms.a / S
+            if not RANGE[0] <= a <= RANGE[1]:
+                raise inputs.error(
+                    f"record {r.number}, channel '{c.name}': the sensitivity makes the band "
+                    f"acceleration {a:.3g} m/s² RMS, outside the {RANGE[0]:g}–{RANGE[1]:g} "
+                    "m/s² an engine on its mounts shows: the sensitivity is likely in the "
+                    "wrong unit (mV per g taken for mV per m/s², V for mV) or the channel's "
+                    "gain is not in the record's unit",
+                    "copy the sensitivity with its unit from the sensor's chart, e.g. \"100 "
+                    "mV/g\" or \"10.2 mV/(m/s^2)\"", "sensor.sensitivity")
+    chans = {c.number: (r, c) for r in recorded for c in r.channels}
+    for rd in readings:
+        if rd.paired and "a" in rd.entry:
+            _, c = chans[rd.number]
+            ratio = c.rms.a / S / rd.entry["a"].value
+            for wrong in (G_RATIO, 1 / G_RATIO):
+                if abs(ratio / wrong - 1) < 0.3:
+                    raise inputs.error(
+                        f"measurement {rd.number}: the record reads {ratio:.2f} times the "
+                        "meter's acceleration: the sensitivity is given per m/s² where the "
+                        "chart gives it per g, or back", "write the sensitivity with the "
+                        "chart's unit (mV/g or mV/(m/s^2))", "sensor.sensitivity")
+    clipped = [(r.number, c.name, c.clipped) for r in recorded for c in r.channels
+               if c.clipped > CLIP_SHARE]
+    if clipped:
+        warnings.warn(report.clipped(clipped))
+    floor = [(c.number, q, c.rms.floor[q] / c.rms[q]) for r in recorded for c in r.channels
+             for q in QUANTITIES if c.rms[q] > 0 and c.rms.floor[q] > FLOOR_SHARE * c.rms[q]]
+    if floor:
+        warnings.warn(report.on_floor(floor, FLOOR_SHARE))
+
+
+def _check_cut(recorded: list[Recorded]) -> None:
+    """A record marked cut where no cylinder was found; a finding against the stated one."""
+    for r in recorded:
+        v = verdict(r)
+        if r.ignition != "cut" or v is None:
+            continue
+        if not v.found:
+            warnings.warn(report.cut_not_found(r.number, v.rise))
+        elif r.cut_stated is not None and v.cylinder != r.cut_stated:
+            warnings.warn(report.cut_disagrees(r.number, v.cylinder, r.cut_stated,
+                                               v.confidence))
+
+
+def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20034) -> LabResult:
+    """Reduce lab 4's records and meter readings.
+
+    Parameters
+    ----------
+    inputs : Inputs
+        A validated measurement file (:func:`processing.measurement.load` with :data:`SPEC`).
+    n_samples, seed : int
+        Monte Carlo draws and their seed.
+
+    Returns
+    -------
+    LabResult
+        Per measurement j (a record's channel, then meter readings of their own):
+        ``a_rms_j`` [m/s²], ``v_rms_j`` [m/s], ``x_rms_j`` [m] and ``a_pp_j``, ``v_pp_j``,
+        ``x_pp_j``; from records ``a1_j``, ``a2_j`` (the first and second orders' amplitudes)
+        and per record r ``n_r``; where a meter reading shares the measurement,
+        ``a_meter_j`` … compared with the record's; with the engine's R, λ, m_j ``F1_r``,
+        ``F2_r`` (the free inertia forces) and with its mass ``a1_model_r``, ``a2_model_r``;
+        per record with the ignition cut ``cut_cylinder_r``, ``cut_confidence_r``,
+        ``half_rise_r``.
+
+    Raises
+    ------
+    InputError
+        A record shorter than a revolution, a speed the record contradicts, a sensitivity
+        in the wrong unit, channels not matching the points, readings of points that do not
+        exist.
+    """
+    phases = _check_inputs(inputs)
+    points = len(inputs["point"])
+    with collect_notices() as notices:
+        recorded = [_record(inputs, i, e, points, phases)
+                    for i, e in enumerate(inputs.sections.get("record", []))]
+        j = 0
+        for r in recorded:
+            for c in r.channels:
+                j += 1
+                c.number = j
+        if inputs["engine"]["strokes"] == 4:
+            _cut_cylinders(recorded, phases)
+        elif any(r.ignition == "cut" for r in recorded):
+            warnings.warn(report.two_stroke_cut())
+        readings = _pair_readings(inputs, recorded, points)
+        _check_records(inputs, recorded, readings)
+        _check_cut(recorded)
+        engine = inputs["engine"]
+        forces = all(k in engine for k in ("R", "lambda", "m_j"))
+        crank_angles = np.mod(phases, 2 * np.pi)
+        prop = propagate(_model(recorded, readings, crank_angles, forces),
+                         _flat(inputs, recorded, readings), n_samples=n_samples, seed=seed)
+        declared = report.result_names(recorded, readings, forces, "mass" in engine,
+                                       inputs["point"])
+        results = result_values(prop, declared)
+        results.update(report.cut_results(recorded, verdict))
+        pairs = [(f"{q}_rms_{rd.number}", f"{q}_meter_{rd.number}") for rd in readings
+                 if rd.paired for q in QUANTITIES]
+        comparisons = compare(prop, pairs)
+        _check_meter(comparisons, results, inputs)
+        flag_estimates({k: v for k, v in results.items() if not k.startswith("cut_")}, [])
+    reference = inputs["meter"]["db_reference"] if "meter" in inputs else "iso1683"
+    parts = dict(recorded=recorded, readings=readings, results=results, points=inputs["point"],
+                 phases=phases, reference=reference, comparisons=comparisons,
+                 levels=lambda value, q: float(level_db(value, q, reference)))
+    return LabResult.of(inputs, results, comparisons=comparisons,
+                        tables=report.tables(**parts), figures=report.figures(**parts),
+                        formulas=report.FORMULAS, references=report.REFERENCES,
+                        warnings=notices, conclusion=report.conclusion(**parts))
+
+
+def _check_meter(comparisons, results, inputs: Inputs) -> None:
+    """A record and the meter disagreeing beyond the meter's basic error: say which is
+    suspect."""
+    limit = inputs["meter"]["limit"].value if "meter" in inputs else METER_LIMIT
+    off = [(c.a, c.b, results[c.a].value / results[c.b].value - 1) for c in comparisons
+           if abs(results[c.a].value / results[c.b].value - 1) > limit]
+    if off:
+        warnings.warn(report.meter_disagrees(off, limit))
+
+
+# ------------------------------------------------------------------------ synthetic files
+
+SYNTH_FORMATS = ("csv", "h5")
+
+
+def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "h5", snr_db: float = 30.0,
+                    speeds=(1000.0, 3000.0), step: float = 500.0, cut_speed: float = 2000.0,
+                    duration: float = 2.4, meter: bool = True,
+                    adc_range: float | None = None) -> dict[str, Path]:
+    """Write a synthetic lab 4 measurement: records of a speed sweep, one with a cylinder's
+    ignition cut, meter readings, a measurement file and the answer key.
+
+    The scene of :mod:`processing.synth.engine_mount`: a 1.5 l four-cylinder petrol engine
+    (firing order 1-3-4-2) on soft bench mounts, three points (cylinder head vertical and
+    transverse, front cover longitudinal), an accelerometer of 10.2 mV/(m/s²) (its true
+    sensitivity within its ±2 % chart value) with its resonance at 28 kHz, recorded at
+    25.6 kHz beside cylinder 1's ignition pickup; every ``step`` min⁻¹ over ``speeds`` and,
+    at ``cut_speed``, with the ignition of a cylinder drawn from the seed cut. The meter's
+    readings of the cut record and its healthy companion (true values within the meter's
+    ±15 %) come with them.
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Folder to write into (created).
+    seed : int
+        Seed of everything random.
+    fmt : {"csv", "h5"}
+        Record format.
+    snr_db : float
+        Each channel's signal-to-noise ratio in its worst band. [dB]
+    speeds : (float, float)
+        Lowest and highest speed. [min⁻¹]
+    step : float
+        The sweep's speed step. [min⁻¹]
+    cut_speed : float
+        Speed of the record with a cylinder cut (one of the sweep's). [min⁻¹]
+    duration : float
+        Length of each record. [s]
+    meter : bool
+        Also write meter readings for the records at ``cut_speed``.
+    adc_range : float, optional
+        Write HDF5 records as a 16-bit recorder's codes over ± this range (the TDC pulse
+        clipped at it), with their volts per code; default: volts as floats. [V]
+
+    Returns
+    -------
+    dict
+        Paths written: ``toml``, ``answer``, and one per record (``r1``, ``r2``, …).
+    """
+    import json
+
+    from processing.signals import write_csv, write_hdf5
+    from processing.synth.engine import Engine
+    from processing.synth.engine_mount import (POINTS, Accelerometer, Block, cylinder_factors,
+                                               record)
+
+    if fmt not in SYNTH_FORMATS:
+        raise InputError(f"unknown record format {fmt!r}", f"use one of {', '.join(SYNTH_FORMATS)}")
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    rng = np.random.default_rng([seed, 41])
+    engine, block = Engine(), Block()
+    firing = (1, 3, 4, 2)
+    factors = cylinder_factors(engine, block, rng)
+    cut = int(rng.integers(1, engine.cylinders + 1))
+    chart = 0.0102
+    sensor = Accelerometer(sensitivity=chart * (1 + rng.uniform(-0.02, 0.02)), snr_db=snr_db)
+    plan = [(n, "all") for n in np.arange(speeds[0], speeds[1] + 1e-9, step)]
+    plan.append((cut_speed, "cut"))
+    written, bodies, truth = {}, [], {}
+    j = 0
+    meter_bodies = []
+    for number, (n, ignition) in enumerate(plan, 1):
+        w = n / RPM * (1 + rng.uniform(-0.004, 0.004))
+        rec = record(engine, block, POINTS, sensor, w, duration, seed=seed * 1000 + number,
+                     factors=factors, firing_order=firing,
+                     cut=cut if ignition == "cut" else None)
+        name = f"r{number:02d}.{fmt}"
+        columns = {**{k: np.round(v, 6) for k, v in rec.volts.items()},
+                   "tdc": np.round(rec.tdc, 2)}
+        rate = ""
+        if fmt == "csv":
+            write_csv(out / name, columns)
+            rate = f'sample_rate = "{sensor.sample_rate / 1e3:g} kHz"\n'
+        elif adc_range:
+            step = adc_range / 32768
+            write_hdf5(out / name, {k: np.clip(np.round(v / step), -32768, 32767).astype(np.int16)
+                                    for k, v in columns.items()}, sensor.sample_rate,
+                       volts_per_code=step)
+        else:
+            write_hdf5(out / name, columns, sensor.sample_rate)
+        written[f"r{number}"] = out / name
+        n_tach = round(w * RPM + rng.normal(0, 4))
+        cut_line = f"cut_cylinder = {cut}\n" if ignition == "cut" and seed % 2 else ""
+        bodies.append(f'[[record]]\nsignal = "{name}"\n{rate}channels = "acc1, acc2, acc3"\n'
+                      f'n = "{n_tach} ± 10 rpm"\nignition = "{ignition}"\n{cut_line}')
+        truth[f"n_{number}"] = w
+        for p, ch in enumerate(rec.volts, 1):
+            j += 1
+            t = rec.truth[ch]
+            for q in QUANTITIES:
+                truth[f"{q}_rms_{j}"], truth[f"{q}_pp_{j}"] = t[q], t[f"{q}_pp"]
+            truth[f"a1_{j}"], truth[f"a2_{j}"] = t["order1"], t["order2"]
+            if meter and abs(n - cut_speed) < 1e-9:
+                err = 1 + rng.uniform(-0.1, 0.1, 3)
+                meter_bodies.append(
+                    f'[[reading]]\npoint = {p}\nn = "{n_tach} rpm"\nignition = "{ignition}"\n'
+                    f'a = "{t["a"] * err[0]:.3g} m/s^2"\nv = "{1e3 * t["v"] * err[1]:.3g} mm/s"\n'
+                    f'x = "{1e6 * t["x"] * err[2]:.3g} um"\n')
+        if ignition == "cut":
+            truth[f"cut_cylinder_{number}"] = cut
+    mj, R, lam = engine.reciprocating_mass, engine.crank_radius, engine.lambda_
+    toml = (f'lab = "lab4"\n[meta]\nstudent = "synthetic (dynlab synth lab4 --seed {seed})"\n'
+            'notes = "generated; the true answers are in answer_key.json"\n\n'
+            f'[engine]\ncylinders = {engine.cylinders}\nstrokes = 4\n'
+            f'firing_order = "{"-".join(map(str, firing))}"\nR = "{1e3 * R:g} mm"\n'
+            f'lambda = {lam:g}\nm_j = "{mj:g} kg"\nm_r = "0 kg"\n'
+            f'mass = "{block.mass:g} kg"\n\n'
+            f'[sensor]\nsensitivity = "{1e3 * chart:g} mV/(m/s^2) ± 2 %"\n\n'
+            + "".join(f'[[point]]\nname = "{p.name}"\ndirection = "{p.direction}"\n\n'
+                      for p in POINTS)
+            + "\n".join(bodies) + "\n" + "\n".join(meter_bodies))
+    written["toml"] = out / f"lab4_seed{seed}.toml"
+    written["toml"].write_text(toml, encoding="utf-8")
+    written["answer"] = out / "answer_key.json"
+    written["answer"].write_text(json.dumps({"seed": seed, "results": truth}, indent=1),
+                                 encoding="utf-8")
+    return written

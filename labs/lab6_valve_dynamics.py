@@ -1,0 +1,716 @@
+"""Lab 6. Oscillations of the valve mechanism on a running engine.
+
+The manual's chapter: strain gauges on the rockers, through an amplifier, record the force in
+the valve drive on a light-beam oscillograph (or an ADC) beside time marks and TDC marks.
+A static calibration first gives the trace's scale k (the manual: 80…100 mm of trace for
+1500 N). Records are taken at n = 500, 1000, 1500, 1800 and 2000 min⁻¹, full load, with the
+valve clearance δ set to 0.3, 0.5 and 0.8 mm. From each record: the speed n = 60 N/(z T_mark),
+the drive's oscillation frequency ν = 60 N₁/(m T_mark), the forces P_max = k A_max and
+P_min = k A_min, the losses of contact (P ≤ 0: the kinematic chain broken), the opening
+durations φ = 360 T_open/T_cam and the valve timing against the TDC and BDC marks; then
+P_max, P_min and φ against n for each clearance.
+
+Here each record is a signal file (CSV, WAV or HDF5: one force channel per valve, the TDC
+marks, optionally the time marks) or a photograph of the paper oscillogram ([image]); a
+record is a channel of samples with its marks, whatever made it. The speed comes from the
+TDC marks' times, k from a straight line through the calibration
+(:func:`processing.regression.fit_line`), the events, forces, contact losses and free
+oscillations from :mod:`processing.valve_force` (the valve opens and closes where the force
+passes the springs' preload P₀, which the file gives from lab 5); ν is a damped sinusoid
+fitted to each opening's free oscillation. Across the records of one clearance, the speed at
+which the drive separates is where the line through the two fastest records that kept
+contact reaches P_min = 0.
+
+References
+----------
+.. [1] Dynamics of internal-combustion engines: lab manual, Vladimir State University, 2003,
+       lab 6 ("Исследование колебаний клапанного механизма двигателя").
+"""
+from __future__ import annotations
+
+import json
+import math
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from processing.diagnostics import InputError, collect_notices
+from processing.measurement import Field, Inputs, LabSpec, Section, bi, image_section
+from processing.regression import curvature_test, fit_line
+from processing.result import LabResult, flag_estimates, result_values
+from processing.signals import (image_options, is_image, open_channel, open_channels,
+                                read_figures)
+from processing.torsiogram import Revolutions, crank_angle, revolutions
+from processing.uncertainty import Measured, propagate
+from processing.valve_force import NU_POOR, ValveEvent, trace_zero, valve_events
+
+from . import catalogue, lab6_valve_dynamics_report as report
+
+VALVES = ("in", "ex")
+"""The valves: inlet and exhaust."""
+
+SPEED_REFUSED = 0.15
+"""Relative disagreement between the TDC marks' speed and the stated n beyond which the marks
+(or n) are wrong rather than the tachometer rough."""
+
+SPEED_WARNED = 0.03
+"""Relative disagreement (beyond 2 u of n) that is warned about."""
+
+MARK_PERIOD_TOLERANCE = 0.01
+"""Largest relative disagreement between the time marks' period and the stated T_mark."""
+
+CURVATURE_LEVEL = 0.01
+"""Significance level of the calibration's quadratic term."""
+
+CURVATURE_BEND = 0.005
+"""Relative bend of the calibration (the quadratic term's largest share of its rise) above
+which a significant bend is called out: the straight line's k then errs by more than the
+forces' own uncertainty (about 0.5 % at the manual's 80…100 mm for 1500 N read to 0.2 mm)
+somewhere over the loads."""
+
+CONTACT_MARGIN = 2.0
+"""A record keeps contact for the separation line when P_min exceeds this many of its
+standard uncertainties and no loss of contact is seen."""
+
+SEPARATION_MODEL = 0.02
+"""Half-width, as a share of the speed, of the rectangular type B uncertainty of the
+separation speed for the straight line's own error (P_min falls slightly faster than linearly
+towards the separation; the benchmark's line errs by under 1 %)."""
+
+SPEC = LabSpec(
+    id="lab6", number="6",
+    title=catalogue.title("lab6"),
+    goal=bi("To study the experimental methods for the oscillations of a valve mechanism and "
+            "to find the real loads on the valve-drive parts: the forces, the drive's "
+            "oscillation frequency, the losses of contact and the valve timing against the "
+            "speed and the valve clearance.",
+            "Изучить методы экспериментального исследования колебаний клапанного механизма "
+            "и определить действительные нагрузки на детали привода клапана: силы, частоту "
+            "колебаний привода, разрывы кинематической цепи и фазы газораспределения в "
+            "зависимости от частоты вращения и зазора."),
+    sections=(
+        Section("engine", bi("Engine and marks", "Двигатель и отметки"), required=True, fields=(
+            Field("strokes", bi("strokes per cycle (4 or 2)", "тактность (4 или 2)"),
+                  kind="count", default=4, symbol="τ"),
+            Field("tdc_per_revolution", bi("TDC marks per crankshaft revolution",
+                                           "отметок ВМТ за оборот коленчатого вала"),
+                  kind="count", default=1),
+            Field("mark_period", bi("period of the time marks", "период отметчика времени"),
+                  unit="ms", required=False, symbol="T_отм"),
+        )),
+        Section("valve", bi("Valve drive with a strain gauge", "Привод клапана с тензодатчиком"),
+                required=True, many=True, help=report.VALVE_HELP, fields=(
+            Field("name", bi("which valve: in (inlet) or ex (exhaust)",
+                             "клапан: in (впускной) или ex (выпускной)"), kind="choice",
+                  choices=VALVES),
+            Field("channel", bi("its channel in the records (default: its name)",
+                                "его канал в записях (по умолчанию — имя клапана)"),
+                  kind="text", required=False),
+            Field("P0", bi("springs' preload on the closed valve (lab 5)",
+                           "сила предварительной затяжки пружин при закрытом клапане "
+                           "(лаб. 5)"), unit="N", limit="10 N", symbol="P₀", example=260),
+            Field("load", bi("calibration loads", "тарировочные нагрузки"), unit="N",
+                  limit="5 N", allow_zero=True, symbol="P",
+                  example="[0, 300, 600, 900, 1200, 1500]"),
+            Field("deflection", bi("the trace's deflection at each load (the record's unit: mm "
+                                   "of oscillogram or V)", "отклонение записи при каждой "
+                                   "нагрузке (в единицах записи: мм осциллограммы или В)"),
+                  unit="", limit="0.2", allow_zero=True, symbol="A",
+                  example="[0, 18.1, 36.0, 54.2, 71.9, 90.1]"),
+        )),
+        Section("record", bi("Record", "Осциллограмма"), many=True, required=True,
+                help=report.RECORD_HELP, fields=(
+            Field("signal", bi("the record: CSV, WAV or HDF5 file, or a photograph or scan of "
+                               "the paper oscillogram ([image])", "запись: файл CSV, WAV или "
+                               "HDF5 или снимок бумажной осциллограммы ([image])"),
+                  kind="file", example="r500_03.csv"),
+            Field("clearance", bi("valve clearance", "зазор между клапаном и коромыслом"),
+                  unit="mm", limit="0.02 mm", symbol="δ", example=0.3),
+            Field("n", bi("speed by the tachometer", "частота вращения по тахометру"),
+                  unit="rpm", limit="10 rpm", required=False, symbol="n_t"),
+            Field("tdc_channel", bi("channel of the TDC marks", "канал отметок ВМТ"),
+                  kind="text", default="tdc"),
+            Field("marks_channel", bi("channel of the time marks, if recorded",
+                                      "канал отметок времени, если записан"),
+                  kind="text", required=False),
+            Field("sample_rate", bi("sample rate, if the file does not say",
+                                    "частота дискретизации, если её нет в файле"),
+                  unit="kHz", required=False, symbol="f_s"),
+        )),
+        image_section(),
+    ),
+)
+
+
+# ------------------------------------------------------------------------ formulas
+
+def force(k, A):
+    """Force from the trace, the manual's P = k A.
+
+    Parameters
+    ----------
+    k : float or ndarray
+        The trace's scale from the calibration. [N per trace unit]
+    A : float or ndarray
+        Deflection of the trace from its zero. [trace unit]
+
+    Examples
+    --------
+    >>> round(force(1500 / 90, 45.0), 6)
+    750.0
+    """
+    return k * A
+
+
+def opening_duration(T_open, T_cam):
+    """Opening duration in camshaft angle, the manual's φ = 360 T_open/T_cam (in rad: 2π).
+
+    .. math:: φ = 2π \\frac{T_{open}}{T_{cam}}
+
+    Crank degrees are twice the cam's on a four-stroke engine.
+
+    Parameters
+    ----------
+    T_open, T_cam : float or ndarray
+        The opening's length and one camshaft revolution, in the same unit (s or mm of
+        paper).
+
+    Examples
+    --------
+    >>> round(math.degrees(opening_duration(30.0, 120.0)), 9)
+    90.0
+    """
+    return 2 * np.pi * T_open / T_cam
+
+
+def separation_speed(n1, P1, n2, P2):
+    """Speed where the line through (n₁, P_min,1) and (n₂, P_min,2) reaches P_min = 0.
+
+    .. math:: n_{sep} = n_2 + P_2 \\frac{n_2 - n_1}{P_1 - P_2}
+
+    Examples
+    --------
+    >>> round(separation_speed(1000.0, 92.0, 1500.0, 19.0), 3)
+    1630.137
+    """
+    return n2 + P2 * (n2 - n1) / (P1 - P2)
+
+
+# ------------------------------------------------------------------------ records
+
+@dataclass
+class Trace:
+    """One valve's force channel of a record, whatever made it: samples, the zero and noise,
+    and the events read."""
+
+    valve: str
+    time: np.ndarray
+    value: np.ndarray
+    """Deflection above the trace's zero. [trace unit]"""
+    noise: float
+    events: list[ValveEvent]
+
+
+@dataclass
+class Recorded:
+    """One record and what it reduced to."""
+
+    number: int
+    source: Path
+    clearance: float
+    speed: Measured
+    """From the TDC marks. [rad/s]"""
+    revs: Revolutions
+    """Its revolutions from the TDC marks."""
+    traces: dict
+    channels: list
+    """The channels read off a photograph (for the overlay figure); none for recordings."""
+
+
+def _marks(x, rate: float) -> np.ndarray:
+    """Times of the marks of a pulse channel: where each pulse falls through half the
+    channel's range (linear between the samples around it). [s]"""
+    x = np.asarray(x, dtype=float)
+    half = 0.5 * (x.min() + x.max())
+    k = np.flatnonzero((x[:-1] >= half) & (x[1:] < half))
+    return (k + (x[k] - half) / (x[k] - x[k + 1])) / rate
+
+
+def _read(inputs: Inputs, where: str, entry: dict, names: dict):
+    """Time, the valves' traces, the TDC marks' times and the channels (for their figures) of
+    a record file or a photographed oscillogram."""
+    path, field = entry["signal"], f"{where}.signal"
+    if is_image(path):
+        options = image_options(inputs.sections.get("image"))
+        traces, channels = {}, []
+        for valve, name in names.items():
+            ch = open_channel(path, channel=name, field=field, image=options)
+            factor = 1e3 if ch.unit == "m" else 1.0          # mm of paper
+            traces[valve] = np.nan_to_num(ch.read() * factor)
+            channels.append(ch)
+        tdc = channels[0].marks.get("tdc", np.array([]))
+        rate = channels[0].sample_rate
+    else:
+        rate = entry["sample_rate"].value if "sample_rate" in entry else None
+        wanted = [*names.values(), entry["tdc_channel"]]
+        if "marks_channel" in entry:
+            wanted.append(entry["marks_channel"])
+        channels = open_channels(path, wanted, sample_rate=rate, field=field)
+        rate = channels[0].sample_rate
+        traces = {v: c.read().astype(float) * c.volts_per_code
+                  for v, c in zip(names, channels)}
+        tdc = _marks(channels[len(names)].read() * channels[len(names)].volts_per_code, rate)
+        if len(channels) > len(names) + 1:
+            _check_time_marks(inputs, channels[-1], rate, where)
+        channels = []
+    size = next(iter(traces.values())).size
+    return np.arange(size) / rate, traces, tdc, channels
+
+
+def _check_time_marks(inputs: Inputs, channel, rate: float, where: str) -> None:
+    """The time marks' period on the record's clock against the stated T_mark."""
+    settings = inputs["engine"]
+    if "mark_period" not in settings:
+        raise inputs.error("a time-mark channel is named but not its period",
+                           "add mark_period = \"2 ms\" (the time marker's period) in [engine]",
+                           "engine.mark_period")
+    times = _marks(channel.read().astype(float), rate)
+    if times.size < 3:
+        raise InputError(f"channel '{channel.name}' holds {times.size} time mark(s)",
+                         "name the time-mark channel (marks_channel = ...) or leave it out",
+                         file=channel.path, field=f"{where}.marks_channel")
+    measured = fit_line(np.arange(times.size, dtype=float), times).slope
+    stated = settings["mark_period"].value
+    if abs(measured / stated - 1) > MARK_PERIOD_TOLERANCE:
+        raise InputError(f"the time marks come every {1e3 * measured:.4g} ms of the record's "
+                         f"clock ({rate:g} Hz), but T_mark = {1e3 * stated:.4g} ms: the sample "
+                         "rate or the marks' period is wrong", "give the recorder's true sample "
+                         "rate (sample_rate = ...), or correct mark_period in [engine]",
+                         file=channel.path, field=f"{where}.sample_rate")
+
+
+def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
+    where = f"record[{i}]"
+    names = {v: spec.get("channel", v) for v, spec in valves.items()}
+    time, raw, tdc, channels = _read(inputs, where, entry, names)
+    per_rev = inputs["engine"]["tdc_per_revolution"]
+    if tdc.size < per_rev + 1:
+        raise InputError(f"{tdc.size} TDC mark(s) on the record: its speed needs a whole "
+                         "revolution", "name the TDC channel (tdc_channel = ...) and record at "
+                         "least two camshaft revolutions", file=str(entry["signal"]),
+                         field=f"{where}.tdc_channel")
+    try:
+        revs = revolutions(tdc, per_revolution=per_rev)
+    except InputError as exc:
+        raise InputError(exc.problem, exc.fix, file=str(entry["signal"]),
+                         field=f"{where}.tdc_channel") from None
+    rate = 1.0 / (time[1] - time[0])
+    span = revs.mark_times[-1] - revs.mark_times[0]
+    speed = Measured(revs.angular_speed, revs.u_speed, max(revs.speeds.size - 1, 1),
+                     limit=revs.angular_speed / (rate * span))
+    _check_speed(entry, speed.value, where)
+    traces = {}
+    for valve, x in raw.items():
+        zero = trace_zero(x)
+        preload = valves[valve]["P0"].value / valves[valve]["k"]
+        events = valve_events(time, x - zero.level, preload, noise=zero.noise)
+        if not events:
+            raise InputError(f"channel '{names[valve]}' holds no whole valve event above its "
+                             f"noise (σ = {zero.noise:.3g})", "record at least two camshaft "
+                             "revolutions and check the channel names and the amplifier's gain",
+                             file=str(entry["signal"]), field=f"{where}.signal")
+        traces[valve] = Trace(valve, time, x - zero.level, zero.noise, events)
+    return Recorded(i + 1, Path(entry["signal"]), entry["clearance"].value, speed, revs,
+                    traces, channels)
+
+
+def _check_speed(entry: dict, omega: float, where: str) -> None:
+    """The TDC marks' speed against the tachometer's n."""
+    if "n" not in entry:
+        return
+    n = entry["n"]
+    gap = omega / n.value - 1
+    if abs(gap) > SPEED_REFUSED:
+        raise InputError(f"the TDC marks give {omega / report.RPM_SI:.0f} min⁻¹ but n = "
+                         f"{n.value / report.RPM_SI:.0f} min⁻¹ ({100 * gap:+.0f} %): a mark per "
+                         "revolution too many or too few, or the wrong record",
+                         "check n, the TDC channel and tdc_per_revolution in [engine]",
+                         file=str(entry["signal"]), field=f"{where}.n")
+    if abs(gap) > SPEED_WARNED + 2 * n.u / n.value:
+        warnings.warn(report.speed_disagrees(where, omega, n.value))
+
+
+# ------------------------------------------------------------------------ calibration
+
+def _calibration(inputs: Inputs, entry: dict, where: str):
+    """k = dP/dA by a line through the calibration (type A from its residuals, the loads'
+    limit as type B through the slope), the fit, and its curvature test."""
+    P = np.asarray(entry["load"].readings, dtype=float)
+    A = np.asarray(entry["deflection"].readings, dtype=float)
+    if P.size != A.size:
+        raise inputs.error(f"{P.size} loads but {A.size} deflections", "write one deflection "
+                           "for every load, in the same order", f"{where}.deflection")
+    if np.unique(P).size < 3:
+        raise inputs.error(f"the calibration has {np.unique(P).size} distinct load(s)",
+                           "load the rocker in several steps up to about 1500 N (the manual: "
+                           "80…100 mm of trace) and read the trace at each", f"{where}.load")
+    fit = fit_line(A, P)
+    if not fit.slope > 0:
+        raise inputs.error("the trace's deflection does not grow with the load",
+                           "check the pairing of load and deflection, and their signs",
+                           f"{where}.deflection")
+    u_b = math.hypot(entry["load"].u_type_b,
+                     fit.slope * entry["deflection"].u_type_b) / math.sqrt(np.sum((A - A.mean())
+                                                                                  ** 2))
+    bend = curvature_test(A, P) if P.size >= 4 else None
+    return fit.measured_slope(u_b=u_b), fit, bend
+
+
+def _valves(inputs: Inputs) -> dict:
+    """The valves by name, each with its k (Measured), line and bend."""
+    out = {}
+    for j, entry in enumerate(inputs["valve"]):
+        where = f"valve[{j}]"
+        if entry["name"] in out:
+            raise inputs.error(f"valve '{entry['name']}' is described twice", "give each valve "
+                               "(in, ex) one [[valve]] table", f"{where}.name")
+        k, fit, bend = _calibration(inputs, entry, where)
+        if bend is not None and bend.significant(CURVATURE_LEVEL) \
+                and bend.relative_bend > CURVATURE_BEND:
+            warnings.warn(report.bent_calibration(entry["name"], bend))
+        out[entry["name"]] = {**entry, "k": k.value, "k_measured": k, "fit": fit}
+    return out
+
+
+# ------------------------------------------------------------------------ reduction
+
+def _timing(rec: Recorded, trace: Trace, valve: str) -> tuple[float, float]:
+    """The valve's timing in crank angle, the mean over its events: the opening's advance
+    before its dead centre and the closing's lag after its one. The inlet opens before the
+    overlap TDC (the TDC mark nearest its opening) and closes after the next BDC; the exhaust
+    opens before the BDC half a revolution ahead of the overlap TDC (the mark nearest its
+    closing) and closes after that TDC. [rad]"""
+    revs = rec.revs
+    advance, lag = [], []
+    for e in trace.events:
+        a_open, a_close = crank_angle([e.opening, e.closing], revs)
+        if valve == "in":
+            tdc = 2 * np.pi * np.round(a_open / (2 * np.pi))
+            advance.append(tdc - a_open)
+            lag.append(a_close - tdc - np.pi)
+        else:
+            tdc = 2 * np.pi * np.round(a_close / (2 * np.pi))
+            advance.append(tdc - np.pi - a_open)
+            lag.append(a_close - tdc)
+    return float(np.mean(advance)), float(np.mean(lag))
+
+
+def _mean(values, u: float, m: int, **extra) -> Measured:
+    """The mean of an event's reading over the record's m events, u/√m."""
+    return Measured(float(np.mean(values)), u / math.sqrt(m), **extra)
+
+
+def _flat(recorded, valves) -> dict:
+    """The model's measured inputs: the scales, and each record's speed and readings."""
+    flat = {f"k_{v}": spec["k_measured"] for v, spec in valves.items()}
+    for r in recorded:
+        i, omega = r.number, r.speed.value
+        flat[f"r{i}.omega"] = r.speed
+        for v, tr in r.traces.items():
+            ev, key = tr.events, f"r{i}.{v}"
+            m = len(ev)
+            u_open = math.sqrt(np.mean([e.u_opening**2 for e in ev]))
+            u_close = math.sqrt(np.mean([e.u_closing**2 for e in ev]))
+            dt = tr.time[1] - tr.time[0]      # a crossing at a kink: within half a sample
+            flat[f"{key}.T_open"] = _mean([e.closing - e.opening for e in ev],
+                                          math.hypot(u_open, u_close), m, limit=dt)
+            flat[f"{key}.A_max"] = _mean([e.P_max for e in ev], ev[0].u_P, m)
+            flat[f"{key}.A_min"] = _mean([e.P_min for e in ev], ev[0].u_P_min, m)
+            advance, lag = _timing(r, tr, v)
+            flat[f"{key}.advance"] = Measured(advance, omega * u_open / math.sqrt(m),
+                                              limit=omega * dt / 2)
+            flat[f"{key}.lag"] = Measured(lag, omega * u_close / math.sqrt(m),
+                                          limit=omega * dt / 2)
+            flat[f"{key}.loss"] = Measured(float(np.mean([e.loss for e in ev])), limit=dt)
+            fits = [e.oscillation for e in ev if e.oscillation is not None]
+            if fits:
+                w = np.array([1 / f.u_frequency**2 for f in fits])
+                nu = float(np.sum(w * [f.frequency for f in fits]) / w.sum())
+                flat[f"{key}.nu"] = Measured(nu, 1 / math.sqrt(w.sum()),
+                                             min(f.dof for f in fits))
+    return flat
+
+
+@dataclass(frozen=True)
+class Separation:
+    """The records of one valve and clearance between which its drive separates."""
+
+    valve: str
+    clearance: float
+    below: tuple[int, int]
+    """The two fastest records that kept contact (slower first)."""
+    lost: int
+    """The slowest record that lost it."""
+
+    @property
+    def name(self) -> str:
+        """``n_sep_in_800``: valve and clearance in µm."""
+        return f"n_sep_{self.valve}_{round(self.clearance * 1e6)}"
+
+
+def separations(recorded, flat) -> list[Separation]:
+    """Each valve and clearance whose records include a loss of contact with two records
+    that kept it below."""
+    out = []
+    for v in VALVES:
+        for c in sorted({r.clearance for r in recorded if v in r.traces}):
+            recs = sorted((r for r in recorded if r.clearance == c and v in r.traces),
+                          key=lambda r: r.speed.value)
+            lost = [r for r in recs if _lost(flat, r.number, v)]
+            if not lost:
+                continue
+            kept = [r for r in recs if r.speed.value < lost[0].speed.value
+                    and not _lost(flat, r.number, v)
+                    and flat[f"r{r.number}.{v}.A_min"].value
+                    > CONTACT_MARGIN * flat[f"r{r.number}.{v}.A_min"].u]
+            if len(kept) >= 2:
+                out.append(Separation(v, c, (kept[-2].number, kept[-1].number),
+                                      lost[0].number))
+    return out
+
+
+def _lost(flat, i: int, v: str) -> bool:
+    """Whether record i's valve v lost contact (a stretch without force while open)."""
+    return flat[f"r{i}.{v}.loss"].value > 0
+
+
+def _model(recorded, seps, strokes: int):
+    """The measurement model: every result from the inputs of :func:`_flat`."""
+    cam = 2 / strokes           # camshaft turns per crankshaft turn
+
+    def model(**x):
+        out = {k: v for k, v in x.items() if k.startswith("k_")}
+        for r in recorded:
+            i = r.number
+            w = x[f"r{i}.omega"]
+            out[f"n_{i}"] = w
+            for v in r.traces:
+                key, k = f"r{i}.{v}", x[f"k_{v}"]
+                out[f"P_max_{v}_{i}"] = force(k, x[f"{key}.A_max"])
+                out[f"P_min_{v}_{i}"] = force(k, x[f"{key}.A_min"])
+                T_cam = 2 * np.pi / (cam * w)
+                out[f"phi_{v}_{i}"] = opening_duration(x[f"{key}.T_open"], T_cam)
+                out[f"phi_crank_{v}_{i}"] = out[f"phi_{v}_{i}"] / cam
+                out[f"advance_{v}_{i}"] = x[f"{key}.advance"]
+                out[f"lag_{v}_{i}"] = x[f"{key}.lag"]
+                out[f"loss_{v}_{i}"] = x[f"{key}.loss"] * cam * w
+                if f"{key}.nu" in x:
+                    out[f"nu_{v}_{i}"] = x[f"{key}.nu"]
+        for s in seps:
+            (a, b), v = s.below, s.valve
+            n_sep = separation_speed(out[f"n_{a}"], out[f"P_min_{v}_{a}"], out[f"n_{b}"],
+                                     out[f"P_min_{v}_{b}"])
+            out[s.name] = n_sep * (1 + x[f"{s.name}.model"])
+        return out
+
+    return model
+
+
+def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20036) -> LabResult:
+    """Reduce lab 6's calibrations and records to the forces, the drive's frequency, the
+    contact losses, the opening durations, the valve timing and the separation speeds.
+
+    Parameters
+    ----------
+    inputs : Inputs
+        A validated measurement file (:func:`processing.measurement.load` with :data:`SPEC`);
+        record paths are relative to the file.
+    n_samples, seed : int
+        Monte Carlo draws and their seed.
+
+    Returns
+    -------
+    LabResult
+        ``k_in`` / ``k_ex`` (the traces' scales); per record i: ``n_i`` (from the TDC
+        marks), and per valve v: ``P_max_v_i``, ``P_min_v_i``, ``nu_v_i`` (the drive's free
+        oscillation; left out where no opening holds enough of it), ``phi_v_i`` (cam angle)
+        and ``phi_crank_v_i``, ``advance_v_i`` and ``lag_v_i`` (the timing, crank angle),
+        ``loss_v_i`` (cam angle without contact); per valve and clearance whose drive
+        separates, ``n_sep_v_<clearance in µm>``.
+
+    Raises
+    ------
+    InputError
+        A calibration that cannot give a scale, a record whose channels or marks cannot be
+        read, a speed far from the tachometer's.
+    """
+    strokes = inputs["engine"]["strokes"]
+    if strokes not in (2, 4):
+        raise inputs.error(f"strokes = {strokes}", "write 4 (four-stroke) or 2",
+                           "engine.strokes")
+    with collect_notices() as notices:
+        valves = _valves(inputs)
+        recorded = [_record(inputs, i, e, valves) for i, e in enumerate(inputs["record"])]
+        flat = _flat(recorded, valves)
+        seps = separations(recorded, flat)
+        for s in seps:
+            flat[f"{s.name}.model"] = Measured(0.0, limit=SEPARATION_MODEL)
+        prop = propagate(_model(recorded, seps, strokes), flat, n_samples=n_samples,
+                         seed=seed)
+        results = result_values(prop, report.result_names(recorded, valves, seps))
+        _warn(recorded, flat, results, seps)
+        flag_estimates(results, [])
+    parts = dict(recorded=recorded, valves=valves, results=results, seps=seps)
+    photos = read_figures([c for r in recorded for c in r.channels])
+    return LabResult.of(inputs, results, tables=report.tables(**parts),
+                        figures=report.figures(**parts) + photos, formulas=report.FORMULAS,
+                        references=report.REFERENCES, warnings=notices,
+                        conclusion=report.conclusion(**parts))
+
+
+def _warn(recorded, flat, results, seps) -> None:
+    """The named warnings of the records and the sweep."""
+    lost = [(r.number, v, results[f"loss_{v}_{r.number}"].value, r.clearance, r.speed.value)
+            for r in recorded for v in r.traces if _lost(flat, r.number, v)]
+    if lost:
+        warnings.warn(report.contact_lost(lost, seps, results))
+    poor = []
+    for r in recorded:
+        for v in r.traces:
+            name = f"nu_{v}_{r.number}"
+            if name not in results:
+                poor.append((r.number, v, None))
+            elif results[name].u > NU_POOR * results[name].value:
+                poor.append((r.number, v, results[name].u / results[name].value))
+    if poor:
+        warnings.warn(report.poor_oscillation(poor, NU_POOR))
+
+
+# ------------------------------------------------------------------------ synthetic files
+
+SYNTH_FORMATS = ("csv", "h5")
+
+SPEEDS = (500.0, 1000.0, 1500.0, 1800.0, 2000.0)
+"""The manual's speeds. [min⁻¹]"""
+
+CLEARANCES = (0.3e-3, 0.5e-3, 0.8e-3)
+"""The manual's valve clearances. [m]"""
+
+
+def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
+                    clearances=CLEARANCES, valves=VALVES, snr_db: float | None = None,
+                    sample_rate: float = 10e3, revolutions: float = 4.4,
+                    bend: float = 0.0) -> dict[str, Path]:
+    """Write a synthetic lab 6 measurement: the calibrations, a record per speed and
+    clearance, the measurement file and the answer key.
+
+    The scene of :mod:`processing.synth.valve_drive`: the default cam (9 mm harmonic main
+    event over 110° of the cam with 0.25 mm ramps) and drive (M = 0.25 kg, c = 2 kN/mm,
+    c_n = 30 N/mm, P₀ = 260 N, ζ = 0.06: ν ≈ 453 Hz), each valve's gauge at 1500 N per 90 mm
+    of trace with 0.2 mm of noise and a 4 mm zero, TDC marks every revolution, time marks
+    every 2 ms; a calibration of six loads read to ± 0.2 mm. At 0.8 mm the drive separates
+    near 1630 min⁻¹.
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Folder to write into (created).
+    seed : int
+        Seed of everything random (start angles, noise, calibration readings).
+    fmt : {"csv", "h5"}
+        Record format.
+    speeds : sequence of float
+        [min⁻¹]
+    clearances : sequence of float
+        [m]
+    valves : sequence of {"in", "ex"}
+    snr_db : float, optional
+        The trace's noise as the ratio of 1500 N of trace to its σ (default: 0.2 mm). [dB]
+    sample_rate : float
+        [Hz]
+    revolutions : float
+        Length of each record in crankshaft revolutions (two camshaft revolutions hold at
+        least one whole event).
+    bend : float
+        The calibration's parabolic bend at its top load, a share of its deflection.
+
+    Returns
+    -------
+    dict
+        Paths written: ``toml``, ``answer``, and one per record (``r1``, ``r2``, …).
+    """
+    from processing.signals import write_csv, write_hdf5
+    from processing.synth.valve_drive import (RPM, Cam, Drive, Gauge, calibration, record,
+                                              separation_speed as true_separation,
+                                              simulate_event)
+
+    if fmt not in SYNTH_FORMATS:
+        raise InputError(f"unknown record format {fmt!r}",
+                         f"use one of {', '.join(SYNTH_FORMATS)}")
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    cam, drive = Cam(), Drive()
+    noise = 0.2 if snr_db is None else 90.0 / 10 ** (snr_db / 20)
+    gauge = Gauge(noise=noise, sample_rate=sample_rate)
+    rng = np.random.default_rng([seed, 6])
+    loads = np.arange(0.0, 1501.0, 300.0)
+    truth, bodies, written = {}, [], {}
+    valve_text = []
+    for j, v in enumerate(valves):
+        a = calibration(gauge, loads, bend=bend, seed=seed * 10 + j)
+        truth[f"k_{v}"] = gauge.scale
+        valve_text.append(
+            f'[[valve]]\nname = "{v}"\nP0 = "{drive.P0:g} ± 10 N"\n'
+            f'load = [{", ".join(f"{x:g}" for x in loads)}]\n'
+            f'deflection = [{", ".join(f"{x:g}" for x in a)}]\n')
+    number = 0
+    for c in clearances:
+        lost_speeds = []
+        for n in speeds:
+            number += 1
+            events = {v: simulate_event(cam, drive, c, n * RPM / 2) for v in valves}
+            rec = record(cam, drive, gauge, c, n * RPM, valves=valves, revolutions=revolutions,
+                         seed=seed * 1000 + number, events=events)
+            columns = {v: np.round(rec.channels[v], 2) for v in valves}
+            columns.update(tdc=np.round(rec.channels["tdc"], 2),
+                           marks=np.round(rec.channels["marks"], 2))
+            name = f"r{number:02d}.{fmt}"
+            if fmt == "csv":
+                write_csv(out / name, columns)
+                rate = f'sample_rate = "{sample_rate / 1e3:g} kHz"\n'
+            else:
+                write_hdf5(out / name, columns, sample_rate)
+                rate = ""
+            written[f"r{number}"] = out / name
+            n_tach = round(n + rng.normal(0, 4))
+            bodies.append(f'[[record]]\nsignal = "{name}"\n{rate}clearance = "{1e3 * c:g} '
+                          f'mm"\nn = "{n_tach} ± 10 rpm"\nmarks_channel = "marks"\n')
+            truth[f"n_{number}"] = n * RPM
+            for v in valves:
+                ev, timing = rec.events[v], rec.timing[v]
+                truth.update({f"P_max_{v}_{number}": ev.P_max, f"P_min_{v}_{number}": ev.P_min,
+                              f"phi_{v}_{number}": ev.closing - ev.opening,
+                              f"phi_crank_{v}_{number}": 2 * (ev.closing - ev.opening),
+                              f"advance_{v}_{number}": timing["advance"],
+                              f"lag_{v}_{number}": timing["lag"],
+                              f"loss_{v}_{number}": ev.loss,
+                              f"nu_{v}_{number}": drive.damped_frequency})
+            if events[valves[0]].loss > 0:
+                lost_speeds.append(n)
+        if lost_speeds:
+            low = max([s for s in speeds if s < lost_speeds[0]], default=speeds[0])
+            n_sep = true_separation(cam, drive, c, low * RPM, lost_speeds[0] * RPM)
+            for v in valves:
+                truth[f"n_sep_{v}_{round(c * 1e6)}"] = n_sep
+    toml = (f'lab = "lab6"\n[meta]\nstudent = "synthetic (dynlab synth lab6 --seed {seed})"\n'
+            'notes = "generated; the true answers are in answer_key.json"\n\n'
+            f'[engine]\nstrokes = 4\nmark_period = "{1e3 * gauge.mark_period:g} ms"\n\n'
+            + "\n".join(valve_text) + "\n" + "\n".join(bodies))
+    written["toml"] = out / f"lab6_seed{seed}.toml"
+    written["toml"].write_text(toml, encoding="utf-8")
+    written["answer"] = out / "answer_key.json"
+    written["answer"].write_text(json.dumps({"seed": seed, "results": truth}, indent=1),
+                                 encoding="utf-8")
+    return written
