@@ -213,19 +213,24 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
     table = data.pop("reported", None)
     result = evaluate(path, data=data, confine=confine, **options)
     reported = _reported(str(path), table, result.results)
-    module = lab_module(result.lab)
-    inputs = load(path, module.SPEC, data, confine=confine)
     rules = read_policy(policy, result.lab)
     if key:
         rules = Policy(rules.rel_tol, rules.sig_figs, tuple(dict.fromkeys(
             [*rules.expected, *(k for k in key if k in result.results)])))
-    slips = list(FACTOR_SLIPS) + _lab_slips(module, inputs, options)
     names = list(reported) + [n for n in rules.expected if n not in reported]
-    verdicts = []
-    for name in names:
+
+    def judged(name: str, slips) -> Verdict:
         r = result.results.get(name)
         value, u, unit = (r.value, r.u, r.unit) if r else (math.nan, math.nan, "")
-        verdicts.append(judge(name, reported.get(name), value, u, unit, rules, slips))
+        return judge(name, reported.get(name), value, u, unit, rules, slips)
+
+    verdicts = [judged(n, FACTOR_SLIPS) for n in names]
+    module = lab_module(result.lab)
+    if getattr(module, "SLIPS", ()) and any(v.verdict == "wrong" for v in verdicts):
+        # the lab's own slips are reductions of slipped inputs: made only for a wrong value
+        inputs = load(path, module.SPEC, data, confine=confine)
+        slips = list(FACTOR_SLIPS) + _lab_slips(module, inputs, options)
+        verdicts = [judged(v.name, slips) if v.verdict == "wrong" else v for v in verdicts]
     return Check(str(path), result.lab, result.meta.get("student", Path(path).stem), verdicts,
                  _readings(data))
 

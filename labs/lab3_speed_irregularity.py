@@ -619,22 +619,20 @@ PHOTO_MARKS = 0.01
 
 
 def oscillogram_photo(run, *, cycles: int = 8, seed: int = 0):
-    """A phone photograph (:data:`processing.synth.paper_record.PHONE`) of the
+    """A phone photograph (:func:`processing.synth.paper_record.photograph`) of the
     frequency-to-voltage oscillogram of an engine run's first ``cycles`` working cycles.
 
     On 250 mm of 120 mm paper: the speed trace ω(t) with its mean level 70 mm above its zero
     line (drawn, 20 mm from the lower edge), a TDC pip every revolution, a time mark every
     :data:`PHOTO_MARKS`. Returns the :class:`~processing.synth.paper_record.PaperScene`."""
-    from processing.synth.paper_record import PHONE, Beam, Layout, render
+    from processing.synth.paper_record import photograph
 
     duration = cycles * run.cycle_angle / run.mean_angular_speed
     revolutions = np.arange(0.0, run.crank_angle[-1], 2 * np.pi)
     tdc = np.interp(revolutions, run.crank_angle, run.time)
-    layout = Layout(length=0.25, speed=0.25 / duration, mark_period=PHOTO_MARKS,
-                    tdc_times=tuple(tdc[tdc < duration]))
-    beam = Beam(lambda t: run.speed_at_angle(run.angle_at(t)) / run.mean_angular_speed, 0.02,
-                0.07, zero_line=True)
-    return render(layout, [beam], PHONE, seed=seed)
+    return photograph(lambda t: run.speed_at_angle(run.angle_at(t)) / run.mean_angular_speed,
+                      duration, 0.07, mark_period=PHOTO_MARKS, tdc_times=tdc[tdc < duration],
+                      zero=0.02, zero_line=True, seed=seed)
 
 
 

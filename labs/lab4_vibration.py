@@ -44,9 +44,10 @@ from processing.balance import phasor_sum
 from processing.diagnostics import InputError, collect_notices
 from processing.dynamics import firing_phases
 from processing.edges import detect_edges
-from processing.measurement import Field, Inputs, LabSpec, Section, bi
+from processing.measurement import Field, Inputs, LabSpec, Section, bi, firing_order
 from processing.misfire import CutCylinder, find_cut_cylinder
 from processing.orders import OrderFit, order_fit
+from processing.record_checks import check_tachometer
 from processing.result import LabResult, compare, flag_estimates, result_values
 from processing.signals import open_channels
 from processing.steady_record import clipped_share, decimate, mean_cycle
@@ -69,13 +70,6 @@ processing.bench --topic vibration``)."""
 
 MAX_ORDER = 12.0
 """Highest order fitted in a record's order spectrum."""
-
-SPEED_REFUSED = 0.15
-"""Relative disagreement between the TDC marks' speed and the tachometer's n beyond which
-the record (or n, or the marks' kind) is wrong."""
-
-SPEED_WARNED = 0.03
-"""Relative disagreement (beyond 2 u of n) that is warned about."""
 
 SAME_SPEED = 0.03
 """Records or readings within this share of each other's speed are "at the same speed"."""
@@ -369,14 +363,12 @@ def _check_speed(entry: dict, w: float, refuse, where: str) -> None:
     if "n" not in entry:
         return
     n = entry["n"]
-    gap = w / n.value - 1
-    if abs(gap) > SPEED_REFUSED:
-        raise refuse(f"the TDC marks give {w * RPM:.0f} min⁻¹ but n = {n.value * RPM:.0f} "
-                     f"min⁻¹ ({100 * gap:+.0f} %): marks once per cycle taken for once per "
-                     "revolution (or back), marks missed, or the wrong record",
-                     "check n, the TDC channel and tdc = \"cycle\" or \"revolution\"", "n")
-    if abs(gap) > SPEED_WARNED + 2 * n.u / n.value:
-        warnings.warn(report.speed_disagrees(where, w, n.value))
+    check_tachometer(w, n, lambda gap: refuse(
+        f"the TDC marks give {w * RPM:.0f} min⁻¹ but n = {n.value * RPM:.0f} min⁻¹ "
+        f"({100 * gap:+.0f} %): marks once per cycle taken for once per revolution (or back), "
+        "marks missed, or the wrong record",
+        "check n, the TDC channel and tdc = \"cycle\" or \"revolution\"", "n"),
+        lambda: report.speed_disagrees(where, w, n.value))
 
 
 # ------------------------------------------------------------------------ the sweep
@@ -541,17 +533,6 @@ def _model(recorded: list[Recorded], readings: list[Reading], crank_angles, forc
 
 # ------------------------------------------------------------------------ reduction
 
-def _firing_order(inputs: Inputs):
-    text = inputs["engine"].get("firing_order")
-    if text is None:
-        return None
-    parts = text.replace(",", "-").replace(" ", "").split("-")
-    if not all(p.isdigit() for p in parts):
-        raise inputs.error(f"firing order '{text}' is not a list of cylinder numbers",
-                           "write it as 1-3-4-2", "engine.firing_order")
-    return [int(p) for p in parts]
-
-
 def _check_inputs(inputs: Inputs) -> np.ndarray:
     """What the file says, checked before any record is read; the firing phases."""
     engine = inputs["engine"]
@@ -560,7 +541,7 @@ def _check_inputs(inputs: Inputs) -> np.ndarray:
                            "engine.strokes")
     try:
         phases = firing_phases(engine["cylinders"], strokes=engine["strokes"],
-                               firing_order=_firing_order(inputs))
+                               firing_order=firing_order(inputs))
     except InputError as exc:
         raise inputs.error(exc.problem, exc.fix, "engine.firing_order") from None
     if "record" in inputs and "sensor" not in inputs:

@@ -38,6 +38,7 @@ import numpy as np
 
 from processing.diagnostics import InputError, collect_notices
 from processing.measurement import Field, Inputs, LabSpec, Section, bi, image_section
+from processing.record_checks import check_tachometer, check_time_marks
 from processing.regression import curvature_test, fit_line
 from processing.result import LabResult, flag_estimates, result_values
 from processing.signals import (image_options, is_image, open_channel, open_channels,
@@ -50,16 +51,6 @@ from . import catalogue, lab6_valve_dynamics_report as report
 
 VALVES = ("in", "ex")
 """The valves: inlet and exhaust."""
-
-SPEED_REFUSED = 0.15
-"""Relative disagreement between the TDC marks' speed and the stated n beyond which the marks
-(or n) are wrong rather than the tachometer rough."""
-
-SPEED_WARNED = 0.03
-"""Relative disagreement (beyond 2 u of n) that is warned about."""
-
-MARK_PERIOD_TOLERANCE = 0.01
-"""Largest relative disagreement between the time marks' period and the stated T_mark."""
 
 CURVATURE_LEVEL = 0.01
 """Significance level of the calibration's quadratic term."""
@@ -263,32 +254,15 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
                   for v, c in zip(names, channels)}
         tdc = _marks(channels[len(names)].read() * channels[len(names)].volts_per_code, rate)
         if len(channels) > len(names) + 1:
-            _check_time_marks(inputs, channels[-1], rate, where)
+            marks = channels[-1]
+            check_time_marks(inputs, "engine", marks.name, _marks(marks.read().astype(float),
+                                                                  rate), rate,
+                             lambda problem, fix, key: InputError(
+                                 problem, fix, file=marks.path, field=f"{where}.{key}"),
+                             "2 ms")
         channels = []
     size = next(iter(traces.values())).size
     return np.arange(size) / rate, traces, tdc, channels
-
-
-def _check_time_marks(inputs: Inputs, channel, rate: float, where: str) -> None:
-    """The time marks' period on the record's clock against the stated T_mark."""
-    settings = inputs["engine"]
-    if "mark_period" not in settings:
-        raise inputs.error("a time-mark channel is named but not its period",
-                           "add mark_period = \"2 ms\" (the time marker's period) in [engine]",
-                           "engine.mark_period")
-    times = _marks(channel.read().astype(float), rate)
-    if times.size < 3:
-        raise InputError(f"channel '{channel.name}' holds {times.size} time mark(s)",
-                         "name the time-mark channel (marks_channel = ...) or leave it out",
-                         file=channel.path, field=f"{where}.marks_channel")
-    measured = fit_line(np.arange(times.size, dtype=float), times).slope
-    stated = settings["mark_period"].value
-    if abs(measured / stated - 1) > MARK_PERIOD_TOLERANCE:
-        raise InputError(f"the time marks come every {1e3 * measured:.4g} ms of the record's "
-                         f"clock ({rate:g} Hz), but T_mark = {1e3 * stated:.4g} ms: the sample "
-                         "rate or the marks' period is wrong", "give the recorder's true sample "
-                         "rate (sample_rate = ...), or correct mark_period in [engine]",
-                         file=channel.path, field=f"{where}.sample_rate")
 
 
 def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
@@ -331,15 +305,12 @@ def _check_speed(entry: dict, omega: float, where: str) -> None:
     if "n" not in entry:
         return
     n = entry["n"]
-    gap = omega / n.value - 1
-    if abs(gap) > SPEED_REFUSED:
-        raise InputError(f"the TDC marks give {omega / report.RPM_SI:.0f} min⁻¹ but n = "
-                         f"{n.value / report.RPM_SI:.0f} min⁻¹ ({100 * gap:+.0f} %): a mark per "
-                         "revolution too many or too few, or the wrong record",
-                         "check n, the TDC channel and tdc_per_revolution in [engine]",
-                         file=str(entry["signal"]), field=f"{where}.n")
-    if abs(gap) > SPEED_WARNED + 2 * n.u / n.value:
-        warnings.warn(report.speed_disagrees(where, omega, n.value))
+    check_tachometer(omega, n, lambda gap: InputError(
+        f"the TDC marks give {omega / report.RPM_SI:.0f} min⁻¹ but n = "
+        f"{n.value / report.RPM_SI:.0f} min⁻¹ ({100 * gap:+.0f} %): a mark per revolution too "
+        "many or too few, or the wrong record", "check n, the TDC channel and "
+        "tdc_per_revolution in [engine]", file=str(entry["signal"]), field=f"{where}.n"),
+        lambda: report.speed_disagrees(where, omega, n.value))
 
 
 # ------------------------------------------------------------------------ calibration

@@ -40,7 +40,8 @@ from labs import lab7_torsiograph_report as report
 from processing.diagnostics import InputError, collect_notices
 from processing.dynamics import firing_phases
 from processing.edges import detect_edges
-from processing.measurement import Field, Inputs, LabSpec, Section, bi, image_section
+from processing.measurement import Field, Inputs, LabSpec, Section, bi, firing_order, image_section
+from processing.record_checks import check_tachometer, check_time_marks
 from processing.regression import fit_line
 from processing.resonance import Resonance, SweepEdge, locate_resonances, major_orders, \
     resonance_speed
@@ -89,17 +90,6 @@ DRIFT_U = 0.02
 """Relative standard uncertainty of φ_max that a large drift is warned about: beyond it φ_max
 is no longer known to 2 % (at 30 dB without drift u stays below 0.5 %; a slow drift three
 times the oscillation on records of four working cycles leaves about 1 %)."""
-
-SPEED_REFUSED = 0.15
-"""Relative disagreement between the TDC marks' speed and the stated n beyond which the marks
-(or n, or the marks per revolution) are wrong rather than the tachometer rough."""
-
-SPEED_WARNED = 0.03
-"""Relative disagreement (beyond 2 u of n) that is warned about."""
-
-MARK_PERIOD_TOLERANCE = 0.01
-"""Largest relative disagreement between the time marks' period on the record's clock and
-the stated T_mark."""
 
 RESONANCE_MODEL = 0.05
 """Half-width, as a share of the largest speed step among the fitted records, of the
@@ -350,7 +340,8 @@ def _recorded(inputs: Inputs, where: str, entry: dict, refuse):
     trace, tdc = (c.read().astype(float) * c.volts_per_code for c in channels[:2])
     rate = channels[0].sample_rate
     if len(channels) == 3:
-        _check_time_marks(inputs, channels[2], rate, refuse)
+        check_time_marks(inputs, "torsiograph", channels[2].name,
+                         _marks(channels[2].read().astype(float), rate), rate, refuse, "10 ms")
     tdc_times = _marks(tdc, rate)
     if tdc_times.size < 2:
         raise refuse(f"channel '{channels[1].name}' holds {tdc_times.size} TDC mark(s)",
@@ -377,45 +368,17 @@ def _photographed(inputs: Inputs, where: str, entry: dict):
     return channel, channel.read() * 1e3, tdc_times, channel.sample_rate
 
 
-def _check_time_marks(inputs: Inputs, channel, rate: float, refuse) -> None:
-    """The time marks' period on the record's clock against the stated T_mark."""
-    settings = inputs["torsiograph"]
-    if "mark_period" not in settings:
-        raise inputs.error("a time-mark channel is named but not its period",
-                           "add mark_period = \"10 ms\" (the time marker's period) in "
-                           "[torsiograph]", "torsiograph.mark_period")
-    times = _marks(channel.read().astype(float), rate)
-    if times.size < 3:
-        raise refuse(f"channel '{channel.name}' holds {times.size} time mark(s)",
-                     "name the time-mark channel (marks_channel = ...) or leave it out",
-                     "marks_channel")
-    measured = fit_line(np.arange(times.size, dtype=float), times).slope
-    stated = settings["mark_period"].value
-    if abs(measured / stated - 1) > MARK_PERIOD_TOLERANCE:
-        raise refuse(f"the time marks come every {1e3 * measured:.4g} ms of the record's clock "
-                     f"({rate:g} Hz), but T_mark = {1e3 * stated:.4g} ms: the sample rate or "
-                     "the marks' period is wrong",
-                     "give the recorder's true sample rate (sample_rate = ...), or correct "
-                     "mark_period in [torsiograph]", "sample_rate")
-
-
 def _check_speed(entry: dict, result: Torsiogram, where: str, path) -> None:
     """The TDC marks' speed against the tachometer's n."""
     if "n" not in entry:
         return
-    n = entry["n"]
-    w = result.angular_speed
-    gap = w / n.value - 1
-    rpm = 30 / np.pi
-    if abs(gap) > SPEED_REFUSED:
-        raise InputError(f"the TDC marks give {w * rpm:.0f} min⁻¹ but n = {n.value * rpm:.0f} "
-                         f"min⁻¹ ({100 * gap:+.0f} %): a mark per revolution too many or too "
-                         "few, marks missed, or the wrong record",
-                         "check n, the TDC channel and tdc_per_revolution in [torsiograph] "
-                         "(marks per crankshaft revolution)", file=str(path),
-                         field=f"{where}.n")
-    if abs(gap) > SPEED_WARNED + 2 * n.u / n.value:
-        warnings.warn(report.speed_disagrees(where, w, n.value))
+    n, w, rpm = entry["n"], result.angular_speed, 30 / np.pi
+    check_tachometer(w, n, lambda gap: InputError(
+        f"the TDC marks give {w * rpm:.0f} min⁻¹ but n = {n.value * rpm:.0f} min⁻¹ "
+        f"({100 * gap:+.0f} %): a mark per revolution too many or too few, marks missed, or "
+        "the wrong record", "check n, the TDC channel and tdc_per_revolution in [torsiograph] "
+        "(marks per crankshaft revolution)", file=str(path), field=f"{where}.n"),
+        lambda: report.speed_disagrees(where, w, n.value))
 
 
 # ------------------------------------------------------------------------ calibration
@@ -579,7 +542,7 @@ def _check_inputs(inputs: Inputs) -> None:
                            "engine.strokes")
     try:
         firing_phases(engine["cylinders"], strokes=engine["strokes"],
-                      firing_order=_firing_order(inputs))
+                      firing_order=firing_order(inputs))
     except InputError as exc:
         raise inputs.error(exc.problem, exc.fix, "engine.firing_order") from None
     if not 0 < inputs["torsiograph"]["zeta"].value < 1:
@@ -594,17 +557,6 @@ def _check_inputs(inputs: Inputs) -> None:
                                "give n ≥ 2 moments of inertia J from the nose and n − 1 "
                                "stiffnesses c between them (n if the last disc is tied to a "
                                "brake)", "chain.c")
-
-
-def _firing_order(inputs: Inputs):
-    text = inputs["engine"].get("firing_order")
-    if text is None:
-        return None
-    parts = text.replace(",", "-").replace(" ", "").split("-")
-    if not all(p.isdigit() for p in parts):
-        raise inputs.error(f"firing order '{text}' is not a list of cylinder numbers",
-                           "write it as 1-3-4-2", "engine.firing_order")
-    return [int(p) for p in parts]
 
 
 def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20037) -> LabResult:
@@ -651,7 +603,7 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20037) -> LabR
         flag_estimates(results, comparisons)
     engine = inputs["engine"]
     majors = major_orders(engine["cylinders"], strokes=engine["strokes"],
-                          firing_order=_firing_order(inputs), max_order=24.0)
+                          firing_order=firing_order(inputs), max_order=24.0)
     parts = dict(recorded=recorded, found=found, edges=edges, results=results, modes=modes,
                  majors=majors, calibration=(inputs["calibration"], cal_fit),
                  f_c=inputs["torsiograph"]["f_c"].value)
@@ -706,23 +658,6 @@ PHOTO_MARKS = 0.005
 """Period of the time marks on the photographed torsiograms. [s]"""
 
 
-def torsiogram_photo(rec, metres_per_volt: float, *, seed: int = 0):
-    """A phone photograph (:data:`processing.synth.paper_record.PHONE`) of a synthetic
-    record's paper torsiogram: the whole record over 250 mm of 120 mm paper, the trace about
-    mid-width at ``metres_per_volt``, a TDC pip at each TDC of cylinder 1 and a time mark
-    every :data:`PHOTO_MARKS`. Returns the
-    :class:`~processing.synth.paper_record.PaperScene`."""
-    from processing.synth.paper_record import PHONE, Beam, Layout, render
-
-    duration = float(rec.time[-1])
-    layout = Layout(length=0.25, speed=0.25 / duration, mark_period=PHOTO_MARKS,
-                    tdc_times=tuple(rec.tdc_times))
-    centre = float(np.median(rec.trace))
-    beam = Beam(lambda t: np.interp(t, rec.time, rec.trace) - centre, 0.06, metres_per_volt)
-    return render(layout, [beam], PHONE, seed=seed)
-
-
-
 def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float = 35.0,
                     sample_rate: float = 4000.0, drift: float = 1.0,
                     drift_frequency: float = 0.5, revolutions: int = 16,
@@ -768,7 +703,8 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
         Also write the equivalent chain (for the model's natural frequencies).
     image : bool
         Write each record as a phone photograph of its paper torsiogram (``rNN.jpg``,
-        :func:`torsiogram_photo`; ``revolutions`` 6 suits 250 mm of paper) with an
+        :func:`processing.synth.paper_record.photograph`: the whole record over 250 mm, 35 mm
+        for the largest excursion of any record; ``revolutions`` 6 suits it) with an
         ``[image]`` table, the calibration's deflections in mm of paper.
 
     Returns
@@ -779,6 +715,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
     import json
 
     from processing.signals import write_csv, write_hdf5
+    from processing.synth.paper_record import photograph
     from processing.synth.torsiograph import (LOADS as SHARES, RPM, Crankshaft, Torsiograph,
                                               calibration, record, resonances, sweep)
 
@@ -823,7 +760,10 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
     for number, load, w, rec in recs:
         if image:
             name = f"r{number:02d}.jpg"
-            torsiogram_photo(rec, gain, seed=seed * 1000 + number).write(out / name)
+            centre = float(np.median(rec.trace))
+            photograph(lambda t: np.interp(t, rec.time, rec.trace) - centre,
+                       float(rec.time[-1]), gain, mark_period=PHOTO_MARKS,
+                       tdc_times=rec.tdc_times, seed=seed * 1000 + number).write(out / name)
             rate = ""
         else:
             name = f"r{number:02d}.{fmt}"

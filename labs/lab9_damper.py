@@ -579,21 +579,6 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20039) -> LabR
 PHOTO_MARKS = 1e-3
 """Period of the time marks on the photographed decay record. [s]"""
 
-PHOTO_LAYOUT = dict(width=0.12, length=0.25, mark_period=PHOTO_MARKS)
-"""The light-beam oscillograph's paper: 120 mm wide, 250 mm of it photographed."""
-
-
-def paper_photo(rec, metres_per_volt: float, seed: int):
-    """The photographed paper record (:class:`processing.synth.paper_record.PaperScene`) of a
-    recorded decay: the whole record across 250 mm of paper, the beam's zero at mid-width,
-    ``metres_per_volt`` of deflection per volt of the gauge."""
-    from processing.synth.paper_record import PHONE, Beam, Layout, render
-
-    duration = float(rec.time[-1])
-    layout = Layout(speed=PHOTO_LAYOUT["length"] / duration, **PHOTO_LAYOUT)
-    centre = float(np.median(rec.signal))
-    beam = Beam(lambda t: np.interp(t, rec.time, rec.signal) - centre, 0.06, metres_per_volt)
-    return render(layout, [beam], PHONE, seed=seed)
 
 def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: float = 8.0,
                     amplitude_exponent: float = 0.0, ratio: float = 1.87, runs: int = 2,
@@ -607,7 +592,9 @@ def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: fl
     the manual's damper 1) twisted 10 mrad and released, recorded by strain gauges with
     offset, drift, creep and noise, calibrated at four static twists; or (``paper``) four
     maxima read off that record (40 mm at the release) with a ruler and the time of three
-    periods.
+    periods; or (``image``) the light-beam oscillograph's paper record of it, photographed
+    (35 mm at the release, a time mark every millisecond:
+    :func:`processing.synth.paper_record.photograph`).
 
     Parameters
     ----------
@@ -648,6 +635,7 @@ def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: fl
     from processing.signals import write_csv
     from processing.synth.damper import (Ring, RubberLayer, StrainGauge, calibration,
                                          free_decay, peak_readings, static_runs)
+    from processing.synth.paper_record import photograph
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -676,7 +664,10 @@ def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: fl
                   f't_N = "{t_N:.2f} ms"', "N = 3"]
     elif image:
         scale = 3.5e3                               # mm of trace per rad
-        written["record"] = paper_photo(rec, 1e-3 * scale / gauge.volts_per_rad, seed).write(
+        centre = float(np.median(rec.signal))
+        written["record"] = photograph(
+            lambda t: np.interp(t, rec.time, rec.signal) - centre, float(rec.time[-1]),
+            1e-3 * scale / gauge.volts_per_rad, mark_period=PHOTO_MARKS, seed=seed).write(
             out / "decay.jpg")
         decay.append('signal = "decay.jpg"')
     else:
@@ -690,7 +681,7 @@ def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: fl
     body.append("\n".join(decay) + "\n")
     if image:
         body.append(f'[image]\nmark_period = "{1e3 * PHOTO_MARKS:g} ms"\n'
-                    f'paper_width = "{1e3 * PHOTO_LAYOUT["width"]:g} mm"\n')
+                    'paper_width = "120 mm"\n')
     written["toml"] = out / f"lab9_seed{seed}.toml"
     written["toml"].write_text("\n".join(body), encoding="utf-8")
     truth = {"C_static": layer.stiffness, **layer.energies(moment_max, steps), **rec.truth,

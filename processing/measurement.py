@@ -182,6 +182,21 @@ def image_section(name: str = "image") -> Section:
     ))
 
 
+def firing_order(inputs, field: str = "engine.firing_order") -> list[int] | None:
+    """The cylinder numbers of a firing order written as text ("1-3-4-2", "1, 3, 4, 2"), or
+    None where the file gives none; the order itself is checked where it is used
+    (:func:`processing.dynamics.firing_phases`)."""
+    section, key = field.split(".")
+    text = inputs.sections.get(section, {}).get(key)
+    if text is None:
+        return None
+    parts = text.replace(",", "-").replace(" ", "").split("-")
+    if not all(p.isdigit() for p in parts):
+        raise inputs.error(f"firing order '{text}' is not a list of cylinder numbers",
+                           "write it as 1-3-4-2", field)
+    return [int(p) for p in parts]
+
+
 @dataclass
 class Inputs:
     """A validated measurement file: SI values ready for a lab's ``reduce``.

@@ -253,6 +253,8 @@ def track_marker(path, *, roi=None, field: str | None = None,
     near, far = side // 2 + 2, int(SEARCH * side)
     px, py, vx, vy = cx, cy, 0.0, 0.0
     snapshots = []
+    shown = set(np.linspace(0, total - 1, keep_frames).astype(int).tolist()) \
+        if total and keep_frames else set()
     index = 0
     pending = list(zip(buffered, stamps))
     while True:
@@ -279,7 +281,7 @@ def track_marker(path, *, roi=None, field: str | None = None,
         ys.append(y)
         conf.append(c)
         times.append(stamp)
-        if total and keep_frames and index in np.linspace(0, total - 1, keep_frames).astype(int):
+        if index in shown:
             snapshots.append((index, grey.copy()))
         index += 1
     capture.release()
