@@ -345,16 +345,18 @@ def render(layout: Layout, beams: Sequence[Beam], shot: Shot = Shot(), *,
                       _shift(-0.5) @ to_image @ paper_px)
 
 
-def photograph(signal: Callable[[np.ndarray], np.ndarray], duration: float, gain: float, *,
-               mark_period: float, tdc_times: Sequence[float] = (), zero: float = 0.06,
-               zero_line: bool = False, shot: Shot = PHONE, seed: int = 0) -> PaperScene:
+def photograph(signal: Callable[[np.ndarray], np.ndarray] | Sequence[Callable], duration: float,
+               gain: float, *, mark_period: float, tdc_times: Sequence[float] = (),
+               zero: float | Sequence[float] = 0.06, zero_line: bool = False,
+               shot: Shot = PHONE, seed: int = 0) -> PaperScene:
     """A record drawn whole across 250 mm of 120 mm paper and photographed: the labs'
     synthetic paper records.
 
     Parameters
     ----------
-    signal : callable
-        ``signal(t)``, the recorded quantity over t in [0, ``duration``]. [any unit]
+    signal : callable or sequence of callable
+        ``signal(t)``, the recorded quantity over t in [0, ``duration``], one per beam. [any
+        unit]
     duration : float
         The record's length, drawn over the 250 mm. [s]
     gain : float
@@ -363,16 +365,19 @@ def photograph(signal: Callable[[np.ndarray], np.ndarray], duration: float, gain
         Time marks' period. [s]
     tdc_times : sequence of float
         TDC marks. [s]
-    zero : float
-        The beam's zero above the paper's lower edge. [m]
+    zero : float or sequence of float
+        Each beam's zero above the paper's lower edge. [m]
     zero_line : bool
-        Also draw the zero line.
+        Also draw the zero lines.
     shot, seed
         As :func:`render`.
     """
     layout = Layout(length=0.25, speed=0.25 / duration, mark_period=mark_period,
                     tdc_times=tuple(tdc_times))
-    return render(layout, [Beam(signal, zero, gain, zero_line)], shot, seed=seed)
+    signals = list(signal) if isinstance(signal, Sequence) else [signal]
+    zeros = list(zero) if isinstance(zero, Sequence) else [zero] * len(signals)
+    return render(layout, [Beam(f, z, gain, zero_line) for f, z in zip(signals, zeros)], shot,
+                  seed=seed)
 
 
 def _sheet(layout: Layout, beams: tuple[Beam, ...], shot: Shot, ppm: float,

@@ -32,6 +32,11 @@ MAX_WAVINESS = 0.75
 MAX_WANDER = 0.75
 """How far a line's column centroids may stray to both sides of it. [px]"""
 
+MAX_ABSENCE = 0.1
+"""Longest stretch, as a share of the sheet's length, along which a line may hold no ink: a
+line is broken only where a pip lifts it. A trace at rest for a while (a valve's force while
+the valve is shut, a decay settled) runs straight too, but leaves its row for whole events."""
+
 BLOCK_COLUMNS = 160
 """Typical block length along the line; 6 to 32 blocks per sheet. [px]"""
 
@@ -123,6 +128,9 @@ def remove_lines(density: np.ndarray, noise: float) -> list[Line]:
         width = _fwhm(wide[:, present].mean(axis=1), row - max(row - 3 * reach, 0))
         if _wavy(density, fit, max(2, int(round(width / 2.5))), noise):
             continue                    # a trace that keeps near one level, not a line
+        if _longest_absence(density, fit, width, float(np.median(tops[present])),
+                            noise) > MAX_ABSENCE * w:
+            continue                    # a trace at rest between events, not a line
         if any(abs(position - other.position) < max(3.0, width + other.width)
                for other in lines):
             continue                    # a shoulder of a stronger line (its pips, blurred)
@@ -164,6 +172,20 @@ def _wavy(density: np.ndarray, fit, reach: int, noise: float) -> bool:
     y = (v * rows).sum(axis=0)[seen] / mass[seen] - centre[seen]
     low, high = np.percentile(y, [20, 80])
     return bool(low < -MAX_WANDER and high > MAX_WANDER)
+
+
+def _longest_absence(density: np.ndarray, fit, width: float, strength: float,
+                     noise: float) -> int:
+    """The longest run of columns in which the candidate line's row (± half its width + 1
+    px) holds less than a third of its strength: where the ink left it. [px]"""
+    h, w = density.shape
+    cols = np.arange(w)
+    reach = int(np.ceil(width / 2)) + 1
+    rows = np.clip(np.round(fit.predict(cols))[None, :].astype(int)
+                   + np.arange(-reach, reach + 1)[:, None], 0, h - 1)
+    inked = density[rows, cols[None, :]].max(axis=0) > max(strength / 3, 4 * noise)
+    edges = np.flatnonzero(np.diff(np.concatenate([[1], inked.astype(np.int8), [1]])))
+    return int((edges[1::2] - edges[::2]).max()) if edges.size else 0
 
 
 def _fwhm(profile: np.ndarray, near: int) -> float:

@@ -160,7 +160,9 @@ def _pips_at(density, strip, offsets, j, side, line, noise, centre) -> Pips | No
     first = offsets[j] + 1.5 * line.width + 2                 # clear of the tops' blur
     beyond = np.arange(first, first + max(4.0, offsets[j]))
     rows = np.clip(np.round(centre[None, :] + side * beyond[:, None]).astype(int), 0, h - 1)
-    if _tops_wander(strip, offsets, rising, falling) > 1.0 + 0.1 * line.width \
+    below_tops = slice(0, j + 2 * half + 3)       # a trace farther out stays out of it
+    if _tops_wander(strip[below_tops], offsets[below_tops], rising, falling) \
+            > 1.0 + 0.1 * line.width \
             or not _rooted(strip[:3], rising, line) \
             or not _capped(density[rows, cols[None, :]], rising, falling, line, noise):
         return None                                   # a trace passing by, not pips

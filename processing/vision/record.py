@@ -109,6 +109,10 @@ class PaperRecord:
         The fit of the time marks (None when the time came from the paper speed).
     bridged : numpy.ndarray
         True where a gap was interpolated across (``bridge``).
+    stroke : float
+        The trace's stroke width across where it runs flat. [px] Times and extremes read off
+        a steep or sharply turning stroke are known only within about this much
+        (:attr:`stroke_time`, :attr:`stroke_value`).
     overlay : Overlay
         What was read, to draw over the sheet.
     """
@@ -127,7 +131,18 @@ class PaperRecord:
     value_scale: Measured
     time_base: TimeBase | None
     bridged: np.ndarray
+    stroke: float
     overlay: Overlay = field(repr=False)
+
+    @property
+    def stroke_time(self) -> float:
+        """The stroke's width along the time axis. [s]"""
+        return self.stroke * self.time_scale.value
+
+    @property
+    def stroke_value(self) -> float:
+        """The stroke's width across, in ``unit``."""
+        return self.stroke * abs(self.value_scale.value)
 
     # --- the channel's interface (processing.signals.Channel) ---
 
@@ -603,7 +618,8 @@ def _record(where: _Where, found: Traces, j: int, seconds, value_scale: Measured
         marks["time"] = tb.period * tb.numbers - clock(first)
     marks_u = {k: p.edge_u * per_px.value for k, p in pips.items()}
     record = PaperRecord(where.path, name, where.field, time, value, conf, u_value, unit,
-                         marks, marks_u, per_px, value_scale, tb, bridged, overlay)
+                         marks, marks_u, per_px, value_scale, tb, bridged,
+                         float(found.width[j]), overlay)
     _warn(record, tb, {k: p.edge_u for k, p in pips.items()})
     return record
 

@@ -68,6 +68,9 @@ class Runs(Record):
         Column of each run.
     lo, hi : numpy.ndarray
         First row above the threshold and one past the last.
+    top, bottom : numpy.ndarray
+        Where the density crosses the threshold above and below the run, interpolated
+        linearly between rows (sub-pixel edges). [px]
     centre : numpy.ndarray
         Density-weighted centroid. [px]
     u : numpy.ndarray
@@ -85,6 +88,8 @@ class Runs(Record):
     column: np.ndarray
     lo: np.ndarray
     hi: np.ndarray
+    top: np.ndarray
+    bottom: np.ndarray
     centre: np.ndarray
     u: np.ndarray
     peak: np.ndarray
@@ -144,7 +149,7 @@ def find_runs(density: np.ndarray, noise: float, lines=()) -> Runs:
     starts = np.searchsorted(col, np.arange(w + 1))
     if col.size == 0:
         empty = np.empty(0)
-        return Runs(col, lo, hi, empty, empty, empty, starts, noise, typical)
+        return Runs(col, lo, hi, empty, empty, empty, empty, empty, starts, noise, typical)
     # padded windows, not reaching into the neighbouring runs of the column
     same_prev = np.concatenate([[False], col[1:] == col[:-1]])
     same_next = np.concatenate([col[1:] == col[:-1], [False]])
@@ -165,7 +170,21 @@ def find_runs(density: np.ndarray, noise: float, lines=()) -> Runs:
     inner = (rows >= np.repeat(lo, size)) & (rows < np.repeat(hi, size))
     peak = np.zeros(col.size)
     np.maximum.at(peak, run[inner], values[inner])
-    return Runs(col, lo, hi, centre, u, peak, starts, noise, typical)
+    top, bottom = _edges(density, col, lo, hi, threshold)
+    return Runs(col, lo, hi, top, bottom, centre, u, peak, starts, noise, typical)
+
+
+def _edges(density, col, lo, hi, threshold: float) -> tuple[np.ndarray, np.ndarray]:
+    """Sub-pixel rows where each run's density crosses ``threshold``, above and below it."""
+    h = density.shape[0]
+    d = density.astype(np.float64)
+
+    def crossing(inside, outside):
+        a, b = d[inside, col], d[np.clip(outside, 0, h - 1), col]
+        share = np.where(a > b, (a - threshold) / np.where(a > b, a - b, 1.0), 0.5)
+        return inside + np.clip(share, 0.0, 1.0) * np.sign(outside - inside)
+
+    return crossing(lo, lo - 1), crossing(hi - 1, hi)
 
 
 def _mend_crossings(density: np.ndarray, line, threshold: float) -> None:
@@ -204,7 +223,7 @@ class Traces(Record):
     confidence : numpy.ndarray
         traces × columns, 0 to 1; 0 in a gap.
     width : numpy.ndarray
-        Each trace's typical extent where it runs flat (|slope| < 0.3). [px]
+        Each trace's stroke width across it (:func:`_across`). [px]
     """
 
     run: np.ndarray
@@ -271,6 +290,7 @@ def follow(runs: Runs, columns: int, count: int | None = None) -> Traces:
         cap[j, stretch] = np.minimum(cap[j, stretch], AMBIGUOUS_CONFIDENCE)
     ok = chosen >= 0
     u = np.where(ok, runs.u[np.maximum(chosen, 0)], np.nan)
+    row, apex = _apexes(runs, chosen, row)
     keep = []
     for j in range(count):
         valid = np.flatnonzero(ok[j])
@@ -280,9 +300,63 @@ def follow(runs: Runs, columns: int, count: int | None = None) -> Traces:
     if not keep:
         raise NoTraceError("no trace could be followed along the sheet")
     order = sorted(keep, key=lambda j: np.nanmean(row[j]))
-    chosen, row, u, cap = chosen[order], row[order], u[order], cap[order]
-    conf, width = confidence(runs, chosen, row)
+    chosen, row, u, cap, apex = chosen[order], row[order], u[order], cap[order], apex[order]
+    conf, width = confidence(runs, chosen, row, apex)
     return Traces(chosen, row, u, np.minimum(conf, cap), width)
+
+
+def _apexes(runs: Runs, chosen: np.ndarray, row: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rows at the trace's sharp extremes read off the stroke's outer edge.
+
+    Where a swing's crest is sharper than the stroke is wide, the ink of both flanks fills
+    the columns under the crest and the centroid sinks towards the inside; the outer edge
+    still lies half a stroke's width off the centre line (the ink is the union of discs
+    about it, and on the convex side their envelope is the offset curve). So where the run
+    is taller than a single stroke at its edges' slopes explains, and an extreme of the
+    centroids is near (within a stroke width of columns; the nearer kind decides), the
+    row is the outer edge ∓ (W/2)·√(1 + s²), s the edge's slope — the upper edge at a
+    crest, the lower at a trough — W being the stroke's edge-to-edge width across
+    (:func:`_across`).
+
+    Returns
+    -------
+    row : numpy.ndarray
+        The rows, corrected at the extremes.
+    apex : numpy.ndarray
+        True where corrected.
+    """
+    ok = chosen >= 0
+    idx = np.maximum(chosen, 0)
+    top = np.where(ok, runs.top[idx], np.nan)
+    bottom = np.where(ok, runs.bottom[idx], np.nan)
+    out, apex = row.copy(), np.zeros(row.shape, bool)
+    with np.errstate(invalid="ignore"):
+        slope = _slope(row)
+        s_top, s_bottom = _slope(top), _slope(bottom)
+    for j in range(row.shape[0]):
+        if not ok[j].any():
+            continue
+        width = _across(bottom[j] - top[j], slope[j])
+        half, reach = width / 2, max(1, int(np.ceil(width)))
+        crest = top[j] + half * np.sqrt(1 + s_top[j] ** 2)
+        trough = bottom[j] - half * np.sqrt(1 + s_bottom[j] ** 2)
+        r = row[j]
+        inner = np.full(r.size, False)
+        inner[1:-1] = np.isfinite(r[:-2]) & np.isfinite(r[2:]) & np.isfinite(r[1:-1])
+        up = np.zeros(r.size, bool)
+        down = np.zeros(r.size, bool)
+        with np.errstate(invalid="ignore"):
+            up[1:-1] = inner[1:-1] & (r[1:-1] <= r[:-2]) & (r[1:-1] <= r[2:])
+            down[1:-1] = inner[1:-1] & (r[1:-1] >= r[:-2]) & (r[1:-1] >= r[2:])
+        to_up, to_down = _distance_to(up), _distance_to(down)
+        with np.errstate(invalid="ignore"):
+            tall = (trough - crest) > max(1.0, 0.25 * width)
+        at_crest = tall & (to_up < to_down) & (to_up <= reach)
+        at_trough = tall & (to_down < to_up) & (to_down <= reach)
+        out[j, at_crest] = crest[at_crest]
+        out[j, at_trough] = trough[at_trough]
+        apex[j] = at_crest | at_trough
+    return out, apex
 
 
 def _seed_column(runs: Runs, strong: np.ndarray, per_column: np.ndarray,
@@ -542,8 +616,47 @@ def _to_next_gap(chosen_row: np.ndarray, start: int, direction: int) -> slice:
     return slice(start, end) if direction > 0 else slice(end + 1, start + 1)
 
 
-def confidence(runs: Runs, chosen: np.ndarray, row: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+FLAT_SHARE = 0.1
+"""Share of a trace's columns running flat (|slope| < 0.3) from which its stroke width is
+taken there."""
+
+STROKE_PERCENTILE = 30
+"""Otherwise the stroke's width across is this percentile of the columns' extents taken
+across the trace: a column under a sharp crest is taller than the stroke (both flanks'
+ink), hardly any is thinner (a ringing may never run flat)."""
+
+
+def _across(extent: np.ndarray, slope: np.ndarray) -> float:
+    """The stroke's width across the trace from its columns' vertical ``extent`` and the
+    trace's ``slope`` there: the median extent where it runs flat, or, on a trace that
+    seldom does, a straight stroke of width w covering w·√(1 + s²) rows of a column, w =
+    extent/√(1 + s²) at :data:`STROKE_PERCENTILE`."""
+    s = np.abs(slope)
+    seen = np.isfinite(extent) & np.isfinite(s)
+    flat = seen & (s < 0.3)
+    if flat.sum() >= max(FLAT_SHARE * seen.sum(), 1):
+        return float(np.median(extent[flat]))
+    w = extent[seen] / np.sqrt(1 + s[seen] ** 2)
+    return float(np.percentile(w, STROKE_PERCENTILE)) if w.size else float("nan")
+
+
+def _distance_to(mask: np.ndarray) -> np.ndarray:
+    """Columns from each column to the nearest True of ``mask`` (inf if none)."""
+    where = np.flatnonzero(mask)
+    if where.size == 0:
+        return np.full(mask.size, np.inf)
+    cols = np.arange(mask.size)
+    k = np.clip(np.searchsorted(where, cols), 1, where.size) - 1
+    right = where[np.minimum(k + 1, where.size - 1)]
+    return np.minimum(np.abs(cols - where[k]), np.abs(right - cols)).astype(float)
+
+
+def confidence(runs: Runs, chosen: np.ndarray, row: np.ndarray,
+               apex: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Per-column confidence of each trace (see the module notes) and each trace's width.
+
+    A column read at a sharp extreme (``apex``, :func:`_apexes`) has its tall run explained
+    by the crest: its shape factor is 1.
 
     Returns
     -------
@@ -557,12 +670,12 @@ def confidence(runs: Runs, chosen: np.ndarray, row: np.ndarray) -> tuple[np.ndar
     extent = np.where(ok, runs.hi[idx] - runs.lo[idx], np.nan)
     with np.errstate(invalid="ignore"):
         slope = np.abs(_slope(row))
-    flat = ok & (slope < 0.3)
-    width = np.array([np.median(extent[j][flat[j]]) if flat[j].any()
-                      else np.nanmedian(extent[j]) for j in range(len(chosen))])
+    width = np.array([_across(extent[j], slope[j]) for j in range(len(chosen))])
     expected = width[:, None] * np.sqrt(1 + np.nan_to_num(slope) ** 2) + np.nan_to_num(slope)
     ratio = (np.nan_to_num(extent) - 1) / expected
     shape = np.clip(2.5 - ratio, 0, 1)
+    if apex is not None:
+        shape = np.where(apex, 1.0, shape)
     snr = runs.peak[idx] / runs.noise
     contrast = np.clip((snr - THRESHOLD_SIGMA) / (FULL_CONTRAST - THRESHOLD_SIGMA), 0, 1)
     clear = np.ones(chosen.shape)
