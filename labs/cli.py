@@ -370,7 +370,7 @@ def parser() -> argparse.ArgumentParser:
                      help="one variant per student of a roster (columns id,name) in "
                           "OUT/<id>/, each with its answer key")
     syn.add_argument("--image", action="store_true",
-                     help="labs 3, 7, 9: the records as photographs of their paper (JPEG, "
+                     help="labs 3, 6, 7, 9: the records as photographs of their paper (JPEG, "
                           "read with OpenCV)")
     syn.set_defaults(func=_synth)
     return p

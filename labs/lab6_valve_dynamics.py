@@ -31,7 +31,7 @@ from __future__ import annotations
 import json
 import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -202,6 +202,12 @@ class Trace:
     """Deflection above the trace's zero. [trace unit]"""
     noise: float
     events: list[ValveEvent]
+    stroke_time: float = 0.0
+    """A photographed trace's stroke width along the time axis (0 for a recording): a
+    steep stroke's time is read within half of it. [s]"""
+    stroke: float = 0.0
+    """Its stroke width across: a sharp extreme is read within :data:`PHOTO_EXTREME` of
+    it (0 for a recording). [trace unit]"""
 
 
 @dataclass
@@ -238,8 +244,7 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
         traces, channels = {}, []
         for valve, name in names.items():
             ch = open_channel(path, channel=name, field=field, image=options)
-            factor = 1e3 if ch.unit == "m" else 1.0          # mm of paper
-            traces[valve] = np.nan_to_num(ch.read() * factor)
+            traces[valve] = np.nan_to_num(ch.read() * _paper_mm(ch))
             channels.append(ch)
         tdc = channels[0].marks.get("tdc", np.array([]))
         rate = channels[0].sample_rate
@@ -263,6 +268,11 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
         channels = []
     size = next(iter(traces.values())).size
     return np.arange(size) / rate, traces, tdc, channels
+
+
+def _paper_mm(channel) -> float:
+    """Factor from a photographed trace's unit to the record's: mm of paper."""
+    return 1e3 if channel.unit == "m" else 1.0
 
 
 def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
@@ -289,13 +299,17 @@ def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
     for valve, x in raw.items():
         zero = trace_zero(x)
         preload = valves[valve]["P0"].value / valves[valve]["k"]
-        events = valve_events(time, x - zero.level, preload, noise=zero.noise)
+        photo = channels[list(raw).index(valve)] if channels else None
+        stroke = photo.stroke_value * _paper_mm(photo) if photo else 0.0
+        events = valve_events(time, x - zero.level, preload, noise=zero.noise,
+                              resolution=stroke / 2)
         if not events:
             raise InputError(f"channel '{names[valve]}' holds no whole valve event above its "
                              f"noise (σ = {zero.noise:.3g})", "record at least two camshaft "
                              "revolutions and check the channel names and the amplifier's gain",
                              file=str(entry["signal"]), field=f"{where}.signal")
-        traces[valve] = Trace(valve, time, x - zero.level, zero.noise, events)
+        traces[valve] = Trace(valve, time, x - zero.level, zero.noise, events,
+                              photo.stroke_time if photo else 0.0, stroke)
     return Recorded(i + 1, Path(entry["signal"]), entry["clearance"].value, speed, revs,
                     traces, channels)
 
@@ -394,11 +408,14 @@ def _flat(recorded, valves) -> dict:
             m = len(ev)
             u_open = math.sqrt(np.mean([e.u_opening**2 for e in ev]))
             u_close = math.sqrt(np.mean([e.u_closing**2 for e in ev]))
-            dt = tr.time[1] - tr.time[0]      # a crossing at a kink: within half a sample
+            # a crossing at a kink: within half a sample, or half a photographed stroke
+            dt = max(tr.time[1] - tr.time[0], tr.stroke_time)
+            extreme = PHOTO_EXTREME * tr.stroke
             flat[f"{key}.T_open"] = _mean([e.closing - e.opening for e in ev],
                                           math.hypot(u_open, u_close), m, limit=dt)
-            flat[f"{key}.A_max"] = _mean([e.P_max for e in ev], ev[0].u_P, m)
-            flat[f"{key}.A_min"] = _mean([e.P_min for e in ev], ev[0].u_P_min, m)
+            flat[f"{key}.A_max"] = _mean([e.P_max for e in ev], ev[0].u_P, m, limit=extreme)
+            flat[f"{key}.A_min"] = _mean([e.P_min for e in ev], ev[0].u_P_min, m,
+                                         limit=extreme)
             advance, lag = _timing(r, tr, v)
             flat[f"{key}.advance"] = Measured(advance, omega * u_open / math.sqrt(m),
                                               limit=omega * dt / 2)
@@ -563,6 +580,28 @@ def _warn(recorded, flat, results, seps) -> None:
 
 SYNTH_FORMATS = ("csv", "h5")
 
+PHOTO_EXTREME = 1.25
+"""Limit of error of P_max and P_min read off a photographed oscillogram, in stroke widths
+(:attr:`processing.vision.record.PaperRecord.stroke`, in the trace's unit): the drive's
+oscillation turns sharper than the stroke is wide, and even read at the stroke's outer
+edge its crests come out up to 1.2 widths inside (``dynlab synth lab6 --image``, seeds
+1–3: 180 extremes, strokes 0.44 mm at 25 N/mm)."""
+
+PHOTO_MARKS = 5e-3
+"""Period of the time marks on the photographed oscillograms. [s]"""
+
+PHOTO_SCALE = 25.0
+"""The gauges' gain on the photographed oscillograms: 1500 N per 60 mm of paper, so that the
+largest force of the scene (900 N) stays within 36 mm. [N/mm]"""
+
+PHOTO_SIZE = (4000, 2000)
+"""The photographs' size: a 12-megapixel phone's width, so that the drive's oscillation
+(450 Hz) spans 20 px or more at 500 min⁻¹. [px]"""
+
+PHOTO_ZEROS = {"in": 0.062, "ex": 0.016}
+"""Each valve's zero above the paper's lower edge on the photographs (the intake's trace on
+top). [m]"""
+
 SPEEDS = (500.0, 1000.0, 1500.0, 1800.0, 2000.0)
 """The manual's speeds. [min⁻¹]"""
 
@@ -573,7 +612,7 @@ CLEARANCES = (0.3e-3, 0.5e-3, 0.8e-3)
 def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
                     clearances=CLEARANCES, valves=VALVES, snr_db: float | None = None,
                     sample_rate: float = 10e3, revolutions: float = 4.4,
-                    bend: float = 0.0) -> dict[str, Path]:
+                    bend: float = 0.0, image: bool = False) -> dict[str, Path]:
     """Write a synthetic lab 6 measurement: the calibrations, a record per speed and
     clearance, the measurement file and the answer key.
 
@@ -606,6 +645,12 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
         least one whole event).
     bend : float
         The calibration's parabolic bend at its top load, a share of its deflection.
+    image : bool
+        Write each record as a phone photograph of its paper oscillogram (``rNN.jpg``,
+        :func:`processing.synth.paper_record.photograph`: the whole record over 250 mm, the
+        intake's trace above the exhaust's, time marks every :data:`PHOTO_MARKS`, a TDC mark
+        every revolution) at :data:`PHOTO_SCALE`, with an ``[image]`` table; the calibration's
+        deflections in mm of paper.
 
     Returns
     -------
@@ -625,6 +670,9 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
     cam, drive = Cam(), Drive()
     noise = 0.2 if snr_db is None else 90.0 / 10 ** (snr_db / 20)
     gauge = Gauge(noise=noise, sample_rate=sample_rate)
+    if image:       # the beam draws the force itself; the photograph adds its own noise
+        gauge = Gauge(scale=PHOTO_SCALE, offset=0.0, noise=0.0, sample_rate=sample_rate,
+                      mark_period=PHOTO_MARKS)
     rng = np.random.default_rng([seed, 6])
     loads = np.arange(0.0, 1501.0, 300.0)
     truth, bodies, written = {}, [], {}
@@ -632,8 +680,9 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
     for j, v in enumerate(valves):
         a = calibration(gauge, loads, bend=bend, seed=seed * 10 + j)
         truth[f"k_{v}"] = gauge.scale
+        channel = f"channel = {valves.index(v)}\n" if image else ""
         valve_text.append(
-            f'[[valve]]\nname = "{v}"\nP0 = "{drive.P0:g} ± 10 N"\n'
+            f'[[valve]]\nname = "{v}"\n{channel}P0 = "{drive.P0:g} ± 10 N"\n'
             f'load = [{", ".join(f"{x:g}" for x in loads)}]\n'
             f'deflection = [{", ".join(f"{x:g}" for x in a)}]\n')
     number = 0
@@ -644,20 +693,24 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
             events = {v: simulate_event(cam, drive, c, n * RPM / 2) for v in valves}
             rec = record(cam, drive, gauge, c, n * RPM, valves=valves, revolutions=revolutions,
                          seed=seed * 1000 + number, events=events)
-            columns = {v: np.round(rec.channels[v], 2) for v in valves}
-            columns.update(tdc=np.round(rec.channels["tdc"], 2),
-                           marks=np.round(rec.channels["marks"], 2))
-            name = f"r{number:02d}.{fmt}"
-            if fmt == "csv":
-                write_csv(out / name, columns)
-                rate = f'sample_rate = "{sample_rate / 1e3:g} kHz"\n'
+            if image:
+                name, rate, marks = f"r{number:02d}.jpg", "", ""
+                _photograph(rec, valves, seed * 1000 + number).write(out / name)
             else:
-                write_hdf5(out / name, columns, sample_rate)
-                rate = ""
+                name, marks = f"r{number:02d}.{fmt}", 'marks_channel = "marks"\n'
+                columns = {v: np.round(rec.channels[v], 2) for v in valves}
+                columns.update(tdc=np.round(rec.channels["tdc"], 2),
+                               marks=np.round(rec.channels["marks"], 2))
+                if fmt == "csv":
+                    write_csv(out / name, columns)
+                    rate = f'sample_rate = "{sample_rate / 1e3:g} kHz"\n'
+                else:
+                    write_hdf5(out / name, columns, sample_rate)
+                    rate = ""
             written[f"r{number}"] = out / name
             n_tach = round(n + rng.normal(0, 4))
             bodies.append(f'[[record]]\nsignal = "{name}"\n{rate}clearance = "{1e3 * c:g} '
-                          f'mm"\nn = "{n_tach} ± 10 rpm"\nmarks_channel = "marks"\n')
+                          f'mm"\nn = "{n_tach} ± 10 rpm"\n{marks}')
             truth[f"n_{number}"] = n * RPM
             for v in valves:
                 ev, timing = rec.events[v], rec.timing[v]
@@ -678,10 +731,25 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
     toml = (f'lab = "lab6"\n[meta]\nstudent = "synthetic (dynlab synth lab6 --seed {seed})"\n'
             'notes = "generated; the true answers are in answer_key.json"\n\n'
             f'[engine]\nstrokes = 4\nmark_period = "{1e3 * gauge.mark_period:g} ms"\n\n'
-            + "\n".join(valve_text) + "\n" + "\n".join(bodies))
+            + "\n".join(valve_text) + "\n" + "\n".join(bodies)
+            + (f'\n[image]\nmark_period = "{1e3 * PHOTO_MARKS:g} ms"\npaper_width = "120 mm"\n'
+               if image else ""))
     written["toml"] = out / f"lab6_seed{seed}.toml"
     written["toml"].write_text(toml, encoding="utf-8")
     written["answer"] = out / "answer_key.json"
     written["answer"].write_text(json.dumps({"seed": seed, "results": truth}, indent=1),
                                  encoding="utf-8")
     return written
+
+
+def _photograph(rec, valves, seed: int):
+    """A phone photograph of a record's paper oscillogram: the valves' traces in mm of paper
+    (the record's trace unit), its TDC marks and time marks."""
+    from processing.synth.paper_record import PHONE, photograph
+
+    t = rec.time
+    tdc_times = _marks(rec.channels["tdc"], 1.0 / (t[1] - t[0]))
+    return photograph([lambda x, v=v: np.interp(x, t, rec.channels[v]) for v in valves],
+                      float(t[-1]), 1e-3, mark_period=PHOTO_MARKS, tdc_times=tdc_times,
+                      zero=[PHOTO_ZEROS[v] for v in valves], seed=seed,
+                      shot=replace(PHONE, size=PHOTO_SIZE))

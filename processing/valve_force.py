@@ -96,7 +96,11 @@ class TraceZero(Record):
 def trace_zero(x) -> TraceZero:
     """The zero of a strain-gauge trace: the mean of the samples within :data:`ZERO_BAND`
     noise σ of its lower quartile (the drive is unloaded over most of a cam revolution), and
-    σ from their second differences (:func:`processing.decay.noise_sd`).
+    σ: the larger of the white noise from their second differences
+    (:func:`processing.decay.noise_sd`) and their robust spread about the zero (1.4826 times
+    the median absolute deviation), which also holds a slow wander of the zero — a trace
+    read off a photograph keeps to its line within a tenth of a pixel, but not sample by
+    sample.
 
     Examples
     --------
@@ -113,9 +117,13 @@ def trace_zero(x) -> TraceZero:
     base = float(np.percentile(x, 25))
     sigma = noise_sd(x)
     quiet = np.abs(x - base) < ZERO_BAND * sigma
-    sigma = noise_sd(x[quiet]) if quiet.sum() > 10 else sigma
-    quiet = np.abs(x - base) < ZERO_BAND * sigma
-    return TraceZero(float(x[quiet].mean()), float(sigma))
+    white = noise_sd(x[quiet]) if quiet.sum() > 10 else sigma
+    sigma = white
+    for _ in range(3):                  # the band widens to the wander it finds
+        quiet = np.abs(x - base) < ZERO_BAND * sigma
+        level = float(x[quiet].mean())
+        sigma = max(white, 1.4826 * float(np.median(np.abs(x[quiet] - level))))
+    return TraceZero(level, float(sigma))
 
 
 @dataclass(frozen=True)
@@ -215,7 +223,7 @@ def _merge(runs, gap: float) -> list[tuple[int, int]]:
 
 
 def valve_events(time, force, preload: float, *, noise: float,
-                 period: float | None = None) -> list[ValveEvent]:
+                 period: float | None = None, resolution: float = 0.0) -> list[ValveEvent]:
     """The whole valve events of a trace (those cut by the record's ends are left out).
 
     Parameters
@@ -231,6 +239,10 @@ def valve_events(time, force, preload: float, *, noise: float,
     period : float, optional
         The drive's oscillation period, if known; else each opening's own
         (:func:`oscillation_period`). [s]
+    resolution : float
+        The smallest force the trace resolves besides its noise (half the stroke of a trace
+        read off a photograph; 0 for a recording): the drive counts as loaded only above
+        it and as unloaded below it. [trace unit]
 
     Returns
     -------
@@ -249,7 +261,7 @@ def valve_events(time, force, preload: float, *, noise: float,
     smooth = savgol_filter(y, SMOOTH_WINDOW, 2)
     gain = float(np.sqrt(np.sum(savgol_coeffs(SMOOTH_WINDOW, 2) ** 2)))
     s_noise = noise * gain
-    loaded = smooth > CONTACT_LEVEL * s_noise
+    loaded = smooth > max(CONTACT_LEVEL * s_noise, resolution)
     runs = _stretches(loaded)
     longest = max(b - a for a, b in runs)
     runs = [r for r in _merge(runs, GAP_SHARE * longest) if r[1] - r[0] > 0.5 * longest]
@@ -257,11 +269,13 @@ def valve_events(time, force, preload: float, *, noise: float,
     for a, b in runs:
         if a == 0 or b == y.size - 1:
             continue
-        events.append(_event(t, y, smooth, a, b, preload, noise, s_noise, period))
+        events.append(_event(t, y, smooth, a, b, preload, noise, s_noise, period,
+                             resolution))
     return [e for e in events if e is not None]
 
 
-def _event(t, y, smooth, a, b, preload, noise, s_noise, period) -> ValveEvent | None:
+def _event(t, y, smooth, a, b, preload, noise, s_noise, period,
+           resolution: float = 0.0) -> ValveEvent | None:
     """One event over the loaded samples a…b."""
     seg = slice(a, b + 1)
     above = np.flatnonzero(y[seg] > preload) + a
@@ -274,7 +288,7 @@ def _event(t, y, smooth, a, b, preload, noise, s_noise, period) -> ValveEvent | 
     slope_down = abs(y[down + 1] - y[down]) / dt
     inside = slice(up + 1, down + 1)
     t_max, P_max = _vertex(t, smooth, int(np.argmax(smooth[seg])) + a)
-    unloaded = smooth[inside] < LOSS_LEVEL * s_noise
+    unloaded = smooth[inside] < max(LOSS_LEVEL * s_noise, resolution)
     loss = float(np.count_nonzero(unloaded) * dt)
     if unloaded.any():
         gone = np.flatnonzero(unloaded) + up + 1

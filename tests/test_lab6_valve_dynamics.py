@@ -239,3 +239,20 @@ def test_the_trace_zero_and_events_of_a_plain_hump():
     assert e.closing == pytest.approx(0.07 + 5 * T / 6, abs=1 / rate)
     assert e.P_max == pytest.approx(30.0, abs=3 * e.u_P)
     assert e.loss == 0
+
+
+# ----------------------------------------------------------------------------- photographs
+
+def test_photographed_oscillograms_hold_their_truth(tmp_path):
+    """Phone photographs of the paper (the drive's 450 Hz ringing spans 25–90 px a period):
+    the traces at rest between events are not taken for straight lines, the crests are
+    read off the stroke's outer edge, and every result holds its truth within its 95 %
+    interval, widened by what a stroke's width hides (the extremes, the events' times)."""
+    written, truth = synthetic(tmp_path, image=True)
+    assert written["r1"].suffix == ".jpg"
+    result = reduce(written["toml"])
+    held = [name for name in truth if name in result
+            and abs(result[name].value - truth[name]) <= result[name].estimate.U + 1e-9]
+    assert len(held) == len(truth), sorted(set(truth) - set(held))
+    assert "contact_lost" in codes(result)
+    assert [f.name for f in result.figures][4:] == [f"paper_record_{i}" for i in (1, 2, 3)]
