@@ -11,13 +11,17 @@ values with their units, optionally the student's own ± u::
 Each reported value is judged against the reduction of the same file; a wrong one is tried
 against the generic slips (:data:`processing.grading.FACTOR_SLIPS`) and the lab's own
 (``SLIPS`` of the lab module: inputs changed as the slip changes them, reduced again).
+
+A lab with tables to check (:data:`TABLE_CHECKS`: the coursework) also takes
+``[reported.tables]``, a CSV file per table, judged row by row by the lab's checker.
 """
 from __future__ import annotations
 
 import difflib
+import importlib
 import math
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from processing.diagnostics import InputError
@@ -28,6 +32,10 @@ from .registry import evaluate, lab_module
 
 CHECK_SAMPLES = 2000
 """Monte Carlo draws of a checking reduction (the verdicts use the linear u)."""
+
+TABLE_CHECKS = {"dyncalc": "labs.dyncalc_check"}
+"""Labs whose tables a submission may report, and the module that checks them (its
+``check_tables(path, entries, inputs, policy, confine=)`` returns verdicts with ``to_dict()``)."""
 
 
 @dataclass(frozen=True)
@@ -40,10 +48,15 @@ class Check:
     verdicts: list[Verdict]
     readings: tuple[float, ...]
     """Every number the file's measurements hold, in order (for telling copied readings)."""
+    tables: list = field(default_factory=list)
+    """The reported tables judged (:class:`labs.dyncalc_check.TableVerdict`)."""
 
     def to_dict(self) -> dict:
-        return {"file": self.file, "lab": self.lab, "student": self.student,
-                "verdicts": [_verdict_dict(v) for v in self.verdicts]}
+        out = {"file": self.file, "lab": self.lab, "student": self.student,
+               "verdicts": [_verdict_dict(v) for v in self.verdicts]}
+        if self.tables:
+            out["tables"] = [t.to_dict() for t in self.tables]
+        return out
 
 
 def _verdict_dict(v: Verdict) -> dict:
@@ -204,15 +217,16 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
     ------
     InputError
         Bad measurements (as ``dynlab run``), no ``[reported]`` table, an unknown name, a
-        value without the unit its result needs.
+        value without the unit its result needs, a bad reported table.
     """
     from processing.measurement import load, read_toml
 
     options = {"n_samples": CHECK_SAMPLES, **options}
     data = read_toml(path)
     table = data.pop("reported", None)
+    tables = table.pop("tables", None) if isinstance(table, dict) else None
     result = evaluate(path, data=data, confine=confine, **options)
-    reported = _reported(str(path), table, result.results)
+    reported = _reported(str(path), table, result.results) if table or tables is None else {}
     rules = read_policy(policy, result.lab)
     if key:
         rules = Policy(rules.rel_tol, rules.sig_figs, tuple(dict.fromkeys(
@@ -231,8 +245,18 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
         inputs = load(path, module.SPEC, data, confine=confine)
         slips = list(FACTOR_SLIPS) + _lab_slips(module, inputs, options)
         verdicts = [judged(v.name, slips) if v.verdict == "wrong" else v for v in verdicts]
+    judged_tables = []
+    if tables is not None:
+        if result.lab not in TABLE_CHECKS:
+            raise InputError(f"{result.lab} has no tables to check", "report its values in "
+                             "[reported] and delete [reported.tables]", file=str(path),
+                             field="reported.tables")
+        checker = importlib.import_module(TABLE_CHECKS[result.lab])
+        judged_tables = checker.check_tables(path, tables, load(path, module.SPEC, data,
+                                                                confine=confine),
+                                             rules, confine=confine)
     return Check(str(path), result.lab, result.meta.get("student", Path(path).stem), verdicts,
-                 _readings(data))
+                 _readings(data), judged_tables)
 
 
 def _readings(data: dict) -> tuple[float, ...]:

@@ -1,14 +1,20 @@
 """Benchmark of ``dynlab check`` (topic ``check`` of ``python -m processing.bench``): a class
 of seeded variants with slips injected at known places, checked in one run.
 
-For each lab with a scene and slips (labs 1, 2 and 9) and each seed, the variant is written
-(:func:`write_synthetic`) and reduced; its submission reports every result of the answer key,
+For each lab with a scene and slips (labs 1, 2 and 9, and the coursework) and each seed, the
+variant is written (:func:`write_synthetic`; the coursework's odd seeds vary the marine diesel
+instead of the car) and reduced; its submission reports every result of the answer key,
 each either right — our value written to 3–6 significant figures at random — or through one
 slip drawn from those that apply to it (the generic factors of
 :data:`processing.grading.FACTOR_SLIPS` by the result's unit, the lab's own ``SLIPS`` for the
 results they change) and that move it by more than 5 % and out of what agrees with ours (a
-"slip" within a residual's own uncertainty is no mistake to find). The class is then checked file by file
-as ``dynlab check DIR`` does, timed.
+"slip" within a residual's own uncertainty is no mistake to find), and that no other candidate
+slip imitates (two slips giving the same value cannot be told apart by anyone). The
+coursework's submissions also report its tables (:func:`_tables`): one cylinder's forces, the
+summed tangential force and the compression polytrope, each right or through one table slip
+(:data:`labs.dyncalc_check.TABLE_SLIPS`), at a random step, precision, separator and choice of
+exact or two-harmonic kinematics. The class is then checked file by file as ``dynlab check
+DIR`` does, timed.
 
 Targets: every injected slip found and named (recall 100 %), no right value called anything
 but right, rounded or over-precise (0 false alarms), and the class of 200 submissions checked
@@ -32,9 +38,16 @@ from processing.measurement import load, read_toml
 from .check import _lab_slips, check
 from .registry import LABS, evaluate
 
-LABS_CHECKED = ("lab1", "lab2", "lab9")
-FULL_SEEDS, QUICK_SEEDS = 67, 7
-"""Seeds per lab: 3 × 67 = 201 submissions (21 in the quick plan)."""
+LABS_CHECKED = ("lab1", "lab2", "lab9", "dyncalc")
+FULL_SEEDS, QUICK_SEEDS = 50, 6
+"""Seeds per lab: 4 × 50 = 200 submissions (24 in the quick plan)."""
+DIESEL_VARIED = {"engine": ("n",), "cycle": ("p_a", "p_z", "eps", "n1", "n2"),
+                 "geometry": ("D", "S", "lambda"), "masses": ("m_j",),
+                 "flywheel": ("delta", "D_rim")}
+"""What a marine-diesel variant of the coursework changes (its m_j is a mass, not per area)."""
+TABLE_SHIFT = 0.05
+"""A table slip is injected only where it moves some column by more than this share of the
+column's largest value, and where no other slip gives the same table."""
 CLASS_SECONDS = 60.0
 """A class of 200 submissions checked within this. [s]"""
 CLASS_SIZE = 200
@@ -46,10 +59,25 @@ def _text(value: float, unit: str, figures: int) -> str:
     return f"{value:.{figures}g} {unit}".strip() if unit else f"{value:.{figures}g}"
 
 
+def _written(lab_id: str, seed: int, folder: Path) -> dict:
+    if lab_id == "dyncalc" and seed % 2:
+        from .variants import design_variant
+
+        return design_variant("dyncalc", "marine_diesel.toml", folder, seed, DIESEL_VARIED)
+    return LABS[lab_id].write_synthetic(folder, seed)
+
+
+def _unique(candidates: list[tuple[str, float]], name: str, r) -> list[tuple[str, float]]:
+    """The candidates no other slip imitates (its value agrees with none of theirs)."""
+    return [(n, v) for n, v in candidates
+            if not any(m != n and agrees(Reported(name, v, digits=4), w, r.u, Policy())[0]
+                       for m, w in candidates)]
+
+
 def _submission(lab_id: str, seed: int, folder: Path, rng) -> list[dict]:
     """Write one variant and its submission; the truth of every reported value."""
     module = LABS[lab_id]
-    written = module.write_synthetic(folder, seed)
+    written = _written(lab_id, seed, folder)
     ours = evaluate(written["toml"], n_samples=500).results
     data = read_toml(written["toml"])
     inputs = load(written["toml"], module.SPEC, data)
@@ -60,9 +88,10 @@ def _submission(lab_id: str, seed: int, folder: Path, rng) -> list[dict]:
         r = ours[name]
         candidates = [(s.name, s.candidate(name, r.value, r.unit))
                       for s in list(FACTOR_SLIPS) + lab_slips]
-        candidates = [(n, v) for n, v in candidates
-                      if v is not None and abs(v / r.value - 1) > SLIP_SHIFT
-                      and not agrees(Reported(name, v, digits=4), r.value, r.u, Policy())[0]]
+        candidates = _unique([(n, v) for n, v in candidates
+                              if v is not None and abs(v / r.value - 1) > SLIP_SHIFT
+                              and not agrees(Reported(name, v, digits=4), r.value, r.u,
+                                             Policy())[0]], name, r)
         if candidates and rng.random() < 0.5:
             slip, value = candidates[rng.integers(len(candidates))]
             figures = 4
@@ -70,11 +99,107 @@ def _submission(lab_id: str, seed: int, folder: Path, rng) -> list[dict]:
             slip, value, figures = None, r.value, int(rng.integers(3, 7))
         lines.append(f'{name} = "{_text(value, r.unit, figures)}"')
         injected.append({"lab": lab_id, "seed": seed, "name": name, "injected": slip})
+    if lab_id == "dyncalc":
+        tables = _tables(inputs, folder, rng)
+        lines.append("[reported.tables]")
+        for kind, (file, slip) in tables.items():
+            lines.append(f'{kind} = "{file.name}"')
+            injected.append({"lab": lab_id, "seed": seed, "name": f"table:{kind}",
+                             "injected": slip})
     with written["toml"].open("a", encoding="utf-8") as f:
         f.write("\n[reported]\n" + "\n".join(lines) + "\n")
     for row in injected:
         row["file"] = str(written["toml"])
     return injected
+
+
+def _tables(inputs, folder: Path, rng) -> dict[str, tuple[Path, str | None]]:
+    """The coursework's tables as a student's spreadsheet exports them, each right or through
+    one table slip that shows and that no other slip imitates: file and slip per table."""
+    from dataclasses import replace
+
+    from . import dyncalc_check as ck
+
+    base = ck.Scene(ck.arguments(inputs))
+    base = replace(base, kinematics=str(rng.choice(["exact", "approx"])),
+                   factor_kinematics=str(rng.choice(["exact", "approx"])))
+    out = {}
+    for kind in ("forces", "summed", "compression"):
+        step = float(rng.choice([10.0, 15.0, 30.0]))
+        x, first = _rows(kind, base.args, step)
+        ours = _model(kind, base, x)
+        slipped = {}
+        for slip in ck.TABLE_SLIPS:
+            scene = slip.scene(base, inputs)
+            if scene is None:
+                continue
+            try:
+                values = _model(kind, scene, x)
+            except (ValueError, ZeroDivisionError):
+                continue
+            if _shift(values, ours) > TABLE_SHIFT:
+                slipped[slip.name] = values
+        names = [n for n in slipped if all(_shift(slipped[n], slipped[m]) > TABLE_SHIFT
+                                           for m in slipped if m != n)]
+        slip = str(rng.choice(names)) if names and rng.random() < 0.5 else None
+        values = slipped[slip] if slip else ours
+        decimals, sep = int(rng.integers(3, 5)), str(rng.choice([",", ";"]))
+        out[kind] = (_write_table(folder / f"{kind}.csv", first, x, values, decimals, sep), slip)
+    return out
+
+
+def _rows(kind: str, args: dict, step: float):
+    """The student's abscissa (SI) and its header: α every ``step``° over the cycle (or one
+    firing interval), or V_a/V_x = 1 … ε."""
+    if kind == "compression":
+        top = args["compression_ratio"]
+        ratio = np.arange(1.0, math.floor(top) + 1)
+        return (ratio if top - ratio[-1] < 1e-9 else np.append(ratio, top)), "V_a/V_x"
+    span = 720.0 if kind == "forces" else 720.0 / args["cylinders"]
+    return np.radians(np.arange(0.0, span + step / 2, step)), "α, °"
+
+
+def _model(kind: str, scene, x) -> dict[str, np.ndarray]:
+    from . import dyncalc_check as ck
+
+    if kind == "forces":
+        return ck.cylinder(scene, x)
+    if kind == "summed":
+        return ck.summed(scene, x)
+    return ck.polytrope(scene, "compression", x)
+
+
+def _shift(a: dict, b: dict) -> float:
+    """The largest change of a column, as a share of the column's largest value."""
+    return max(float(np.max(np.abs(a[k] - b[k])) / max(np.max(np.abs(b[k])), 1e-300))
+               for k in b)
+
+
+HEADERS = {"beta": ("β, °", 180 / math.pi), "p_g": ("p_g, MPa", 1e-6),
+           "dp_g": ("Δp_g, MPa", 1e-6), "p_j": ("p_j, MPa", 1e-6), "p": ("p, MPa", 1e-6),
+           "P": ("P, kN", 1e-3), "tan_beta": ("tg β", 1.0), "inv_cos_beta": ("1/cos β", 1.0),
+           "cos_ab": ("cos(α+β)/cos β", 1.0), "sin_ab": ("sin(α+β)/cos β", 1.0),
+           "N": ("N, kN", 1e-3), "S": ("S, kN", 1e-3), "K": ("K, kN", 1e-3),
+           "T": ("T, kN", 1e-3), "M": ("M, N*m", 1.0), "sum": ("ΣT, kN", 1e-3),
+           "V_x": ("V_x, L", 1e3), "p_x": ("p_x, MPa", 1e-6)}
+"""The coursework's headers of the bench's tables, and the factor from SI to their units."""
+
+
+def _write_table(path: Path, first: str, x, values: dict, decimals: int, sep: str) -> Path:
+    columns = [k for k in values if k in HEADERS or k[1:].isdigit()]
+    heads = [first] + [HEADERS[k][0] if k in HEADERS else f"{k}, kN" for k in columns]
+    shown = np.degrees(x) if first.startswith("α") else x
+
+    def cell(v: float) -> str:
+        text = f"{v:.{decimals}f}"
+        return text.replace(".", ",") if sep == ";" else text
+
+    lines = [sep.join(f'"{h}"' if sep in h else h for h in heads)]
+    for r in range(len(x)):
+        lines.append(sep.join([cell(shown[r])] + [cell(values[k][r] * (
+            HEADERS[k][1] if k in HEADERS else 1e-3)) for k in columns]))
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return path
 
 
 def run(out, *, quick: bool = False,
@@ -92,7 +217,11 @@ def run(out, *, quick: bool = False,
                 rows += _submission(lab_id, seed, Path(tmp) / lab_id / str(seed), rng)
         files = sorted({r["file"] for r in rows})
         start = time.perf_counter()
-        checks = {f: {v.name: v for v in check(f).verdicts} for f in files}
+        checks = {}
+        for f in files:
+            judged = check(f)
+            checks[f] = {v.name: v for v in judged.verdicts}
+            checks[f].update({f"table:{t.name}": t for t in judged.tables})
         seconds = time.perf_counter() - start
     for row in rows:
         v = checks[row["file"]][row["name"]]

@@ -1,6 +1,6 @@
 """What ``dynlab check`` prints and writes: a submission's verdicts on the terminal, a class's
-summary as CSV and as a sortable HTML table (a row per submission, a column per value,
-verdict colours), the pairs of submissions with the same readings."""
+summary as CSV and as a sortable HTML table (a row per submission, a column per value and per
+reported table, verdict colours), the pairs of submissions with the same readings."""
 from __future__ import annotations
 
 import csv
@@ -29,6 +29,25 @@ def _num(x) -> str:
     return "—" if x is None or not math.isfinite(x) else f"{x:.6g}"
 
 
+def table_detail(t, lang: str = "en") -> str:
+    """A reported table's verdict in words: cells wrong, the first wrong row and column, the
+    likely cause."""
+    if t.verdict == "right":
+        return (f"all {t.cells} cells right" if lang == "en" else
+                f"все {t.cells} ячеек верны")
+    at = f"{t.first_at:g}" + ("°" if t.first_column is not None and t.name in
+                              ("forces", "crank", "summed") else "")
+    if lang == "en":
+        return (f"{t.wrong} of {t.cells} cells wrong, first at row {t.first_row} ({at}), column "
+                f"{t.first_column}; {t.cause(lang)}")
+    return (f"неверно {t.wrong} из {t.cells} ячеек, первая — строка {t.first_row} ({at}), "
+            f"столбец {t.first_column}; {t.cause(lang)}")
+
+
+def _table_name(t) -> str:
+    return f"table:{t.name}"
+
+
 def terminal(check: Check, lang: str = "en") -> str:
     """The verdicts of one submission, a line each, with the slip that explains a wrong
     value."""
@@ -42,6 +61,9 @@ def terminal(check: Check, lang: str = "en") -> str:
         if v.slip is not None:
             line += f"\n  {'':{width}}  → {v.slip.text[lang]}"
         lines.append(line)
+    for t in check.tables:
+        lines.append(f"  {_table_name(t)} ({t.file}): {verdict_word(t.verdict, lang)} — "
+                     f"{table_detail(t, lang)}")
     return "\n".join(lines)
 
 
@@ -49,22 +71,28 @@ def _columns(checks: list[Check]) -> list[str]:
     names = []
     for c in checks:
         names += [v.name for v in c.verdicts if v.name not in names]
+        names += [_table_name(t) for t in c.tables if _table_name(t) not in names]
     return names
 
 
 def summary_csv(checks: list[Check], refused: dict[str, str]) -> str:
     """One row per submission and value: file, student, lab, name, verdict, reported, ours,
-    U, z, slip (refused submissions: one row with the message)."""
+    U, z, slip, and per reported table (name ``table:…``): its verdict, the slips of its roots
+    and the detail in words (refused submissions: one row with the message)."""
     buf = io.StringIO()
     w = csv.writer(buf)
     w.writerow(["file", "student", "lab", "name", "verdict", "reported", "value", "U", "z",
-                "slip"])
+                "slip", "detail"])
     for c in checks:
         for v in c.verdicts:
             w.writerow([c.file, c.student, c.lab, v.name, v.verdict,
                         "" if v.reported is None else repr(v.reported.value),
                         repr(v.value), repr(2 * v.u), "" if not math.isfinite(v.z) else
-                        f"{v.z:.3g}", "" if v.slip is None else v.slip.name])
+                        f"{v.z:.3g}", "" if v.slip is None else v.slip.name, ""])
+        for t in c.tables:
+            slips = "+".join(dict.fromkeys(r.slip.name for r in t.roots if r.slip))
+            w.writerow([c.file, c.student, c.lab, _table_name(t), t.verdict, "", "", "", "",
+                        slips, table_detail(t)])
     for file, message in refused.items():
         w.writerow([file, "", "", "", "refused", "", "", "", "", message])
     return buf.getvalue()
@@ -78,6 +106,7 @@ def summary_html(checks: list[Check], refused: dict[str, str], pairs, lang: str 
     rows = []
     for c in checks:
         by = {v.name: v for v in c.verdicts}
+        by.update({_table_name(t): t for t in c.tables})
         right = sum(v.verdict in ("right", "rounded", "over-precise") for v in c.verdicts)
         cells = [html.escape(c.file), html.escape(c.student), c.lab,
                  f"{right}/{len(c.verdicts)}"]
@@ -87,7 +116,8 @@ def summary_html(checks: list[Check], refused: dict[str, str], pairs, lang: str 
             if v is None:
                 tds += "<td></td>"
                 continue
-            tip = html.escape(v.slip.text[lang] if v.slip else "")
+            tip = html.escape(table_detail(v, lang) if n.startswith("table:") else
+                              v.slip.text[lang] if v.slip else "")
             tds += (f"<td style='background:{COLOURS[v.verdict]}' title='{tip}'>"
                     f"{verdict_word(v.verdict, lang)}</td>")
         rows.append(f"<tr>{tds}</tr>")

@@ -337,7 +337,7 @@ def dynamic_calculation(*, p_a, p_z, compression_ratio, n1, n2, crank_radius, la
                         pre_expansion_ratio=1.0, strokes=4, firing_order=None,
                         mean_indicated_pressure=None, diagram_fullness=1.0, crank_inertia=None,
                         crank_inertia_share=None, flywheel_inertia=None, rim_speed_limit=70.0,
-                        step_deg=STEP_DEG) -> DynamicCalculation:
+                        firing_interval=None, step_deg=STEP_DEG) -> DynamicCalculation:
     """The dynamic calculation of a multi-cylinder in-line engine, from the thermal
     calculation to the flywheel.
 
@@ -393,6 +393,10 @@ def dynamic_calculation(*, p_a, p_z, compression_ratio, n1, n2, crank_radius, la
         [kg·m²]
     rim_speed_limit : float, default 70
         Allowed rim speed (cast iron). [m/s]
+    firing_interval : float, optional
+        θ between cylinders firing one after another; default cycle/i (even firing). A
+        student's sum at the wrong interval (360°/i in a four-stroke) is this set wrong
+        (:data:`SLIPS`). [rad]
     step_deg : float
         Crank-angle step of the curves. [deg]
 
@@ -463,6 +467,8 @@ def dynamic_calculation(*, p_a, p_z, compression_ratio, n1, n2, crank_radius, la
     driving = dyn.gas_force(gas, 1.0, p_0) + inertia
     forces = dyn.crank_train_forces(alpha, driving, crank_radius, lambda_)
     phases = dyn.firing_phases(cylinders, strokes=strokes, firing_order=firing_order)
+    if firing_interval is not None:
+        phases = phases * firing_interval / (cycle / cylinders)
     t_sum = dyn.sum_cylinders(alpha, forces.tangential, phases, strokes=strokes)
     torque = t_sum * piston_area * crank_radius
     given = mean_indicated_pressure is not None
@@ -647,6 +653,16 @@ SPEC = LabSpec(
             Field("v_rim_max", bi("allowed rim speed", "допустимая окружная скорость обода"),
                   unit="m/s", symbol="[v]", default="70 m/s"),
         )),
+        Section("drawing", bi("Scales of the drawing", "Масштабы чертежа"),
+                help=bi("Optional: with them the report adds the forces' ordinates in mm, as "
+                        "drawn.", "Необязательно: с ними в отчёт добавляются ординаты сил в мм, "
+                        "как на чертеже."), fields=(
+            Field("mu_p", bi("pressure (force per piston area) scale",
+                             "масштаб давлений (удельных сил)"), unit="MPa/mm", symbol="μ_p",
+                  example=0.05),
+            Field("mu_alpha", bi("crank-angle scale", "масштаб угла поворота кривошипа"),
+                  unit="deg/mm", symbol="μ_α", required=False, example=3),
+        )),
     ),
 )
 
@@ -786,6 +802,72 @@ REFERENCES = [
 ]
 
 
+# ------------------------------------------------------------------------ slips
+
+TORQUE_RESULTS = ("M_max", "M_min", "mu_torque", "A_excess", "A_lobe", "alpha_lobe_start",
+                  "alpha_lobe_end", "I_total", "I_crank", "I_flywheel", "m_flywheel",
+                  "mD2_flywheel")
+"""Results that follow the engine's summed torque curve."""
+
+FORCE_RESULTS = ("P_max", "S_max", "N_max", "T_max", *TORQUE_RESULTS)
+"""Results that follow one cylinder's driving force."""
+
+
+def _firing_interval_slipped(inputs: Inputs) -> Inputs | None:
+    """The cylinders summed 360°/i apart in a four-stroke (720°/i in a two-stroke)."""
+    eng = inputs["engine"]
+    if eng["i"] < 2:
+        return None
+    wrong = (360.0 if eng["strokes"] == 4 else 720.0) / eng["i"]
+    return inputs.changed("engine", theta=math.radians(wrong))
+
+
+def _p0_kept(inputs: Inputs) -> Inputs:
+    """The absolute gas pressure taken for the gas force: p = p_g + p_j."""
+    return inputs.changed("cycle", p_0=Measured(0.0))
+
+
+def _mass_not_per_area(inputs: Inputs) -> Inputs | None:
+    """m_j [kg] taken for m_j/F_p [kg/m²] (not divided by the piston area)."""
+    masses = inputs["masses"]
+    if "m_j" not in masses:
+        return None
+    return inputs.changed("masses", m_j=None, m_j_spec=masses["m_j"])
+
+
+def _bore_as_radius(inputs: Inputs) -> Inputs | None:
+    """F_p = πD² (the bore taken for a radius in πr²): as a bore twice as large."""
+    geometry = inputs["geometry"]
+    if "D" not in geometry:
+        return None
+    return inputs.changed("geometry", D=Measured(2 * geometry["D"].value))
+
+
+SLIPS = [
+    ("firing_interval",
+     bi("the cylinders summed at the wrong firing interval (360°/i for a four-stroke's 720°/i, "
+        "or the reverse)",
+        "цилиндры просуммированы с неверным интервалом (360°/i вместо 720°/i для "
+        "четырёхтактного или наоборот)"), TORQUE_RESULTS, _firing_interval_slipped),
+    ("p0_not_subtracted",
+     bi("p₀ not subtracted: the absolute gas pressure p_g used for the gas force",
+        "не вычтено p₀: в силу давления газов взято абсолютное давление p_г"),
+     FORCE_RESULTS, _p0_kept),
+    ("mass_not_per_area",
+     bi("the reciprocating mass m_j not divided by the piston area F_p",
+        "масса m_j не отнесена к площади поршня F_п"),
+     ("AC", "BD", "EF", *FORCE_RESULTS), _mass_not_per_area),
+    ("bore_as_radius",
+     bi("the piston area from the bore taken as a radius (F_p = πD², four times too large)",
+        "площадь поршня по диаметру как по радиусу (F_п = πD², вчетверо больше)"),
+     ("F_p", "V_s", "V_c", "M_mean", "N_i", "AC", "BD", "EF", *FORCE_RESULTS),
+     _bore_as_radius),
+]
+"""The coursework's classic slips (:mod:`labs.check`): name, text, the results they change,
+and the inputs as the slip leaves them (None where the file gives no room for it). The firing
+interval is set through ``engine.theta``, a key no file holds: only a slip sets it."""
+
+
 # ------------------------------------------------------------------------ reduction
 
 def _firing_order(text: str | None, cylinders: int, inputs: Inputs | None = None):
@@ -822,7 +904,7 @@ def _arguments(x: dict, inputs: Inputs) -> dict:
         reciprocating_mass_per_area=m_spec, target_irregularity=x["flywheel.delta"],
         crank_inertia=x.get("flywheel.I_crank"), crank_inertia_share=x.get("flywheel.k_crank"),
         flywheel_inertia=x.get("flywheel.I_flywheel"), rim_diameter=x["flywheel.D_rim"],
-        rim_speed_limit=x["flywheel.v_rim_max"])
+        rim_speed_limit=x["flywheel.v_rim_max"], firing_interval=x.get("engine.theta"))
 
 
 def _model(inputs: Inputs):
@@ -946,7 +1028,8 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
         ``N_i``, ``mu_torque``, ``A_excess``, ``I_total``, ``I_crank``, ``I_flywheel``
         (``I_flywheel_chosen`` if the file chose one), ``m_flywheel``, ``v_rim``,
         ``delta_shortcut``, ``delta_integrated``; the polytrope, force and summed-force
-        tables; the figures; warnings ``t_mean_discrepancy``, ``rim_speed``,
+        tables (with a ``[drawing]`` scale μ_p also the forces' and ΣT's ordinates in mm);
+        the figures; warnings ``t_mean_discrepancy``, ``rim_speed``,
         ``inconsistent_input``, ``flywheel_not_needed``.
     """
     flat = inputs.flat()
@@ -962,7 +1045,8 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
         results = result_values(prop, RESULTS)
         if uncertain:
             flag_estimates(results, [])
-    tables = [_polytrope_table(calc), *_force_tables(calc), _summed_table(calc)]
+    tables = [_polytrope_table(calc), *_force_tables(calc), _summed_table(calc),
+              *_drawing_tables(calc, inputs.sections.get("drawing"))]
     figures = _figures(calc)
     conclusion = _conclusion(calc)
     if uncertain:
@@ -1094,6 +1178,43 @@ def _summed_table(calc: DynamicCalculation) -> Table:
                     f"(α₁ — угол поворота кривошипа цилиндра 1; цилиндр c отстаёт от него на φ; "
                     f"картина повторяется через θ)"),
                  tuple(cols), _rows(cells))
+
+
+def _drawing_tables(calc: DynamicCalculation, scales: dict | None) -> list[Table]:
+    """The specific forces and ΣT/F_p as ordinates of the drawing [mm] at its scale μ_p (and
+    α as an abscissa at μ_α); none without a ``[drawing]`` section."""
+    if not scales:
+        return []
+    mu_p, mu_alpha = scales["mu_p"].value, scales.get("mu_alpha")
+    df, summed = calc.force_table(), calc.summed_table()
+
+    def axis(alpha_deg):
+        cols = {"a": [f"{a:.0f}" for a in alpha_deg]}
+        if mu_alpha is not None:
+            cols["x"] = _column(1e3 * np.radians(alpha_deg) / mu_alpha.value, decimals=1)
+        return cols
+
+    def mm(specific):
+        return _column(1e3 * np.asarray(specific) / mu_p, decimals=1)
+
+    head = [("a", bi("α, °", "α, °"))] + ([("x", bi("x_α, mm", "x_α, мм"))]
+                                         if mu_alpha is not None else [])
+    scale = f"μ_p = {mu_p / 1e9:g} MPa/mm" + (f", μ_α = {math.degrees(mu_alpha.value) / 1e3:g}"
+                                             f" °/mm" if mu_alpha is not None else "")
+    scale_ru = scale.replace("MPa/mm", "МПа/мм").replace("°/mm", "°/мм")
+    F = calc.piston_area
+    forces = Table(
+        bi(f"One cylinder's forces per piston area as drawn, mm ({scale})",
+           f"Удельные силы одного цилиндра на чертеже, мм ({scale_ru})"),
+        tuple(head) + tuple((k, bi(f"{k}, mm", f"{k}, мм")) for k in ("p", "N", "S", "K", "T")),
+        _rows({**axis(df.alpha_deg), "p": mm(df.p),
+               **{k: mm(df[k] / F) for k in ("N", "S", "K", "T")}}))
+    total = Table(
+        bi(f"Summed tangential force per piston area as drawn, mm ({scale})",
+           f"Суммарная удельная тангенциальная сила на чертеже, мм ({scale_ru})"),
+        tuple(head) + (("sum", bi("ΣT/F_p, mm", "ΣT/F_п, мм")),),
+        _rows({**axis(summed.alpha_deg), "sum": mm(summed.T_sum / F)}))
+    return [forces, total]
 
 
 def _number(x: float) -> str:

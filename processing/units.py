@@ -228,7 +228,7 @@ def _to_si(s: str, expected_unit: str, whole: str) -> float:
     return float(q.to_base_units().magnitude)
 
 
-_RU_UNITS = {"kg": "кг", "mm": "мм", "m": "м", "s": "с", "g": "г", "deg": "°", "GPa": "ГПа",
+RU_UNITS = {"kg": "кг", "mm": "мм", "m": "м", "s": "с", "g": "г", "deg": "°", "GPa": "ГПа",
              "rad": "рад", "N": "Н", "Pa": "Па", "J": "Дж", "MPa": "МПа", "kN": "кН", "L": "л",
              "cm": "см", "kW": "кВт", "MW": "МВт", "Hz": "Гц", "min": "мин", "rpm": "мин⁻¹",
              "W": "Вт"}
@@ -241,5 +241,5 @@ def unit_text(unit: str, lang: str = "en") -> str:
     'кг·м²'
     """
     if lang == "ru":
-        unit = re.sub(r"[A-Za-z]+", lambda m: _RU_UNITS.get(m.group(0), m.group(0)), unit)
+        unit = re.sub(r"[A-Za-z]+", lambda m: RU_UNITS.get(m.group(0), m.group(0)), unit)
     return unit.replace("*", "·").replace("^2", "²").replace("^3", "³").replace("^-1", "⁻¹")

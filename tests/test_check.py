@@ -222,3 +222,92 @@ def test_a_class_of_variants_checked_against_its_keys(tmp_path, capsys):
     rows = list(csv.DictReader((out / "summary.csv").open(encoding="utf-8")))
     st01 = {r["name"]: r["verdict"] for r in rows if "/st01/" in r["file"]}
     assert st01["l_shp_weighing"] == "right" and st01["m_shk_swinging"] == "missing"
+
+
+# ----------------------------------------------------------------------------- the coursework
+
+CAR = ROOT / "sample_data" / "dyncalc" / "car_petrol.toml"
+DIESEL = ROOT / "sample_data" / "dyncalc" / "marine_diesel.toml"
+
+
+def _calculation(sample):
+    from processing.measurement import load, read_toml
+
+    from labs import dyncalc as dc
+    from labs.dyncalc_check import arguments
+
+    return dc.dynamic_calculation(**arguments(load(sample, dc.SPEC, read_toml(sample))))
+
+
+def _firing_interval_by_hand(sample) -> float:
+    """A student's excess work with the cylinders summed 360°/i apart in a four-stroke: one
+    cylinder's T curve (the calculation's own) shifted by k·360°/i, M = ΣT R, A = the swing of
+    ∫(M − M_mean) dα (trapezoids over the 0.5° grid)."""
+    import numpy as np
+
+    calc = _calculation(sample)
+    a, cycle = calc.crank_angle, 4 * math.pi
+    t1 = calc.forces.tangential * calc.piston_area
+    theta = 2 * math.pi / calc.cylinders
+    torque = sum(np.interp(a - k * theta, a, t1, period=cycle)
+                 for k in range(calc.cylinders)) * calc.crank_radius
+    closed = np.append(torque, torque[0]) - torque.mean()
+    step = a[1] - a[0]
+    energy = np.concatenate([[0.0], np.cumsum((closed[1:] + closed[:-1]) / 2 * step)])
+    return float(energy.max() - energy.min())
+
+
+@pytest.mark.parametrize("sample, name, value, slip", [
+    (CAR, "A_excess", lambda: f"{_firing_interval_by_hand(CAR):.4g} J", "firing_interval"),
+    (DIESEL, "A_excess", lambda: f"{_firing_interval_by_hand(DIESEL):.4g} J",
+     "firing_interval"),
+    # P_max with the absolute gas pressure: max |p_g + p_j| F_p
+    (CAR, "P_max", lambda: "{:.4g} kN".format(max(abs(
+        (c := _calculation(CAR)).gas_pressure + c.inertia_pressure)) * c.piston_area / 1e3),
+     "p0_not_subtracted"),
+    # AC = m_j R ω² (1 + λ) with m_j = 100 kg not divided by F_p
+    (DIESEL, "AC", lambda: f"{100 * 0.2 * (750 * math.pi / 30) ** 2 * 1.25 / 1e6:.4g} MPa",
+     "mass_not_per_area"),
+    # F_p = π D² with D = 320 mm
+    (DIESEL, "F_p", lambda: f"{math.pi * 32.0 ** 2:.4g} cm^2", "bore_as_radius"),
+], ids=["car-interval", "diesel-interval", "p0", "mass", "bore"])
+def test_coursework_slips_are_found(tmp_path, sample, name, value, slip):
+    found = verdicts(submission(tmp_path, sample, f'{name} = "{value()}"'))
+    assert found[name].verdict == "wrong" and found[name].slip is not None, found[name]
+    assert found[name].slip.name == slip
+
+
+def test_coursework_tables_through_the_command(tmp_path, capsys):
+    """A submission with a scalar and a table whose T has the opposite sign: the JSON carries
+    the table's verdict, the terminal names the root and the cause, a class's CSV and HTML
+    have a column for the table; a bad table is refused with exit 2."""
+    import numpy as np
+
+    calc = _calculation(CAR)
+    df = calc.force_table()
+    rows = ['"α, °","P, kN","T, kN"'] + [f"{a:.0f},{p / 1e3:.3f},{-t / 1e3:.3f}"
+                                         for a, p, t in zip(df.alpha_deg, df.P, df["T"])]
+    folder = tmp_path / "class" / "ann"
+    folder.mkdir(parents=True)
+    (folder / "forces.csv").write_text("\n".join(rows) + "\n", encoding="utf-8")
+    path = submission(folder, CAR, f'M_mean = "{calc.excess.mean_torque:.4g} N*m"\n'
+                                   '[reported.tables]\nforces = "forces.csv"')
+    assert main(["check", str(path), "--json"]) == 0
+    (table,) = json.loads(capsys.readouterr().out)["tables"]
+    assert table["verdict"] == "wrong" and table["slip"] == "T_sign"
+    assert table["first_column"] == "T" and table["first_row"] == 3
+    # wrong: |−T − T| beyond 1 % of T + the floor 0.1 × 1 % × max|T| + half the written 1 N
+    t, top = np.abs(df["T"].to_numpy()), np.abs(calc.forces.tangential).max() * calc.piston_area
+    assert table["wrong"] == int(np.sum(2 * t > 0.01 * t + 1e-3 * top + 0.5))
+    assert main(["check", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "table:forces" in out and "opposite sign" in out and "row 3" in out
+    assert main(["check", str(tmp_path / "class"), "--out", str(tmp_path / "summary")]) == 0
+    rows = list(csv.DictReader((tmp_path / "summary" / "summary.csv").open(encoding="utf-8")))
+    (row,) = [r for r in rows if r["name"] == "table:forces"]
+    assert row["verdict"] == "wrong" and row["slip"] == "T_sign" and "column T" in row["detail"]
+    assert "table:forces" in (tmp_path / "summary" / "summary.html").read_text(encoding="utf-8")
+    (folder / "forces.csv").write_text('"α, °","T, kN"\n0,0.0\n15,oops\n', encoding="utf-8")
+    assert main(["check", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "row 3" in err and "Fix:" in err

@@ -298,3 +298,46 @@ def test_largest_area_and_flywheel_moment_of_the_samples():
     assert 0 < res["A_lobe"].value <= res["A_excess"].value * (1 + 1e-12)
     assert 0 <= res["alpha_lobe_start"].value < res["alpha_lobe_end"].value
     assert res["mD2_flywheel"].value == pytest.approx(4 * res["I_flywheel"].value, rel=1e-12)
+
+
+def test_drawing_scale_adds_the_ordinates_in_mm(make_inputs):
+    # μ_p = 0.05 MPa/mm, μ_α = 3 °/mm. At α = 0 (TDC of intake) p = p_a − p_0 − (m_j/F_p)Rω²(1 + λ)
+    #   = 0 − 100·0.04·(100π)²·1.25 Pa = −0.49348 MPa → −9.87 mm (table: 1 decimal);
+    #   the abscissa of α = 45° is 45/3 = 15 mm.
+    plain = _reduce(make_inputs, _data())
+    drawn = _reduce(make_inputs, {**_data(), "drawing": {"mu_p": 0.05, "mu_alpha": 3}})
+    assert len(drawn.tables) == len(plain.tables) + 2
+    assert [t.rows for t in drawn.tables[:-2]] == [t.rows for t in plain.tables], \
+        "nothing else changes with a drawing scale"
+    forces, summed = drawn.tables[-2:]
+    assert _cells(forces, "p")[0] == pytest.approx(-9.87, abs=0.05)
+    assert _cells(forces, "x")[3] == pytest.approx(15.0)
+    # ΣT/F_p as drawn is ΣT [kN] of the summed table over F_p, over μ_p
+    area = np.pi * 0.08 ** 2 / 4
+    np.testing.assert_allclose(np.array(_cells(summed, "sum")),
+                               np.array(_cells(plain.tables[4], "sum")) * 1e3 / area / 5e7 * 1e3,
+                               atol=0.06, err_msg="mm = kN·1e3/F_p/μ_p, both tables rounded")
+
+
+def test_a_firing_interval_sums_the_cylinders_that_far_apart():
+    # θ = 90° in a four-cylinder four-stroke: ΣT(α) = Σ_k T₁(α − 90°k), on the 0.5° grid 180k
+    # samples back
+    calc = dc.dynamic_calculation(
+        p_a=0.1e6, p_z=5.4e6, compression_ratio=9.0, n1=1.5, n2=1.5, p_r=0.1e6,
+        crank_radius=0.04, lambda_=0.25, piston_area=5e-3, angular_speed=300.0, cylinders=4,
+        reciprocating_mass_per_area=100.0, target_irregularity=0.01, crank_inertia_share=0.1,
+        rim_diameter=0.25, firing_interval=np.radians(90.0))
+    t = calc.forces.tangential
+    np.testing.assert_allclose(calc.tangential_sum, sum(np.roll(t, 180 * k) for k in range(4)),
+                               rtol=1e-12, atol=1e-6)
+
+
+def test_the_coursework_slips_change_what_they_name(make_inputs):
+    """Each of SLIPS leaves the inputs as the slip does, and moves the results it lists."""
+    inputs, _ = make_inputs(dc.SPEC, _data(masses__m_j_spec=None, masses__m_j=0.5))
+    ours = dc.reduce(inputs, n_samples=10).results
+    for name, text, changes, change in dc.SLIPS:
+        slipped = dc.reduce(change(inputs), n_samples=10).results
+        moved = [k for k in changes if abs(slipped[k].value - ours[k].value)
+                 > 1e-6 * abs(ours[k].value)]
+        assert moved and set(text) == {"en", "ru"}, name
