@@ -8,6 +8,11 @@ a still, textured background at ``fps`` frames per second, each frame the mean o
 exposure's sub-frames (motion blur), with sensor noise, mains flicker (100 Hz, aliased by the
 frame rate), a slow change of lighting, a few frames where a hand hides the marker, and the
 codec's compression (OpenCV's MPEG-4 writer).
+
+A phone films at a variable frame rate: given its frames' own times (``frame_times``, or a
+random ``jitter`` of the intervals), the film is written as H.264 in MP4 with each frame's
+timestamp set (PyAV, the ``test`` extra: OpenCV's writer knows only a fixed rate), and
+OpenCV reads those timestamps back exactly.
 """
 from __future__ import annotations
 
@@ -53,6 +58,11 @@ class Film:
         Frames in which a hand hides the marker.
     marker : float
         Radius of the marker. [px]
+    jitter : float
+        Frame intervals drawn uniformly within (1 ± jitter)/fps: a variable frame rate.
+    frame_times : tuple of float, optional
+        Each frame's time instead of k/fps (``fps`` then sets only the exposure's length and
+        the film's nominal rate). [s]
     """
 
     period: float = 1.2
@@ -69,6 +79,13 @@ class Film:
     lighting: float = 0.1
     occluded: int = 5
     marker: float = 9.0
+    jitter: float = 0.0
+    frame_times: tuple[float, ...] | None = None
+
+    @property
+    def variable(self) -> bool:
+        """Whether the frames have their own times (a variable frame rate)."""
+        return self.frame_times is not None or self.jitter > 0
 
     def angle(self, t) -> np.ndarray:
         """θ(t). [rad]"""
@@ -102,18 +119,84 @@ def _draw_marker(canvas, x, y, r) -> None:
     cv2.circle(canvas, centre, int(r * 16), 25, -1, cv2.LINE_AA, 4)
 
 
+def frame_times(film: Film, rng: np.random.Generator) -> np.ndarray:
+    """The frames' times: ``film.frame_times``, or k/fps over the film's length, each
+    interval jittered by ``film.jitter``. [s]"""
+    if film.frame_times is not None:
+        return np.asarray(film.frame_times, dtype=float)
+    n = int(round(film.oscillations * film.period * film.fps))
+    steps = (1 + film.jitter * rng.uniform(-1, 1, n - 1)) / film.fps if film.jitter \
+        else np.ones(n - 1) / film.fps
+    return np.concatenate([[0.0], np.cumsum(steps)])
+
+
+TIMESCALE = 90_000
+"""Ticks per second of a variable-rate film's timestamps (as a phone's MP4)."""
+
+
+class _TimedWriter:
+    """H.264 in MP4 with each frame's own timestamp (PyAV)."""
+
+    def __init__(self, path, fps: float, size: tuple[int, int]):
+        try:
+            import av
+        except ImportError:
+            raise ImportError("a film of variable frame rate is written with PyAV: install "
+                              "the test extra, pip install 'dynlab[test]'") from None
+        from fractions import Fraction
+
+        self._av = av
+        self._box = av.open(str(path), "w")
+        self._stream = self._box.add_stream("libx264", rate=round(fps))
+        self._stream.width, self._stream.height = size
+        self._stream.pix_fmt = "yuv420p"
+        self._stream.time_base = Fraction(1, TIMESCALE)
+        self._stream.codec_context.time_base = Fraction(1, TIMESCALE)
+
+    def write(self, grey: np.ndarray, time: float) -> None:
+        frame = self._av.VideoFrame.from_ndarray(grey, format="gray").reformat(
+            format="yuv420p")
+        frame.pts = int(round(time * TIMESCALE))
+        frame.time_base = self._stream.time_base
+        self._box.mux(self._stream.encode(frame))
+
+    def release(self) -> None:
+        self._box.mux(self._stream.encode())
+        self._box.close()
+
+
+class _FixedWriter:
+    """OpenCV's MPEG-4 writer at a fixed rate."""
+
+    def __init__(self, path, fps: float, size: tuple[int, int]):
+        self._writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"mp4v"), fps, size,
+                                       False)
+
+    def write(self, grey: np.ndarray, time: float) -> None:
+        self._writer.write(grey)
+
+    def release(self) -> None:
+        self._writer.release()
+
+
 def render(film: Film, path, *, seed: int = 0, subframes: int = 5) -> Path:
-    """Film the swing into ``path`` (MP4, MPEG-4 part 2). Returns the path."""
+    """Film the swing into ``path`` (MP4: MPEG-4 part 2 at a fixed frame rate, H.264 with
+    each frame's timestamp at a variable one). Returns the path.
+
+    Raises
+    ------
+    ImportError
+        A variable frame rate without PyAV (the ``test`` extra).
+    """
     rng = np.random.default_rng([seed, 18])
     w, h = film.size
     background = _background(film.size, rng)
-    n = int(round(film.oscillations * film.period * film.fps))
+    times = frame_times(film, rng)
+    n = times.size
     hidden = set(rng.choice(np.arange(n // 4, n), size=min(film.occluded, n // 2),
                             replace=False).tolist()) if film.occluded else set()
-    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"mp4v"), film.fps, (w, h),
-                             False)
-    for k in range(n):
-        t0 = k / film.fps
+    writer = (_TimedWriter if film.variable else _FixedWriter)(path, film.fps, (w, h))
+    for k, t0 in enumerate(times):
         frame = np.zeros((h, w), np.float32)
         for s in range(subframes):
             t = t0 + film.exposure / film.fps * (s + 0.5) / subframes
@@ -128,6 +211,6 @@ def render(film: Film, path, *, seed: int = 0, subframes: int = 5) -> Path:
         light = (1 + film.flicker * math.sin(2 * math.pi * 100 * t0 + 0.7)) * (
             1 - film.lighting * k / max(n - 1, 1))
         frame = frame * light + film.noise * rng.standard_normal(frame.shape)
-        writer.write(np.clip(frame, 0, 255).astype(np.uint8))
+        writer.write(np.clip(frame, 0, 255).astype(np.uint8), float(t0))
     writer.release()
     return Path(path)
