@@ -240,10 +240,16 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
 
     verdicts = [judged(n, FACTOR_SLIPS) for n in names]
     module = lab_module(result.lab)
+    loaded = []
+
+    def inputs():                       # loaded once, and only when needed
+        if not loaded:
+            loaded.append(load(path, module.SPEC, data, confine=confine))
+        return loaded[0]
+
     if getattr(module, "SLIPS", ()) and any(v.verdict == "wrong" for v in verdicts):
         # the lab's own slips are reductions of slipped inputs: made only for a wrong value
-        inputs = load(path, module.SPEC, data, confine=confine)
-        slips = list(FACTOR_SLIPS) + _lab_slips(module, inputs, options)
+        slips = list(FACTOR_SLIPS) + _lab_slips(module, inputs(), options)
         verdicts = [judged(v.name, slips) if v.verdict == "wrong" else v for v in verdicts]
     judged_tables = []
     if tables is not None:
@@ -252,9 +258,7 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
                              "[reported] and delete [reported.tables]", file=str(path),
                              field="reported.tables")
         checker = importlib.import_module(TABLE_CHECKS[result.lab])
-        judged_tables = checker.check_tables(path, tables, load(path, module.SPEC, data,
-                                                                confine=confine),
-                                             rules, confine=confine)
+        judged_tables = checker.check_tables(path, tables, inputs(), rules, confine=confine)
     return Check(str(path), result.lab, result.meta.get("student", Path(path).stem), verdicts,
                  _readings(data), judged_tables)
 

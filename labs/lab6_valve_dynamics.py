@@ -222,8 +222,9 @@ class Recorded:
     revs: Revolutions
     """Its revolutions from the TDC marks."""
     traces: dict
-    channels: list
-    """The channels read off a photograph (for the overlay figure); none for recordings."""
+    channels: dict
+    """Each valve's channel read off a photograph (for the overlay figure and what its stroke
+    hides); none for recordings."""
 
 
 def _marks(x, rate: float) -> np.ndarray:
@@ -241,13 +242,13 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
     path, field = entry["signal"], f"{where}.signal"
     if is_image(path):
         options = image_options(inputs.sections.get("image"))
-        traces, channels = {}, []
+        traces, photos = {}, {}
         for valve, name in names.items():
-            ch = open_channel(path, channel=name, field=field, image=options)
+            ch = photos[valve] = open_channel(path, channel=name, field=field, image=options)
             traces[valve] = np.nan_to_num(ch.read() * _paper_mm(ch))
-            channels.append(ch)
-        tdc = channels[0].marks.get("tdc", np.array([]))
-        rate = channels[0].sample_rate
+        first = next(iter(photos.values()))
+        tdc = first.marks.get("tdc", np.array([]))
+        rate = first.sample_rate
     else:
         rate = entry["sample_rate"].value if "sample_rate" in entry else None
         wanted = [*names.values(), entry["tdc_channel"]]
@@ -265,9 +266,9 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
                              lambda problem, fix, key: InputError(
                                  problem, fix, file=marks.path, field=f"{where}.{key}"),
                              "2 ms")
-        channels = []
+        photos = {}
     size = next(iter(traces.values())).size
-    return np.arange(size) / rate, traces, tdc, channels
+    return np.arange(size) / rate, traces, tdc, photos
 
 
 def _paper_mm(channel) -> float:
@@ -278,7 +279,7 @@ def _paper_mm(channel) -> float:
 def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
     where = f"record[{i}]"
     names = {v: spec.get("channel", v) for v, spec in valves.items()}
-    time, raw, tdc, channels = _read(inputs, where, entry, names)
+    time, raw, tdc, photos = _read(inputs, where, entry, names)
     per_rev = inputs["engine"]["tdc_per_revolution"]
     if tdc.size < per_rev + 1:
         raise InputError(f"{tdc.size} TDC mark(s) on the record: its speed needs a whole "
@@ -299,7 +300,7 @@ def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
     for valve, x in raw.items():
         zero = trace_zero(x)
         preload = valves[valve]["P0"].value / valves[valve]["k"]
-        photo = channels[list(raw).index(valve)] if channels else None
+        photo = photos.get(valve)
         stroke = photo.stroke_value * _paper_mm(photo) if photo else 0.0
         events = valve_events(time, x - zero.level, preload, noise=zero.noise,
                               resolution=stroke / 2)
@@ -311,7 +312,7 @@ def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
         traces[valve] = Trace(valve, time, x - zero.level, zero.noise, events,
                               photo.stroke_time if photo else 0.0, stroke)
     return Recorded(i + 1, Path(entry["signal"]), entry["clearance"].value, speed, revs,
-                    traces, channels)
+                    traces, photos)
 
 
 def _check_speed(entry: dict, omega: float, where: str) -> None:
@@ -551,7 +552,7 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20036) -> LabR
         _warn(recorded, flat, results, seps)
         flag_estimates(results, [])
     parts = dict(recorded=recorded, valves=valves, results=results, seps=seps)
-    photos = read_figures([c for r in recorded for c in r.channels])
+    photos = read_figures([c for r in recorded for c in r.channels.values()])
     return LabResult.of(inputs, results, tables=report.tables(**parts),
                         figures=report.figures(**parts) + photos, formulas=report.FORMULAS,
                         references=report.REFERENCES, warnings=notices,

@@ -464,6 +464,9 @@ class DampedSineFit(Record):
         ρ, the residuals' lag-one autocorrelation.
     dof : int
         Samples less parameters.
+    normal : ndarray
+        (JᵀJ)⁻¹: the covariance per unit of residual variance, for a caller with a noise
+        model of its own (:func:`processing.vision.video.period_of`).
     """
 
     delta: float
@@ -479,6 +482,7 @@ class DampedSineFit(Record):
     residual_sd: float
     residual_correlation: float
     dof: int
+    normal: np.ndarray
 
     def u(self, name: str) -> float:
         """Standard uncertainty of the parameter ``name`` ("delta", "omega_d", "gamma")."""
@@ -631,17 +635,18 @@ def fit_damped_sine(time, x, *, start: float | None = None, period: float | None
     s2 = float(r @ r) / dof
     J = jacobian(sol.x)
     try:
-        cov = s2 * np.linalg.inv(J.T @ J)
+        normal = np.linalg.inv(J.T @ J)
     except np.linalg.LinAlgError:
         raise RuntimeError("fit_damped_sine: the normal matrix is singular (no oscillation "
                            "in the record?)") from None
+    cov = s2 * normal
     rho = float(r[:-1] @ r[1:] / (r @ r)) if r @ r > 0 else 0.0
     if rho > 3.0 / math.sqrt(r.size):
         cov = cov * (1.0 + rho) / (1.0 - rho)
     a, b = lin[0], lin[1]
     return DampedSineFit(float(d), float(w), float(g), float(math.hypot(a, b)),
                          float(math.atan2(-b, a)), np.asarray(lin[2:], float), t0, span,
-                         tuple(names), cov, math.sqrt(s2), rho, int(dof))
+                         tuple(names), cov, math.sqrt(s2), rho, int(dof), normal)
 
 
 @dataclass(frozen=True)

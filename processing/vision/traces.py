@@ -177,10 +177,10 @@ def find_runs(density: np.ndarray, noise: float, lines=()) -> Runs:
 def _edges(density, col, lo, hi, threshold: float) -> tuple[np.ndarray, np.ndarray]:
     """Sub-pixel rows where each run's density crosses ``threshold``, above and below it."""
     h = density.shape[0]
-    d = density.astype(np.float64)
 
     def crossing(inside, outside):
-        a, b = d[inside, col], d[np.clip(outside, 0, h - 1), col]
+        a = density[inside, col].astype(np.float64)
+        b = density[np.clip(outside, 0, h - 1), col].astype(np.float64)
         share = np.where(a > b, (a - threshold) / np.where(a > b, a - b, 1.0), 0.5)
         return inside + np.clip(share, 0.0, 1.0) * np.sign(outside - inside)
 
@@ -340,14 +340,11 @@ def _apexes(runs: Runs, chosen: np.ndarray, row: np.ndarray) -> tuple[np.ndarray
         half, reach = width / 2, max(1, int(np.ceil(width)))
         crest = top[j] + half * np.sqrt(1 + s_top[j] ** 2)
         trough = bottom[j] - half * np.sqrt(1 + s_bottom[j] ** 2)
-        r = row[j]
-        inner = np.full(r.size, False)
-        inner[1:-1] = np.isfinite(r[:-2]) & np.isfinite(r[2:]) & np.isfinite(r[1:-1])
+        r = row[j]                      # extremes of the centroids (NaN compares False)
         up = np.zeros(r.size, bool)
         down = np.zeros(r.size, bool)
-        with np.errstate(invalid="ignore"):
-            up[1:-1] = inner[1:-1] & (r[1:-1] <= r[:-2]) & (r[1:-1] <= r[2:])
-            down[1:-1] = inner[1:-1] & (r[1:-1] >= r[:-2]) & (r[1:-1] >= r[2:])
+        up[1:-1] = (r[1:-1] <= r[:-2]) & (r[1:-1] <= r[2:])
+        down[1:-1] = (r[1:-1] >= r[:-2]) & (r[1:-1] >= r[2:])
         to_up, to_down = _distance_to(up), _distance_to(down)
         with np.errstate(invalid="ignore"):
             tall = (trough - crest) > max(1.0, 0.25 * width)

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 
@@ -415,21 +415,6 @@ def swing_of(track: Track, *, field: str | None = None) -> Swing:
                  float(track.kept.mean()))
 
 
-def _model_jacobian(fit: DampedSineFit, t: np.ndarray) -> np.ndarray:
-    """∂x/∂(δ, ω_d, A, ψ, c…) of the fitted record at ``t``, by central differences."""
-    names = ["delta", "omega_d", "amplitude", "phase"]
-    steps = [1e-6, 1e-7 * fit.omega_d, 1e-6 * fit.amplitude, 1e-6]
-    columns = []
-    for name, h in zip(names, steps):
-        value = getattr(fit, name)
-        up = replace(fit, **{name: value + h}).predict(t)
-        down = replace(fit, **{name: value - h}).predict(t)
-        columns.append((up - down) / (2 * h))
-    u = (t - fit.start) / fit.span
-    columns += [u**j for j in range(fit.baseline.size)]
-    return np.column_stack(columns)
-
-
 def _density_near(t: np.ndarray, r: np.ndarray, f0: float) -> tuple[float, int]:
     """The residual's spectral density about the swing's frequency, as a variance per frame
     (σ² for white noise), and the number of frequencies it is the mean of.
@@ -459,10 +444,9 @@ def period_of(fit: DampedSineFit, t: np.ndarray, s: np.ndarray) -> Measured:
     of N oscillations: u_B(T) = T·LOCKING/(2π A N).
     """
     r = s - fit.predict(t)
-    J = _model_jacobian(fit, t)
     density, bins = _density_near(t, r, 1 / fit.period)
-    cov = density * np.linalg.inv(J.T @ J)
-    u_a = fit.period / fit.omega_d * math.sqrt(cov[1, 1])
+    i = fit.params.index("omega_d")
+    u_a = fit.period / fit.omega_d * math.sqrt(density * fit.normal[i, i])
     oscillations = (t[-1] - t[0]) / fit.period
     u_b = fit.period * LOCKING / (2 * math.pi * abs(fit.amplitude) * oscillations)
     return Measured(fit.period, float(u_a), 2 * bins, u_b=float(u_b))
