@@ -275,7 +275,8 @@ def _synth(args) -> int:
               ("lash", None if args.lash is None else args.lash * 1e-6),
               ("periods", args.periods), ("amplitude_exponent", args.amplitude_exponent),
               ("paper", args.paper or None), ("image", args.image or None),
-              ("film", args.film or None))
+              ("film", args.film or None),
+              ("recording", False if args.no_recording else None))
              if value is not None}
     foreign = [name for name in given if name not in takes]
     if foreign:
@@ -372,6 +373,9 @@ def parser() -> argparse.ArgumentParser:
     syn.add_argument("--image", action="store_true",
                      help="labs 3, 6, 7, 9: the records as photographs of their paper (JPEG, "
                           "read with OpenCV)")
+    syn.add_argument("--no-recording", action="store_true",
+                     help="lab 3 with --image: the photographed oscillograms alone, no "
+                          "sensor recording")
     syn.set_defaults(func=_synth)
     return p
 

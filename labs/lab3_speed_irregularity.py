@@ -11,7 +11,9 @@ timed (:mod:`processing.edges`), numbered (:mod:`processing.toothwheel`), and ω
 working cycle is found twice — tooth by tooth and by a Fourier fit of the edge times
 (:mod:`processing.angular_speed`). The student's reading of the frequency-to-voltage
 oscillogram (h_max, h_min and the mean level, scaled by the tachometer) is reduced by the
-manual's formula and compared with the signal's δ.
+manual's formula and compared with the signal's δ. A photograph of the oscillogram is read
+by the machine (:mod:`processing.vision`): δ of its mean cycle, and the mean speed from its
+TDC marks on the time marks' scale; with no recording, the photograph alone gives the regime.
 
 References
 ----------
@@ -71,8 +73,8 @@ SPEC = LabSpec(
             "на двух установившихся режимах по импульсам датчика частоты вращения и сравнить "
             "со среднестатистическими данными."),
     sections=(
-        Section("wheel", bi("Toothed wheel and sensor", "Зубчатое колесо и датчик"), required=True,
-                fields=(
+        Section("wheel", bi("Toothed wheel and sensor (for recordings)",
+                            "Зубчатое колесо и датчик (для записей)"), fields=(
                     Field("z", bi("number of tooth pitches (incl. missing teeth)",
                                   "число шагов зубьев (вместе с пропущенными)"),
                           kind="count", symbol="z", example=60),
@@ -221,12 +223,53 @@ REFERENCES = [
 
 @dataclass(frozen=True)
 class Oscillogram:
-    """The speed trace read off a photographed oscillogram: its cycles' fits and δ."""
+    """The speed trace read off a photographed oscillogram: its cycles' fits, δ and the mean
+    speed."""
 
     channel: object
     cycles: object
     """:class:`processing.cycle_range.CycleRange` of the working cycles between TDC marks."""
     delta: Measured
+    omega_mean: Measured
+    """Cycle angle over the mean time between the cycles' TDC marks. [rad/s]"""
+
+
+def mean_speed(starts, cycle_angle: float, time_scale: Measured) -> Measured:
+    """Mean angular speed from the times of successive working cycles' starts.
+
+    .. math:: \\omega_{cp} = \\frac{\\Theta}{\\bar{\\tau}}, \\qquad
+              \\bar{\\tau} = \\frac{t_n - t_0}{n}
+
+    Θ the cycle angle (4π for a four-stroke engine). Type A from the scatter of the n cycle
+    times τ_k (n − 1 degrees of freedom: the marks' reading and the engine's own cycle-to-cycle
+    scatter); type B from the relative u of the time scale (a paper record's time marks).
+
+    Parameters
+    ----------
+    starts : array_like
+        Times of the cycles' starts, n + 1 of them, n ≥ 2. [s]
+    cycle_angle : float
+        Θ. [rad]
+    time_scale : Measured
+        The scale the times were read on (only its relative u is used).
+
+    Returns
+    -------
+    Measured
+        ω_cp. [rad/s]
+
+    Examples
+    --------
+    >>> w = mean_speed([0.0, 0.0666, 0.1334, 0.2], 4 * np.pi, Measured(1.0))
+    >>> round(w.value * 30 / np.pi, 1)
+    1800.0
+    """
+    tau = np.diff(np.asarray(starts, dtype=float))
+    n = tau.size
+    value = cycle_angle / tau.mean()
+    u_a = value * tau.std(ddof=1) / np.sqrt(n) / tau.mean()
+    return Measured(float(value), float(u_a), n - 1,
+                    u_b=float(value * time_scale.u / abs(time_scale.value)))
 
 
 def _oscillogram(inputs: Inputs, i: int, entry: dict, revolutions: int) -> Oscillogram | None:
@@ -255,14 +298,15 @@ def _oscillogram(inputs: Inputs, i: int, entry: dict, revolutions: int) -> Oscil
         raise InputError(str(exc), "photograph the trace sharply, its whole length",
                          file=str(path), field=field) from None
     delta, u = cycles.relative_swing()
-    return Oscillogram(channel, cycles, _jack(delta, u, cycles.cycles))
+    inside = starts[(starts >= channel.time[0]) & (starts <= channel.time[-1])]
+    return Oscillogram(channel, cycles, _jack(delta, u, cycles.cycles),
+                       mean_speed(inside, 2 * np.pi * revolutions, channel.time_scale))
 
 
 @dataclass
-class Regime:
-    """What one recorded regime reduces to."""
+class Recording:
+    """What a regime's sensor recording (or counter's edge times) reduces to."""
 
-    number: int
     track: ToothTrack
     fourier: CycleSpeeds
     tooth: CycleSpeeds
@@ -270,7 +314,22 @@ class Regime:
     u_tooth: Irregularity
     samples_per_tooth: float | None
     pitch_bias: dict
-    oscillogram: Oscillogram | None = None
+
+
+@dataclass
+class Regime:
+    """What one regime reduces to: its recording, its photographed oscillogram, or both."""
+
+    number: int
+    recording: Recording | None
+    oscillogram: Oscillogram | None
+
+    @property
+    def cycles(self) -> int:
+        """Working cycles δ was found over (the recording's, else the photograph's)."""
+        if self.recording is not None:
+            return self.recording.fourier.cycles
+        return self.oscillogram.cycles.cycles
 
 
 def _edges_of(channel, method: str) -> np.ndarray:
@@ -283,10 +342,6 @@ def _signal_edges(inputs: Inputs, i: int, entry: dict, method: str):
     where = f"regime[{i}]"
     if "edges" in entry:
         return read_edge_times(entry["edges"], field=f"{where}.edges"), None, None
-    if "signal" not in entry:
-        raise inputs.error("neither a recording nor edge times are given",
-                           "add signal = \"file.wav\" (or .csv, .h5) or edges = \"edges.csv\"",
-                           where)
     rate = entry["sample_rate"].value if "sample_rate" in entry else None
     path = entry["signal"]
     channel = open_channel(path, channel=entry.get("channel"), sample_rate=rate,
@@ -325,7 +380,7 @@ def _track(inputs: Inputs, times, field: str, path, tdc=None) -> ToothTrack:
 
 
 def _calibration(inputs: Inputs, method: str):
-    wheel = inputs["wheel"]
+    wheel = inputs.sections.get("wheel", {})
     if "calibration" not in wheel:
         return None
     path = wheel["calibration"]
@@ -339,9 +394,18 @@ def _calibration(inputs: Inputs, method: str):
 
 
 def _regime(inputs: Inputs, i: int, entry: dict, calibration) -> Regime:
-    engine = inputs["engine"]
+    revolutions = inputs["engine"]["strokes"] // 2
+    recorded = "signal" in entry or "edges" in entry
+    if not recorded and "oscillogram" not in entry:
+        raise inputs.error("neither a recording, edge times nor a photographed oscillogram "
+                           "is given", "add signal = \"file.wav\" (or .csv, .h5), edges = "
+                           "\"edges.csv\" or oscillogram = \"photo.jpg\"", f"regime[{i}]")
+    recording = _recording(inputs, i, entry, calibration, revolutions) if recorded else None
+    return Regime(i + 1, recording, _oscillogram(inputs, i, entry, revolutions))
+
+
+def _recording(inputs: Inputs, i: int, entry: dict, calibration, revolutions: int) -> Recording:
     analysis = inputs.sections.get("analysis", {"edge_method": "fit"})
-    revolutions = engine["strokes"] // 2
     times, tdc, spt = _signal_edges(inputs, i, entry, analysis["edge_method"])
     label = bi(f"regime {i + 1}", f"режим {i + 1}")
     if spt is not None and spt < MIN_SAMPLES_PER_TOOTH:
@@ -364,8 +428,7 @@ def _regime(inputs: Inputs, i: int, entry: dict, calibration) -> Regime:
         raise InputError(exc.problem, exc.fix, file=str(source), field=field) from None
     _check_cycles(fourier, label, field, source)
     bias = _pitch_bias(track, fourier, tooth, calibration, analysis.get("orders"), revolutions)
-    return Regime(i + 1, track, fourier, tooth, jackknife(fourier), jackknife(tooth), spt, bias,
-                  _oscillogram(inputs, i, entry, revolutions))
+    return Recording(track, fourier, tooth, jackknife(fourier), jackknife(tooth), spt, bias)
 
 
 def _check_track(track: ToothTrack, label) -> None:
@@ -451,6 +514,9 @@ def _result_names(r: int) -> dict:
                                 f"δ по отдельным зубьям (средний цикл), режим {r}"), "δ_z", ""),
         f"delta_osc_{r}": (bi(f"δ read off the oscillogram, regime {r}",
                               f"δ по осциллограмме, режим {r}"), "δ_osc", ""),
+        f"omega_osc_{r}": (bi(f"mean speed from the oscillogram's TDC marks, regime {r}",
+                              f"средняя частота вращения по отметкам ВМТ осциллограммы, "
+                              f"режим {r}"), "n_osc", "rpm"),
         f"omega_tach_{r}": (bi(f"tachometer, regime {r}", f"тахометр, режим {r}"), "n_t", "rpm"),
     }
 
@@ -461,26 +527,42 @@ def _jack(value, u, n, u_b: float = 0.0, limit: float = 0.0) -> Measured:
                     limit=limit, u_b=u_b)
 
 
+SIGNAL_RESULTS = ("omega_mean", "omega_min", "omega_max", "delta", "delta_mid", "delta_tooth")
+"""What a regime's recording gives (``{name}_{r}``)."""
+
+
 def _signal_inputs(reg: Regime) -> dict[str, Measured]:
-    r, f, n = reg.number, reg.fourier, reg.fourier.cycles
-    mc, u = f.mean_cycle, reg.u_fourier
-    return {f"s{r}.omega_mean": Measured.from_readings(f.cycle_angle / f.duration),
-            f"s{r}.omega_min": _jack(mc.omega_min, u.omega_min, n),
-            f"s{r}.omega_max": _jack(mc.omega_max, u.omega_max, n),
-            f"s{r}.delta": _jack(mc.delta, u.delta, n, reg.pitch_bias["u"], f.selection),
-            f"s{r}.delta_mid": _jack(mc.delta_mid, u.delta_mid, n, reg.pitch_bias["u"],
-                                     f.selection),
-            f"s{r}.delta_tooth": _jack(reg.tooth.mean_cycle.delta, reg.u_tooth.delta,
-                                       reg.tooth.cycles),
-            **({f"s{r}.delta_osc": reg.oscillogram.delta} if reg.oscillogram else {})}
+    r, rec, osc = reg.number, reg.recording, reg.oscillogram
+    out = {}
+    if rec is not None:
+        f, n = rec.fourier, rec.fourier.cycles
+        mc, u = f.mean_cycle, rec.u_fourier
+        out = {f"s{r}.omega_mean": Measured.from_readings(f.cycle_angle / f.duration),
+               f"s{r}.omega_min": _jack(mc.omega_min, u.omega_min, n),
+               f"s{r}.omega_max": _jack(mc.omega_max, u.omega_max, n),
+               f"s{r}.delta": _jack(mc.delta, u.delta, n, rec.pitch_bias["u"], f.selection),
+               f"s{r}.delta_mid": _jack(mc.delta_mid, u.delta_mid, n, rec.pitch_bias["u"],
+                                        f.selection),
+               f"s{r}.delta_tooth": _jack(rec.tooth.mean_cycle.delta, rec.u_tooth.delta,
+                                          rec.tooth.cycles)}
+    if osc is not None:
+        out |= {f"s{r}.delta_osc": osc.delta, f"s{r}.omega_osc": osc.omega_mean}
+    return out
 
 
 def _check_inputs(inputs: Inputs) -> None:
     """What the file says, checked before any recording is read."""
-    engine, wheel = inputs["engine"], inputs["wheel"]
+    engine, wheel = inputs["engine"], inputs.sections.get("wheel")
     if engine["strokes"] not in (2, 4):
         raise inputs.error(f"strokes = {engine['strokes']}", "write 4 (four-stroke) or 2",
                            "engine.strokes")
+    recorded = [i for i, e in enumerate(inputs["regime"]) if "signal" in e or "edges" in e]
+    if wheel is None:
+        if recorded:
+            raise inputs.error("a recording of the toothed wheel's sensor is given but not the "
+                               "wheel", "add a [wheel] table with z (tooth pitches, the missing "
+                               "teeth included) and missing", f"regime[{recorded[0]}]")
+        return
     if wheel["z"] < 3:
         raise inputs.error(f"a wheel of z = {wheel['z']} tooth pitches cannot time a revolution",
                            "z is the number of tooth pitches, the missing teeth included "
@@ -502,8 +584,7 @@ def _model(regimes: list[Regime], entries: list[dict]):
         out = {}
         for reg, entry in zip(regimes, entries):
             r = reg.number
-            for q in ("omega_mean", "omega_min", "omega_max", "delta", "delta_mid",
-                      "delta_tooth"):
+            for q in SIGNAL_RESULTS if reg.recording is not None else ():
                 out[f"{q}_{r}"] = x[f"s{r}.{q}"]
             out[f"omega_tach_{r}"] = x[f"regime[{r - 1}].n_tach"]
             if "h_max" in entry and "h_min" in entry:
@@ -512,6 +593,8 @@ def _model(regimes: list[Regime], entries: list[dict]):
                                                           x[f"regime[{r - 1}].h_min"], mean)
             elif reg.oscillogram is not None:
                 out[f"delta_osc_{r}"] = x[f"s{r}.delta_osc"]
+            if reg.oscillogram is not None:
+                out[f"omega_osc_{r}"] = x[f"s{r}.omega_osc"]
         return out
 
     return model
@@ -531,9 +614,10 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
     Returns
     -------
     LabResult
-        Per regime r: ``omega_mean_r``, ``omega_min_r``, ``omega_max_r``, ``delta_r`` (the
-        mean cycle, Fourier fit), ``delta_mid_r``, ``delta_tooth_r``,
-        ``omega_tach_r`` and, with oscillogram readings, ``delta_osc_r``.
+        Per regime r: from a recording ``omega_mean_r``, ``omega_min_r``, ``omega_max_r``,
+        ``delta_r`` (the mean cycle, Fourier fit), ``delta_mid_r``, ``delta_tooth_r``;
+        ``omega_tach_r``; with oscillogram readings or a photograph ``delta_osc_r``, and with
+        a photograph ``omega_osc_r``.
     """
     _check_inputs(inputs)
     with collect_notices() as notices:
@@ -550,16 +634,18 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
         declared = {k: v for reg in regimes for k, v in _result_names(reg.number).items()}
         results = result_values(prop, declared)
         pairs = [(f"delta_{m}_{r.number}", f"delta_{r.number}") for r in regimes
-                 for m in ("tooth", "osc")]
+                 for m in ("tooth", "osc")] + [(f"omega_osc_{r.number}", f"omega_mean_{r.number}")
+                                               for r in regimes]
         comparisons = compare(prop, pairs)
         # the tooth method is biased up by timing noise by design: only the student's
         # oscillogram reading is flagged when it disagrees with the signal
-        flag_estimates(results, [c for c in comparisons if c.a.startswith("delta_osc")])
+        flag_estimates(results, [c for c in comparisons if c.a.endswith(
+            tuple(f"_osc_{r.number}" for r in regimes))])
     kind = inputs["engine"].get("kind")
     ranges = {k: v for k, v in REFERENCE_RANGES.items() if kind in (None, k)}
     return LabResult.of(inputs, results, comparisons=comparisons,
                         tables=[report.regime_table(regimes, results, _scales(entries)),
-                                report.pitch_table(regimes)],
+                                *report.pitch_table(regimes)],
                         figures=report.figures(regimes, ranges) + read_figures(
                             [r.oscillogram.channel for r in regimes if r.oscillogram]),
                         formulas=FORMULAS,
@@ -581,21 +667,36 @@ def _scales(entries) -> dict[int, float | None]:
 
 
 def _check_tachometer(reg: Regime, entry: dict) -> None:
+    """The tachometer against the mean speed of the recording and of the photograph."""
     n_t = entry["n_tach"]
-    w = float(np.mean(reg.fourier.cycle_angle / reg.fourier.duration))
-    gap = w / n_t.value - 1
-    if abs(gap) > 0.03 + 2 * n_t.u / n_t.value:
-        warnings.warn(InconsistentInputWarning(
-            f"regime {reg.number}: the signal's mean speed ({w * 30 / np.pi:.0f} min⁻¹) and the "
-            f"tachometer ({n_t.value * 30 / np.pi:.0f} min⁻¹) differ by {100 * gap:+.1f} %: "
-            "check z, the sample rate and the tachometer reading",
-            f"режим {reg.number}: средняя частота по сигналу ({w * 30 / np.pi:.0f} мин⁻¹) и по "
-            f"тахометру ({n_t.value * 30 / np.pi:.0f} мин⁻¹) различаются на {100 * gap:+.1f} %: "
-            "проверьте z, частоту дискретизации и показание тахометра"))
+    seen = []
+    if reg.recording is not None:
+        f = reg.recording.fourier
+        seen.append((float(np.mean(f.cycle_angle / f.duration)), 0.0,
+                     bi("the signal's", "по сигналу"),
+                     bi("z, the sample rate", "z, частоту дискретизации")))
+    if reg.oscillogram is not None:
+        w = reg.oscillogram.omega_mean
+        seen.append((w.value, w.u, bi("the oscillogram's TDC marks'", "по отметкам ВМТ "
+                                      "осциллограммы"), bi("the time marks' period, the "
+                                                           "strokes", "период отметок времени, "
+                                                           "тактность")))
+    for w, u, by, what in seen:
+        gap = w / n_t.value - 1
+        if abs(gap) > 0.03 + 2 * np.hypot(n_t.u / n_t.value, u / w):
+            warnings.warn(InconsistentInputWarning(
+                f"regime {reg.number}: {by['en']} mean speed ({w * 30 / np.pi:.0f} min⁻¹) and "
+                f"the tachometer ({n_t.value * 30 / np.pi:.0f} min⁻¹) differ by "
+                f"{100 * gap:+.1f} %: check {what['en']} and the tachometer reading",
+                f"режим {reg.number}: средняя частота {by['ru']} ({w * 30 / np.pi:.0f} мин⁻¹) и "
+                f"по тахометру ({n_t.value * 30 / np.pi:.0f} мин⁻¹) различаются на "
+                f"{100 * gap:+.1f} %: проверьте {what['ru']} и показание тахометра"))
 
 
 def _check_pitch(reg: Regime) -> None:
-    bias, sigma = reg.pitch_bias, reg.fourier.pitch_error
+    if reg.recording is None:
+        return
+    bias, sigma = reg.recording.pitch_bias, reg.recording.fourier.pitch_error
     # only errors that stand out of the timing noise (σ̂ > 0) are the wheel's: on a perfect
     # wheel the noise alone moves the tooth-by-tooth δ too
     if bias["source"] == "repeating" and sigma > 0 and abs(bias["tooth"]) > PITCH_BIAS:
@@ -618,16 +719,25 @@ PHOTO_MARKS = 0.01
 """Period of the time marks on the photographed oscillograms. [s]"""
 
 
-def oscillogram_photo(run, *, cycles: int = 8, seed: int = 0):
+PHOTO_CYCLES = 8
+"""Working cycles on a photographed oscillogram."""
+
+
+def _photo_duration(run) -> float:
+    return PHOTO_CYCLES * run.cycle_angle / run.mean_angular_speed
+
+
+def oscillogram_photo(run, *, seed: int = 0):
     """A phone photograph (:func:`processing.synth.paper_record.photograph`) of the
-    frequency-to-voltage oscillogram of an engine run's first ``cycles`` working cycles.
+    frequency-to-voltage oscillogram of an engine run's first :data:`PHOTO_CYCLES` working
+    cycles.
 
     On 250 mm of 120 mm paper: the speed trace ω(t) with its mean level 70 mm above its zero
     line (drawn, 20 mm from the lower edge), a TDC pip every revolution, a time mark every
     :data:`PHOTO_MARKS`. Returns the :class:`~processing.synth.paper_record.PaperScene`."""
     from processing.synth.paper_record import photograph
 
-    duration = cycles * run.cycle_angle / run.mean_angular_speed
+    duration = _photo_duration(run)
     revolutions = np.arange(0.0, run.crank_angle[-1], 2 * np.pi)
     tdc = np.interp(revolutions, run.crank_angle, run.time)
     return photograph(lambda t: run.speed_at_angle(run.angle_at(t)) / run.mean_angular_speed,
@@ -639,7 +749,7 @@ def oscillogram_photo(run, *, cycles: int = 8, seed: int = 0):
 def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=(1800.0, 1840.0),
                     cycles: int = 40, snr_db: float = 30.0, pitch_error_deg: float = 0.03,
                     sample_rate: float = 48e3, calibrate: bool = True,
-                    image: bool = False) -> dict[str, Path]:
+                    image: bool = False, recording: bool = True) -> dict[str, Path]:
     """Write a synthetic lab 3 measurement: recordings, a measurement file and the answer key.
 
     Two regimes of the default four-cylinder engine (:class:`processing.synth.engine.Engine`)
@@ -665,15 +775,20 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=(1800.0,
         Also write the coast-down record and name it in the file.
     image : bool
         Instead of the readings, a phone photograph of each regime's frequency-to-voltage
-        oscillogram (:func:`oscillogram_photo`: eight working cycles, the zero line, TDC and
-        time marks), named in the file with an ``[image]`` table.
+        oscillogram (:func:`oscillogram_photo`: the first :data:`PHOTO_CYCLES` working cycles,
+        the zero line, TDC and time marks), named in the file with an ``[image]`` table; its
+        answers are the photographed cycles' true δ and mean speed.
+    recording : bool
+        Write the sensor's recordings (and the wheel) too; ``False`` with ``image`` leaves the
+        photographs alone, as a student with only the paper record has them.
 
     Returns
     -------
     dict
-        Paths written: ``toml``, ``answer`` (``"results"``: ``delta_r`` and ``omega_mean_r``
-        of each regime r, true, SI; ``"regimes"``: every setting of each record), and the
-        recordings.
+        Paths written: ``toml``, ``answer`` (``"results"``: of each regime r, true, SI,
+        ``delta_r`` and ``omega_mean_r`` with the recordings, ``delta_osc_r`` and
+        ``omega_osc_r`` with the photographs; ``"regimes"``: every setting of each record),
+        the recordings and the photographs.
     """
     import json
 
@@ -683,6 +798,9 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=(1800.0,
 
     if fmt not in SYNTH_FORMATS:
         raise InputError(f"unknown recording format {fmt!r}", f"use one of {', '.join(SYNTH_FORMATS)}")
+    if not (recording or image):
+        raise InputError("neither recordings nor photographs asked for",
+                         "write the recordings, the photographs (image), or both")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     rng = np.random.default_rng([seed, 3])
@@ -700,13 +818,16 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=(1800.0,
             write_csv(out / file, {"u": rec.signal * rec.volts_per_code}, rec.sample_rate)
         return file
 
-    written, regimes, answers = {}, [], []
+    written, regimes, answers, photographed = {}, [], [], []
     for i, n in enumerate(speeds, start=1):
         run = run_engine(Engine(mean_angular_speed=n * np.pi / 30, cycle_variation=0.02),
                          cycles + 1, seed=seed * 100 + i)
         rec = record(run, wheel, sensor, seed=seed * 100 + i)
-        file = save(f"regime{i}", rec)
-        written[f"regime{i}"] = out / file
+        regime = ""
+        if recording:
+            file = save(f"regime{i}", rec)
+            written[f"regime{i}"] = out / file
+            regime = f'signal = "{file}"\n'
         grid = np.linspace(0, run.cycle_angle, 2881)[:-1]
         mean_cycle = np.mean([run.speed_at_angle(c * run.cycle_angle + grid)
                               for c in range(cycles)], axis=0)
@@ -714,25 +835,26 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=(1800.0,
         h = h_cp * np.array([mean_cycle.max(), mean_cycle.min()]) / run.mean_angular_speed
         h_read = np.round((h + rng.normal(0, 0.1, 2)) / 0.2) * 0.2
         n_tach = round(float(run.mean_angular_speed * 30 / np.pi) + rng.normal(0, 2))
-        regime = f'[[regime]]\nsignal = "{file}"\nn_tach = "{n_tach} ± 5 rpm"\n'
+        regime = f'[[regime]]\n{regime}n_tach = "{n_tach} ± 5 rpm"\n'
         if image:
             photo = oscillogram_photo(run, seed=seed * 100 + i).write(out / f"regime{i}.jpg")
             written[f"oscillogram{i}"] = photo
             regime += f'oscillogram = "{photo.name}"\n'
+            photographed.append(run.cycles_within(_photo_duration(run)))
         else:
             regime += (f'h_max = "{h_read[0]:.1f} ± 0.2 mm"\nh_min = "{h_read[1]:.1f} ± 0.2 mm"\n'
                        f'h_mean = "{h_cp:.1f} ± 0.2 mm"\n')
         regimes.append(regime)
         answers.append(rec.answer_key())
     calibration = ""
-    if calibrate:
+    if calibrate and recording:
         coast = record(coast_run(speeds[0] * np.pi / 30, 2.0), wheel, sensor, seed=seed * 100)
         calibration = f'calibration = "{save("coast", coast)}"\n'
         written["coast"] = out / f"coast.{fmt}"
     toml = (f'lab = "lab3"\n[meta]\nstudent = "synthetic (dynlab synth lab3 --seed {seed})"\n'
             f'notes = "generated; the true answers are in answer_key.json"\n\n'
-            f'[wheel]\nz = 60\nmissing = 2\n{calibration}\n'
-            f'[engine]\nstrokes = 4\ncylinders = 4\nkind = "automotive"\n\n' + "\n".join(regimes)
+            + (f'[wheel]\nz = 60\nmissing = 2\n{calibration}\n' if recording else "")
+            + '[engine]\nstrokes = 4\ncylinders = 4\nkind = "automotive"\n\n' + "\n".join(regimes)
             + (f'\n[image]\nmark_period = "{1e3 * PHOTO_MARKS:g} ms"\npaper_width = "120 mm"\n'
                if image else ""))
     written["toml"] = out / f"lab3_seed{seed}.toml"
@@ -740,7 +862,11 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=(1800.0,
     written["answer"] = out / "answer_key.json"
     results = {}
     for r, a in enumerate(answers, 1):
-        results.update({f"delta_{r}": a["delta"], f"omega_mean_{r}": a["mean_angular_speed"]})
+        if recording:
+            results.update({f"delta_{r}": a["delta"], f"omega_mean_{r}": a["mean_angular_speed"]})
+        if image:
+            delta, speed = photographed[r - 1]
+            results.update({f"delta_osc_{r}": delta, f"omega_osc_{r}": speed})
     written["answer"].write_text(json.dumps({"seed": seed, "results": results,
                                              "regimes": answers}, indent=1), encoding="utf-8")
     return written

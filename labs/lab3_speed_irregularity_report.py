@@ -15,22 +15,28 @@ from processing.result import Figure, Table
 
 def regime_table(regimes, results, scales) -> Table:
     """δ of every regime by every method, and the oscillogram's scale μ [mm per min⁻¹]
-    (``scales``: regime number → μ, or None without oscillogram readings)."""
+    (``scales``: regime number → μ, or None without oscillogram readings); the mean speed
+    from a photographed oscillogram's TDC marks where one was read."""
     rows = []
     for reg in regimes:
-        r = reg.number
-        row = {"regime": str(r), "cycles": f"{reg.fourier.cycles}",
-               "spt": "—" if reg.samples_per_tooth is None else f"{reg.samples_per_tooth:.1f}",
+        r, rec = reg.number, reg.recording
+        spt = None if rec is None else rec.samples_per_tooth
+        row = {"regime": str(r), "cycles": f"{reg.cycles}",
+               "spt": "—" if spt is None else f"{spt:.1f}",
                "n": result_pm(results, f"omega_mean_{r}"), "n_t": result_pm(results, f"omega_tach_{r}"),
+               "n_osc": result_pm(results, f"omega_osc_{r}"),
                "delta": result_pm(results, f"delta_{r}"),
                "delta_z": result_pm(results, f"delta_tooth_{r}"),
                "delta_osc": result_pm(results, f"delta_osc_{r}")}
         row["scale"] = "—" if scales.get(r) is None else f"{scales[r]:.4f}"
         rows.append(row)
+    photographed = any(reg.oscillogram is not None for reg in regimes)
     cols = (("regime", bi("Regime", "Режим")), ("cycles", bi("Cycles", "Циклов")),
             ("spt", bi("Samples per tooth", "Отсчётов на зуб")),
             ("n_t", bi("n tachometer, min⁻¹", "n тахометр, мин⁻¹")),
             ("n", bi("n signal, min⁻¹", "n по сигналу, мин⁻¹")),
+            *((("n_osc", bi("n oscillogram, min⁻¹", "n по осциллограмме, мин⁻¹")),)
+              if photographed else ()),
             ("delta", bi("δ mean cycle", "δ среднего цикла")),
             ("delta_z", bi("δ tooth by tooth", "δ по зубьям")),
             ("delta_osc", bi("δ oscillogram", "δ по осциллограмме")),
@@ -39,11 +45,12 @@ def regime_table(regimes, results, scales) -> Table:
                     "Степень неравномерности по режимам (± U, k = 2)"), cols, rows)
 
 
-def pitch_table(regimes) -> Table:
-    """How the wheel's pitch errors would bias δ, per regime."""
+def pitch_table(regimes) -> list[Table]:
+    """How the wheel's pitch errors would bias δ, per recorded regime (none without a
+    recording)."""
     rows = []
-    for reg in regimes:
-        b = reg.pitch_bias
+    for reg in _recorded(regimes):
+        b = reg.recording.pitch_bias
         rows.append({"regime": str(reg.number),
                      "source": bi("coast-down calibration", "калибровка по выбегу")
                      if b["source"] == "calibration" else
@@ -51,7 +58,7 @@ def pitch_table(regimes) -> Table:
                      "rms": f"{np.degrees(b['rms']):.4f}",
                      "fourier": f"{100 * b['fourier']:+.2f}" if "fourier" in b else "—",
                      "tooth": f"{100 * b['tooth']:+.2f}",
-                     "u": f"{100 * b['u'] / reg.fourier.mean_cycle.delta:.2f}"})
+                     "u": f"{100 * b['u'] / reg.recording.fourier.mean_cycle.delta:.2f}"})
     cols = (("regime", bi("Regime", "Режим")), ("source", bi("Pitch known from", "Шаг определён")),
             ("rms", bi("pitch error rms, °", "ср. кв. погрешность шага, °")),
             ("fourier", bi("bias of δ (Fourier) with equal pitches, %",
@@ -59,8 +66,12 @@ def pitch_table(regimes) -> Table:
             ("tooth", bi("bias of δ (tooth by tooth) with equal pitches, %",
                          "смещение δ (по зубьям) при равном шаге, %")),
             ("u", bi("u(δ) from the pitch left, %", "u(δ) от остаточной погрешности шага, %")))
-    return Table(bi("How much the wheel's tooth-pitch errors would bias δ",
-                    "Влияние погрешностей шага зубьев на δ"), cols, rows)
+    return [Table(bi("How much the wheel's tooth-pitch errors would bias δ",
+                     "Влияние погрешностей шага зубьев на δ"), cols, rows)] if rows else []
+
+
+def _recorded(regimes) -> list:
+    return [reg for reg in regimes if reg.recording is not None]
 
 
 def _rpm(omega):
@@ -70,8 +81,8 @@ def _rpm(omega):
 def _draw_speed(fig, regimes, lang):
     axes = fig.subplots(len(regimes), 1, sharex=True, squeeze=False)[:, 0]
     for ax, reg in zip(axes, regimes):
-        f = reg.fourier
-        ax.plot(np.degrees(reg.tooth.angle), _rpm(reg.tooth.speed.mean(axis=0)), ".", ms=2,
+        f, tooth = reg.recording.fourier, reg.recording.tooth
+        ax.plot(np.degrees(tooth.angle), _rpm(tooth.speed.mean(axis=0)), ".", ms=2,
                 color="0.5", label="tooth by tooth (mean)" if lang == "en" else "по зубьям (среднее)")
         for s in f.speed:
             ax.plot(np.degrees(f.angle), _rpm(s), color="tab:blue", lw=0.4, alpha=0.25)
@@ -87,10 +98,10 @@ def _draw_speed(fig, regimes, lang):
 def _draw_cycles(fig, regimes, ranges, lang):
     ax = fig.subplots()
     for reg in regimes:
-        d = reg.fourier.per_cycle.delta
+        d = reg.recording.fourier.per_cycle.delta
         ax.plot(np.arange(1, d.size + 1), d, "o-", ms=3, lw=0.8,
                 label=("regime {}" if lang == "en" else "режим {}").format(reg.number))
-        ax.axhline(float(reg.fourier.mean_cycle.delta), lw=0.8, ls="--", color=ax.lines[-1].get_color())
+        ax.axhline(float(reg.recording.fourier.mean_cycle.delta), lw=0.8, ls="--", color=ax.lines[-1].get_color())
     for name, (lo, hi) in ranges.items():
         ax.axhspan(lo, hi, alpha=0.12, color="tab:green" if name == "automotive" else "tab:orange",
                    label={"automotive": bi("automotive 0.01–0.02", "автомобильные 0,01–0,02"),
@@ -104,8 +115,8 @@ def _draw_orders(fig, regimes, lang):
     ax = fig.subplots()
     width = 0.8 / (2 * len(regimes))
     for j, reg in enumerate(regimes):
-        t = reg.tooth
-        top = min(reg.track.teeth / 2, 12)
+        t = reg.recording.tooth
+        top = min(reg.recording.track.teeth / 2, 12)
         s = order_spectrum(t.angle, t.mean_speed, t.cycle_angle, max_order=top)
         ax.bar(s.order + (j - (len(regimes) - 1) / 2) * width * 2, 100 * s.relative, width=width * 1.6,
                label=("regime {}" if lang == "en" else "режим {}").format(reg.number))
@@ -116,7 +127,11 @@ def _draw_orders(fig, regimes, lang):
 
 
 def figures(regimes, ranges) -> list[Figure]:
-    """The speed curves, δ of each cycle against the typical ``ranges``, the order spectrum."""
+    """The speed curves, δ of each cycle against the typical ``ranges``, the order spectrum
+    of the recorded regimes (none without a recording)."""
+    regimes = _recorded(regimes)
+    if not regimes:
+        return []
     return [
         Figure("speed", bi("ω(α) of every working cycle (thin), their mean (bold) and the "
                            "tooth-by-tooth mean (dots)",
@@ -143,18 +158,33 @@ def figures(regimes, ranges) -> list[Figure]:
     ]
 
 
+def _delta(results, r: int):
+    """The regime's δ: the recording's, else the oscillogram's."""
+    return results[f"delta_{r}"] if f"delta_{r}" in results else results[f"delta_osc_{r}"]
+
+
 def conclusion(regimes, results, ranges) -> list[dict]:
     """δ of each regime, the oscillogram against the signal, the typical ``ranges``."""
     lines = []
     for reg in regimes:
         r = reg.number
+        if reg.recording is None:
+            d, n = results[f"delta_osc_{r}"], results[f"omega_osc_{r}"]
+            v, U = fmt_pm(d.value, d.estimate.U)
+            lines.append(bi(f"Regime {r}, from the photographed oscillogram: n = "
+                            f"{n.shown(n.value):.0f} min⁻¹ (its TDC marks), δ = {v} ± {U} over "
+                            f"{reg.cycles} working cycles",
+                            f"Режим {r} по снимку осциллограммы: n = {n.shown(n.value):.0f} "
+                            f"мин⁻¹ (по отметкам ВМТ), δ = {v} ± {U} по {reg.cycles} рабочим "
+                            "циклам"))
+            continue
         d = results[f"delta_{r}"]
         v, U = fmt_pm(d.value, d.estimate.U)
         n = results[f"omega_mean_{r}"]
         lines.append(bi(f"Regime {r}: n = {n.shown(n.value):.0f} min⁻¹, δ = {v} ± {U} "
-                        f"over {reg.fourier.cycles} working cycles",
+                        f"over {reg.cycles} working cycles",
                         f"Режим {r}: n = {n.shown(n.value):.0f} мин⁻¹, δ = {v} ± {U} "
-                        f"по {reg.fourier.cycles} рабочим циклам"))
+                        f"по {reg.cycles} рабочим циклам"))
         if f"delta_osc_{r}" in results:
             o = results[f"delta_osc_{r}"]
             lines.append(bi(f"Regime {r}: the oscillogram gives δ = {o.value:.4f} "
@@ -162,8 +192,7 @@ def conclusion(regimes, results, ranges) -> list[dict]:
                             f"Режим {r}: по осциллограмме δ = {o.value:.4f} "
                             f"({100 * (o.value / d.value - 1):+.1f} % к значению по сигналу)"))
     for name, (lo, hi) in ranges.items():
-        inside = [reg.number for reg in regimes
-                  if lo <= results[f"delta_{reg.number}"].value <= hi]
+        inside = [reg.number for reg in regimes if lo <= _delta(results, reg.number).value <= hi]
         en = {"automotive": "automotive engines", "tractor": "tractor engines"}[name]
         ru = {"automotive": "автомобильных двигателей", "tractor": "тракторных двигателей"}[name]
         lines.append(bi(f"Typical δ of {en} is {lo}–{hi}: regimes within it: "

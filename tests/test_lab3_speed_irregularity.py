@@ -354,3 +354,56 @@ def test_oscillogram_without_tdc_marks_is_refused(tmp_path):
     with pytest.raises(InputError, match="TDC mark") as exc:
         evaluate(written["toml"], **FAST)
     assert exc.value.field == "regime[0].oscillogram" and exc.value.file.endswith("regime1.jpg")
+
+
+PHOTO_SAMPLE = ROOT / "sample_data" / "lab3-photo" / "photographed_oscillogram.toml"
+
+
+@pytest.fixture(scope="module")
+def photograph_alone():
+    """The sample (``dynlab synth lab3 --image --no-recording --seed 3``) reduced."""
+    key = json.loads((PHOTO_SAMPLE.parent / "answer_key.json").read_text())["results"]
+    return PHOTO_SAMPLE, key, evaluate(PHOTO_SAMPLE, **FAST)
+
+
+def test_photograph_alone_gives_delta_and_the_mean_speed(photograph_alone):
+    """With no recording (no [wheel] either), each regime comes from its photographed
+    oscillogram: δ of the mean cycle and the mean speed Θ/τ̄ from the TDC marks timed on the
+    time marks, each holding the photographed cycles' truth within its 95 % interval
+    (measured: δ −2.7 % and −2.0 % from it, U 3.1 % and 4.0 %; n −0.2 and +0.0 min⁻¹,
+    U 1.5 and 1.8 min⁻¹), and agreeing with the tachometer."""
+    path, key, result = photograph_alone
+    assert "wheel" not in path.read_text(encoding="utf-8")
+    assert not {"delta_1", "omega_mean_1", "delta_tooth_1"} & set(result.results)
+    for name, truth in key.items():
+        lo, hi = result[name].estimate.interval95
+        assert lo <= truth <= hi, (name, result[name].value, truth)
+    assert result["omega_osc_1"].u / result["omega_osc_1"].value < 1e-3
+    assert "inconsistent_input" not in codes(result)
+    assert {"paper_record_1", "paper_record_2"} <= {f.name for f in result.figures}
+    assert "speed" not in {f.name for f in result.figures}
+
+
+def test_a_wrong_mark_period_shows_against_the_tachometer(photograph_alone, tmp_path):
+    """Time marks taken as 20 ms instead of 10 ms halve the photographed speed: the
+    tachometer disagrees and says which input to check."""
+    import shutil
+
+    path, key, _ = photograph_alone
+    folder = shutil.copytree(path.parent, tmp_path / "sample")
+    wrong = folder / path.name
+    wrong.write_text(path.read_text(encoding="utf-8").replace(
+        'mark_period = "10 ms"', 'mark_period = "20 ms"'), encoding="utf-8")
+    result = evaluate(wrong, **FAST)
+    assert result["omega_osc_1"].value == pytest.approx(key["omega_osc_1"] / 2, rel=2e-3)
+    notes = [w for w in result.warnings if w.code == "inconsistent_input"]
+    assert notes and "time marks' period" in notes[0].message
+
+
+def test_a_recording_without_its_wheel_is_refused(tmp_path):
+    written = lab3.write_synthetic(tmp_path, seed=2, fmt="csv", cycles=6, calibrate=False)
+    body = written["toml"].read_text(encoding="utf-8").replace("[wheel]\nz = 60\nmissing = 2\n", "")
+    written["toml"].write_text(body, encoding="utf-8")
+    with pytest.raises(InputError, match="not the wheel") as exc:
+        evaluate(written["toml"], **FAST)
+    assert exc.value.field == "regime[0]"

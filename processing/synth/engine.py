@@ -128,6 +128,28 @@ class EngineRun(Record):
     settings: dict
     """How the run was made (JSON-able): kind ("engine" or "coast") and its parameters."""
 
+    def cycles_within(self, duration: float) -> tuple[float, float]:
+        """True δ and mean speed of the whole cycles within the first ``duration`` of the run
+        (what a record of that length holds, from t = 0).
+
+        δ of their average cycle ω(α), ω_mean its time mean, as :attr:`delta`; the mean
+        speed Φ·k/(t_k − t_0) over the k cycles.
+
+        Returns
+        -------
+        tuple of float
+            δ [1] and mean angular speed [rad/s].
+        """
+        points = int(round(self.cycle_angle / (self.crank_angle[1] - self.crank_angle[0])))
+        k = int(self.angle_at(duration) // self.cycle_angle)
+        if k < 1:
+            raise ValueError(f"cycles_within: no whole cycle within {duration:g} s")
+        average = self.angular_speed[:k * points].reshape(k, points).mean(axis=0)
+        average = np.append(average, self.angular_speed[points:(k + 1) * points:points].mean())
+        time = _cumulative_trapezoid(1 / average, self.crank_angle[1] - self.crank_angle[0])[-1]
+        return (float((average.max() - average.min()) * time / self.cycle_angle),
+                float(k * self.cycle_angle / self.time[k * points]))
+
     def angle_at(self, t) -> np.ndarray:
         """Crank angle α(t) at times t in [0, t_end] [s], by linear interpolation. [rad]"""
         t = np.asarray(t, dtype=float)
