@@ -692,6 +692,30 @@ def _check_meter(comparisons, results, inputs: Inputs) -> None:
         warnings.warn(report.meter_disagrees(off, limit))
 
 
+# ------------------------------------------------------------------------ slips
+
+SENSED = (r"[avx]_(rms|pp)_\d+", r"a[12]_\d+")
+"""The results read through the accelerometer's sensitivity."""
+
+SLIPS = [
+    ("sensitivity_per_g",
+     bi("the sensitivity in mV/(m/s²) taken as in mV/g: every acceleration, velocity and "
+        "displacement read off the records 9.81 times too large",
+        "коэффициент преобразования в мВ/(м/с²) принят за мВ/g: все ускорения, скорости и "
+        "перемещения по записям в 9,81 раза больше"), SENSED, G_RATIO),
+    ("sensitivity_per_m_s2",
+     bi("the sensitivity in mV/g taken as in mV/(m/s²): every acceleration, velocity and "
+        "displacement read off the records 9.81 times too small",
+        "коэффициент преобразования в мВ/g принят за мВ/(м/с²): все ускорения, скорости и "
+        "перемещения по записям в 9,81 раза меньше"), SENSED, 1 / G_RATIO),
+    ("amplitude_for_range",
+     bi("the amplitude (half the swing) reported for the peak-to-peak value",
+        "амплитуда (половина размаха) указана вместо размаха"), (r"[avx]_pp_\d+",), 0.5),
+]
+"""The lab's classic slips (:mod:`labs.check`): name, text, the results they change, and the
+factor a slip of the arithmetic puts on them."""
+
+
 # ------------------------------------------------------------------------ synthetic files
 
 SYNTH_FORMATS = ("csv", "h5")

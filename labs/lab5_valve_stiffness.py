@@ -457,6 +457,42 @@ def _reported(results: dict, lines, spring_lines) -> dict:
     return kept
 
 
+# ------------------------------------------------------------------------ slips
+
+def _lever_forgotten(inputs: Inputs) -> Inputs | None:
+    """The weights Q taken for the load at the valve: P = Q, the lever's i₁ not applied."""
+    if inputs["rig"]["i1"].value == 1.0:
+        return None
+    return inputs.changed("rig", i1=Measured(1.0))
+
+
+def _rocker_ratio_inverted(inputs: Inputs) -> Inputs:
+    """The rocker ratio taken the wrong way round: the push-rod arm over the valve arm, 1/i."""
+    return inputs.changed("rig", i=Measured(1.0 / inputs["rig"]["i"].value))
+
+
+LINKS = r"c_(rocker|shaft|rod|cam)(_load|_unload)?"
+"""The links' stiffnesses (either branch and their mean)."""
+FROM_LINKS = ("M_reduced", "nu_natural", "f_natural", "cam_order")
+"""The results that follow the links' stiffnesses."""
+
+SLIPS = [
+    ("lever_ratio_forgotten",
+     bi("the weights Q taken for the load at the valve (P = Q i₁ without i₁ = 10): every "
+        "stiffness ten times too small",
+        "нагрузка на клапан взята равной весу грузов Q (P = Q i₁ без i₁ = 10): все жёсткости "
+        "вдесятеро меньше"),
+     (LINKS, r"c_total(_load|_unload)?", *FROM_LINKS), _lever_forgotten),
+    ("rocker_ratio_inverted",
+     bi("the rocker ratio inverted (push-rod arm over valve arm, 1/i) in reducing the "
+        "deformations to the valve",
+        "передаточное отношение коромысла перевёрнуто (1/i) при приведении деформаций к "
+        "клапану"), (LINKS, *FROM_LINKS), _rocker_ratio_inverted),
+]
+"""The lab's classic slips (:mod:`labs.check`): name, text, the results they change, and the
+inputs as the slip leaves them."""
+
+
 # ------------------------------------------------------------------------ synthetic files
 
 def synthetic(seed: int = 0, *, runs: int = 1, friction: float = 8.0, contact: float = 0.0,

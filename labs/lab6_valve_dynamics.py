@@ -577,6 +577,43 @@ def _warn(recorded, flat, results, seps) -> None:
         warnings.warn(report.poor_oscillation(poor, NU_POOR))
 
 
+# ------------------------------------------------------------------------ slips
+
+def _valves_swapped(inputs: Inputs) -> Inputs | None:
+    """The inlet's trace read for the exhaust's and the reverse (each valve's channel
+    swapped), with each valve's own calibration and preload."""
+    entries = inputs["valve"]
+    if len(entries) != 2:
+        return None
+    channels = [e.get("channel", e["name"]) for e in entries]
+    swapped = [{**e, "channel": c} for e, c in zip(entries, channels[::-1])]
+    return replace(inputs, sections={**inputs.sections, "valve": swapped})
+
+
+PER_VALVE = r"(P_max|P_min|nu|phi|phi_crank|advance|lag|loss)_(in|ex)_\d+"
+"""Every result read off a valve's trace."""
+
+SLIPS = [
+    ("valves_swapped",
+     bi("the inlet's and the exhaust's traces confused: each valve's forces, timing and "
+        "durations read off the other's trace",
+        "перепутаны записи впускного и выпускного клапанов: силы, фазы и продолжительности "
+        "каждого клапана прочитаны по записи другого"),
+     (PER_VALVE, r"n_sep_(in|ex)_\d+"), _valves_swapped),
+    ("camshaft_turn_as_crank_turn",
+     bi("the camshaft's revolution T_cam taken as one crankshaft revolution (the TDC marks' "
+        "spacing): φ = 360 T_open/T_cam doubled",
+        "за оборот распределительного вала T_р.в взят оборот коленчатого (промежуток между "
+        "отметками ВМТ): φ = 360 T_откр/T_р.в вдвое больше"), (r"phi_(in|ex)_\d+",), 2.0),
+    ("cam_angle_for_crank_angle",
+     bi("the opening's camshaft angle reported for its crank angle (half of it)",
+        "угол открытия по распределительному валу указан вместо угла по коленчатому "
+        "(вдвое меньше)"), (r"phi_crank_(in|ex)_\d+",), 0.5),
+]
+"""The lab's classic slips (:mod:`labs.check`): name, text, the results they change, and the
+inputs as the slip leaves them, or the factor a slip of the arithmetic puts on them."""
+
+
 # ------------------------------------------------------------------------ synthetic files
 
 SYNTH_FORMATS = ("csv", "h5")

@@ -650,6 +650,28 @@ def _warn(inputs: Inputs, recorded, found, edges, results) -> None:
             warnings.warn(report.edge_warning(load, edge))
 
 
+# ------------------------------------------------------------------------ slips
+
+SLIPS = [
+    ("range_for_amplitude",
+     bi("the whole swing between a maximum and the next minimum taken for the amplitude "
+        "(the half range): the amplitudes doubled",
+        "за амплитуду взят весь размах между максимумом и соседним минимумом (а не его "
+        "половина): амплитуды вдвое больше"), (r"phi_max(_\d+)?",), 2.0),
+    ("lever_diameter_for_radius",
+     bi("the calibration lever's length taken twice (φ = h/R with the span across the case "
+        "for R): the trace scale and every amplitude halved",
+        "длина рычага тарировки взята вдвое большей (φ = h/R с R через весь корпус): масштаб "
+        "записи и все амплитуды вдвое меньше"), ("l", r"phi_max(_\d+)?"), 0.5),
+    ("order_from_rpm",
+     bi("the order K = ν/n with ν in Hz and n in min⁻¹: K sixty times too small",
+        "порядок K = ν/n при ν в Гц и n в мин⁻¹: K в 60 раз меньше"),
+     (r"K_\d+",), 1 / 60),
+]
+"""The lab's classic slips (:mod:`labs.check`): name, text, the results they change, and the
+factor a slip of the arithmetic puts on them."""
+
+
 # ------------------------------------------------------------------------ synthetic files
 
 SYNTH_FORMATS = ("csv", "h5")

@@ -39,7 +39,7 @@ from processing.diagnostics import ImbalanceWarning, InconsistentInputWarning, c
 from processing.measurement import LENGTH, MASS, Field, Inputs, LabSpec, Section, bi
 from processing.reporting.content import fmt_pm
 from processing.result import Figure, LabResult, Table, flag_estimates, result_values
-from processing.uncertainty import propagate
+from processing.uncertainty import Measured, propagate
 
 from . import catalogue
 
@@ -805,6 +805,48 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
     return LabResult.of(inputs, results, tables=[_phase_table(results, nominal)], figures=figures,
                         formulas=FORMULAS, references=REFERENCES, warnings=notices,
                         conclusion=_conclusion(results, inputs, notices))
+
+
+# ------------------------------------------------------------------------ slips
+
+def _rod_shares_swapped(inputs: Inputs) -> Inputs:
+    """The rod's two shares swapped: m_шк taken as reciprocating, m_шп as rotating."""
+    masses = inputs["masses"]
+    return inputs.changed("masses", m_shp=masses["m_shk"], m_shk=masses["m_shp"])
+
+
+def _piston_only(inputs: Inputs) -> Inputs:
+    """The reciprocating mass taken as the piston group's alone (m_шп left out of m_j)."""
+    return inputs.changed("masses", m_shp=Measured(0.0))
+
+
+def _crank_end_left_out(inputs: Inputs) -> Inputs:
+    """The rotating masses without the rod's crank-end share m_шк."""
+    return inputs.changed("masses", m_shk=Measured(0.0))
+
+
+RECIPROCATING = ("M_j1_max", "P_j2_max", "xi_stechkin", "D_j1", "D", "D_2", "F_j1", "F_j2",
+                 "M_j1_free", "M_j2_free")
+"""Results that follow the reciprocating mass m_j."""
+ROTATING = ("M_r", "dM_r", "D_r", "D", "m_x", "F_r", "M_r_free")
+"""Results that follow the rotating masses."""
+
+SLIPS = [
+    ("rod_shares_swapped",
+     bi("the connecting rod's shares swapped: m_шк put into the reciprocating mass, m_шп into "
+        "the rotating",
+        "перепутаны доли массы шатуна: m_шк отнесена к поступательно движущимся массам, "
+        "m_шп — к вращающимся"), RECIPROCATING + ROTATING, _rod_shares_swapped),
+    ("piston_only_reciprocating",
+     bi("the reciprocating mass taken as the piston group alone, without the rod's share m_шп",
+        "масса поступательно движущихся частей взята без доли шатуна m_шп (только поршневой "
+        "комплект)"), RECIPROCATING, _piston_only),
+    ("crank_end_left_out",
+     bi("the rod's crank-end share m_шк left out of the rotating masses",
+        "доля шатуна m_шк не включена во вращающиеся массы"), ROTATING, _crank_end_left_out),
+]
+"""The lab's classic slips (:mod:`labs.check`): name, text, the results they change, and the
+inputs as the slip leaves them."""
 
 
 # ------------------------------------------------------------------------ variants

@@ -574,6 +574,32 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20039) -> LabR
                         conclusion=report.conclusion(runs, dec, results, RUBBER_RATIO, kind))
 
 
+# ------------------------------------------------------------------------ slips
+
+SLIPS = [
+    ("common_logarithm",
+     bi("the decrement taken with the common logarithm, δ = lg(φ_n/φ_{n+1}): ln 10 = 2.3 "
+        "times too small, and ξ_d = I ω_d δ/π with it",
+        "декремент вычислен через десятичный логарифм, δ = lg(φ_n/φ_{n+1}): в ln 10 = 2,3 "
+        "раза меньше, и с ним ξ_d = I ω_d δ/π"),
+     ("log_decrement", "log_decrement_peaks", "xi_dynamic"), 1 / np.log(10)),
+    ("energy_without_half",
+     bi("the energy at the largest twist taken as M_max φ_max, the rectangle for the triangle "
+        "OAB (½ dropped): E_max doubled and ξ′ = E_n/E_max halved",
+        "энергия при наибольшей закрутке взята как M_max φ_max — прямоугольник вместо "
+        "треугольника OAB (потерян множитель ½): E_max вдвое больше, ξ′ = E_n/E_max вдвое "
+        "меньше"),
+     (r"E_max(_\d+)?",), 2.0),
+    ("energy_without_half",
+     bi("ξ′ = E_n/E_max with E_max taken as M_max φ_max (½ dropped): ξ′ halved",
+        "ξ′ = E_n/E_max при E_max = M_max φ_max (потерян множитель ½): ξ′ вдвое меньше"),
+     (r"xi_static(_\d+)?",), 0.5),
+]
+"""The lab's classic slips (:mod:`labs.check`): name, text, the results they change, and the
+factor a slip of the arithmetic puts on them (one slip, ½ dropped from E_max, changes E_max
+and ξ′ by different factors: two entries of one name)."""
+
+
 # ------------------------------------------------------------------------ synthetic files
 
 PHOTO_MARKS = 1e-3
@@ -586,11 +612,14 @@ def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: fl
                     image: bool = False) -> dict[str, Path]:
     """Write a synthetic lab 9 measurement: static runs, a decay record, the answer key.
 
-    The scene of :mod:`processing.synth.damper`: a rubber layer of C = 2.6·10⁴ N·m/rad with a
-    lens loop (ξ′ ≈ 0.21) read in 7 steps up to 315 N·m, runs alternating forward and
-    reverse; a ring of I = 0.03 kg·m² on it (C_d = ``ratio``·C, δ = 0.89 at the release, like
-    the manual's damper 1) twisted 10 mrad and released, recorded by strain gauges with
-    offset, drift, creep and noise, calibrated at four static twists; or (``paper``) four
+    The scene of :mod:`processing.synth.damper`: seed 0 is the manual's damper 1, a rubber
+    layer of C = 2.6·10⁴ N·m/rad with a lens loop (ξ′ ≈ 0.21) read in 7 steps up to 315 N·m,
+    runs alternating forward and reverse, and a ring of I = 0.03 kg·m² on it (C_d =
+    ``ratio``·C, δ = 0.89 at the release); any other seed draws a damper of its own
+    (:func:`_damper`: C over the manual's six dampers' 2.6…6.9·10⁴ N·m/rad, its ξ′, δ and
+    ring, loaded to about 12 mrad). The ring is twisted 10 mrad and released, recorded by
+    strain gauges with offset, drift, creep and noise, calibrated at four static twists; or
+    (``paper``) four
     maxima read off that record (40 mm at the release) with a ruler and the time of three
     periods; or (``image``) the light-beam oscillograph's paper record of it, photographed
     (35 mm at the release, a time mark every millisecond:
@@ -633,17 +662,18 @@ def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: fl
     import json
 
     from processing.signals import write_csv
-    from processing.synth.damper import (Ring, RubberLayer, StrainGauge, calibration,
+    from processing.synth.damper import (Ring, StrainGauge, calibration,
                                          free_decay, peak_readings, static_runs)
     from processing.synth.paper_record import photograph
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    layer = RubberLayer()
-    moment_max, steps = 315.0, 7
+    layer, moment_max, inertia, decrement = _damper(seed, ratio)
+    steps = 7
     table = static_runs(layer, moment_max, steps=steps, runs=runs,
                         directions=("forward", "reverse"), seed=seed)
-    ring = Ring(stiffness=ratio * layer.stiffness, amplitude_exponent=amplitude_exponent)
+    ring = Ring(inertia=inertia, stiffness=ratio * layer.stiffness, decrement=decrement,
+                amplitude_exponent=amplitude_exponent)
     gauge = StrainGauge(sample_rate=sample_rate, snr_db=snr_db)
     rec = free_decay(ring, gauge, periods=periods, seed=seed)
     body = [f'lab = "lab9"\n[meta]\nstudent = "synthetic (dynlab synth lab9 --seed {seed})"\n'
@@ -696,3 +726,35 @@ def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: fl
                      if amplitude_exponent else " (the damping is viscous).")}, indent=1),
         encoding="utf-8")
     return written
+
+
+DAMPERS = {"C": (2.6e4, 6.9e4), "xi_static": (0.17, 0.25), "decrement": (0.71, 0.90),
+           "frequency": (150.0, 260.0)}
+"""Ranges a variant's damper is drawn from: the static stiffness, the loop's relative damping
+and the decrement over the manual's six dampers (Table 2; ξ′ of the static loop as Table 1's),
+and the ring's damped frequency (I follows from it and C_d). [N·m/rad], [1], [1], [Hz]"""
+
+TWIST_MAX = 12e-3
+"""The static loop's largest twist a variant is loaded to, as in Table 1. [rad]"""
+
+
+def _damper(seed: int, ratio: float):
+    """A variant's damper: the rubber layer, the largest moment of its static runs, the ring's
+    inertia and its decrement at the release. Seed 0 is the manual's damper 1 (C = 2.6·10⁴
+    N·m/rad, ξ′ ≈ 0.21, 315 N·m, I = 0.03 kg·m², δ = 0.89).
+
+    The loop's width follows from ξ′ = E_n/E_max = 2hC/(3 M_max) (:class:`RubberLayer`), the
+    largest moment is seven steps of 5 N·m multiples near C·:data:`TWIST_MAX`, and
+    I = C_d/ω_n² with ω_n from the drawn frequency.
+    """
+    from processing.synth.damper import RubberLayer, Ring
+
+    if seed == 0:
+        return RubberLayer(), 315.0, Ring().inertia, Ring().decrement
+    rng = np.random.default_rng([seed, 91])
+    C = rng.uniform(*DAMPERS["C"])
+    moment_max = 7 * 5.0 * round(C * TWIST_MAX / 35.0)
+    width = 1.5 * rng.uniform(*DAMPERS["xi_static"]) * moment_max / C
+    decrement = rng.uniform(*DAMPERS["decrement"])
+    inertia = ratio * C / (2 * np.pi * rng.uniform(*DAMPERS["frequency"])) ** 2
+    return RubberLayer(stiffness=C, loop_width=width), moment_max, inertia, decrement

@@ -185,7 +185,8 @@ def test_check_json_of_one_submission(tmp_path, ours, capsys):
 
 
 def test_a_seeded_class_with_injected_slips(tmp_path):
-    """The benchmark's quick class (21 variants of labs 1, 2, 9, half their values slipped):
+    """The benchmark's quick class (a variant of every lab with a scene, about half its values
+    slipped):
     every injected slip found and named, no right value called wrong. (Its timing target
     lives in ``python -m processing.bench --topic check``.)"""
     from labs import check_bench
