@@ -173,10 +173,10 @@ def _lab_slips(module, results, inputs, options, wrong=None) -> list[Slip]:
     """The lab's own slips (``SLIPS`` of its module): the value of each result a slip changes
     as the slip leaves it.
 
-    A slip's ``change`` is either a function of the inputs, whose slipped inputs are reduced
-    again, or a number: a slip of the arithmetic after the reduction (a range for an
-    amplitude, a common logarithm for a natural one), the results it names times that
-    factor.
+    A slip's ``change`` is a function of the inputs that returns them as the slip leaves them
+    (reduced again), or returns a number, or is a number: a slip of the arithmetic after the
+    reduction (a range for an amplitude, a common logarithm for a natural one, the teeth
+    counted for the pitches), the results it names times that factor.
 
     Parameters
     ----------
@@ -185,7 +185,7 @@ def _lab_slips(module, results, inputs, options, wrong=None) -> list[Slip]:
     results : dict
         Our reduction's results (:class:`processing.result.Result` by name).
     inputs : callable
-        Returns the submission's inputs (called only for a slip that changes them).
+        Returns the submission's inputs (called only for a slip that needs them).
     options : dict
         For the lab's ``reduce``.
     wrong : set of str, optional
@@ -197,12 +197,12 @@ def _lab_slips(module, results, inputs, options, wrong=None) -> list[Slip]:
         names = _slip_names(changes, results)
         if wrong is not None and not wrong.intersection(names):
             continue
-        if not callable(change):
-            out.append(Slip(name, text, reduced={k: change * results[k].value
-                                                 for k in names}))
-            continue
-        slipped = change(inputs())
+        slipped = change(inputs()) if callable(change) else change
         if slipped is None:
+            continue
+        if isinstance(slipped, (int, float)):
+            out.append(Slip(name, text, reduced={k: slipped * results[k].value
+                                                 for k in names}))
             continue
         try:
             result = module.reduce(slipped, **options)

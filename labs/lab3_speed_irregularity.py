@@ -711,6 +711,36 @@ def _check_pitch(reg: Regime) -> None:
             "откалибруйте колесо по записи выбега ([wheel] calibration)"))
 
 
+# ------------------------------------------------------------------------ slips
+
+def _teeth_for_pitches(inputs: Inputs) -> float | None:
+    """The teeth counted for the pitches (58 on a 60−2 wheel): f = n z/60 with the smaller z
+    gives every speed z/(z − missing) times ours."""
+    wheel = inputs.sections.get("wheel")
+    if not wheel or not wheel["missing"]:
+        return None
+    return wheel["z"] / (wheel["z"] - wheel["missing"])
+
+
+SLIPS = [
+    ("teeth_for_pitches",
+     bi("the wheel's teeth counted for its tooth pitches (z without the missing teeth, "
+        "58 on a 60−2 wheel): every speed z/(z − missing) times too high",
+        "за число шагов взято число зубьев (z без пропущенных зубьев, 58 у колеса 60−2): "
+        "все частоты вращения завышены в z/(z − пропуск) раз"),
+     (r"omega_(mean|min|max)_\d+",), _teeth_for_pitches),
+    ("half_swing",
+     bi("δ from half the swing, (ω_max − ω_min)/(2 ω_m): the amplitude of the speed's "
+        "fluctuation taken for its range",
+        "δ по половине размаха, (ω_max − ω_min)/(2 ω_ср): амплитуда колебаний скорости "
+        "принята за её размах"), (r"delta(_mid|_tooth|_osc)?_\d+",), 0.5),
+]
+"""The lab's classic slips (:mod:`labs.check`): name, text, the results they change, and the
+factor a slip of the arithmetic puts on them (set by the inputs, or fixed). δ against the
+mid-range (ω_max + ω_min)/2 instead of the mean speed is no slip here: the two differ by a
+fraction of a per cent (``delta_mid_r`` against ``delta_r``), inside any tolerance."""
+
+
 # ------------------------------------------------------------------------ synthetic files
 
 SYNTH_FORMATS = ("wav", "csv", "h5")

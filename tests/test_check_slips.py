@@ -1,4 +1,4 @@
-"""Each lab's own classic slips (``SLIPS`` of labs 4–9) found by name through ``dynlab check``.
+"""Each lab's own classic slips (``SLIPS`` of labs 3–9) found by name through ``dynlab check``.
 
 Every slip is reproduced as the student makes it — the measurement file changed as the slip
 changes it and reduced, or the student's arithmetic done with the slip — and the value so made
@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from labs import (lab4_vibration as lab4, lab5_valve_stiffness as lab5, lab6_valve_dynamics as lab6,
+from labs import (lab3_speed_irregularity as lab3, lab4_vibration as lab4, lab5_valve_stiffness as lab5, lab6_valve_dynamics as lab6,
                   lab7_torsiograph as lab7, lab8_balancing as lab8, lab9_damper as lab9)
 from labs.check import check
 from labs.registry import evaluate
@@ -27,6 +27,7 @@ def variants(tmp_path_factory):
     """One variant per lab (the recorded labs with few records), written once."""
     root = tmp_path_factory.mktemp("slips")
     return {
+        "lab3": written(root / "lab3", lab3),
         "lab4": written(root / "lab4", lab4, speeds=(1000.0, 2000.0), step=1000.0,
                         cut_speed=2000.0, duration=1.2),
         "lab5": written(root / "lab5", lab5),
@@ -68,12 +69,30 @@ def found(path: Path, name: str, value: float, unit: str):
     return v
 
 
-def assert_named(variants, ours, lab: str, name: str, value: float, slip: str):
+def assert_named(variants, ours, lab: str, name: str, value: float, slip: str,
+                 shift: float = 0.05):
+    """The slipped value, off ours by more than ``shift``, is wrong and named ``slip``."""
     r = ours[lab][name]
-    assert abs(value / r.value - 1) > 0.05, (name, value, r.value)
+    assert abs(value / r.value - 1) > shift, (name, value, r.value)
     v = found(variants[lab], name, value, r.unit)
     assert v.verdict == "wrong" and v.slip is not None and v.slip.name == slip, \
         (name, value, r.value, v.verdict, v.slip and v.slip.name)
+
+
+# ----------------------------------------------------------------------------- lab 3
+
+def test_lab3_slips(variants, ours):
+    """The teeth counted for the pitches (n = 60 f/z with z = 58 on the 60−2 wheel), and δ
+    from half the swing."""
+    r = ours["lab3"]
+    z, missing = 60, 2
+    assert "z = 60\nmissing = 2" in variants["lab3"].read_text()
+    tooth_frequency = r["omega_mean_1"].value * z / (2 * np.pi)
+    assert_named(variants, ours, "lab3", "omega_mean_1",
+                 2 * np.pi * tooth_frequency / (z - missing), "teeth_for_pitches",
+                 shift=0.03)          # 60/58: 3.4 %, beyond the 1 % tolerance
+    half = (r["omega_max_2"].value - r["omega_min_2"].value) / (2 * r["omega_mean_2"].value)
+    assert_named(variants, ours, "lab3", "delta_2", half, "half_swing")
 
 
 # ----------------------------------------------------------------------------- lab 4
