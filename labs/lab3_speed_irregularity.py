@@ -275,7 +275,10 @@ def mean_speed(starts, cycle_angle: float, time_scale: Measured) -> Measured:
 def _oscillogram(inputs: Inputs, i: int, entry: dict, revolutions: int) -> Oscillogram | None:
     """δ of the mean working cycle of a photographed speed trace: its swing over its level
     above the zero line (the manual's (h_max − h_min)/h_cp, read by the machine), the cycles
-    bounded by every ``revolutions``-th TDC mark, u by the jackknife over the cycles."""
+    bounded by every ``revolutions``-th TDC mark, u by the jackknife over the cycles. The
+    photograph's blur flattens the ripple (order m of a cycle τ by exp(−(2πmσ/τ)²/2)); σ² is
+    taken between 0 and what the stroke implies (:attr:`~processing.vision.record.PaperRecord.
+    stroke_blur`), rectangular: δ restored at its middle, with that rectangle's u (type B)."""
     if "oscillogram" not in entry:
         return None
     field, path = f"regime[{i}].oscillogram", entry["oscillogram"]
@@ -297,9 +300,15 @@ def _oscillogram(inputs: Inputs, i: int, entry: dict, revolutions: int) -> Oscil
     except ValueError as exc:
         raise InputError(str(exc), "photograph the trace sharply, its whole length",
                          file=str(path), field=field) from None
-    delta, u = cycles.relative_swing()
+    # the camera's blur low-passed the ripple by an amount between none and what the stroke's
+    # whole width allows: δ between the two, u of that rectangle (type B)
+    sigma = channel.stroke_blur
+    low, _ = cycles.relative_swing()
+    high, _ = cycles.deblurred(sigma).relative_swing()
+    delta, u = cycles.deblurred(sigma / np.sqrt(2)).relative_swing()
     inside = starts[(starts >= channel.time[0]) & (starts <= channel.time[-1])]
-    return Oscillogram(channel, cycles, _jack(delta, u, cycles.cycles),
+    return Oscillogram(channel, cycles, _jack(delta, u, cycles.cycles,
+                                              u_b=abs(high - low) / (2 * np.sqrt(3))),
                        mean_speed(inside, 2 * np.pi * revolutions, channel.time_scale))
 
 

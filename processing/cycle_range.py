@@ -43,11 +43,36 @@ class CycleRange:
         M, the highest order kept.
     phase : numpy.ndarray
         The grid θ the curves are evaluated on. [rad]
+    durations : numpy.ndarray
+        Each cycle's length t_{k+1} − t_k (the trace's time unit).
     """
 
     coefficients: np.ndarray
     orders: int
     phase: np.ndarray
+    durations: np.ndarray
+
+    def deblurred(self, sigma: float) -> CycleRange:
+        """The cycles as they were before a Gaussian smoothing of σ along the time axis (a
+        photograph's blur low-passes a trace read off it).
+
+        A Gaussian of σ multiplies the component of frequency m/τ_k by
+        exp(−(2π m σ/τ_k)²/2); order m of cycle k is divided by that.
+
+        Parameters
+        ----------
+        sigma : float
+            σ of the smoothing, in the trace's time unit (0: unchanged).
+
+        Returns
+        -------
+        CycleRange
+        """
+        m = np.repeat(np.arange(1, self.orders + 1), 2)
+        gain = np.ones_like(self.coefficients)
+        gain[:, 1:] = np.exp(0.5 * (2 * np.pi * m[None, :] * sigma
+                                    / self.durations[:, None]) ** 2)
+        return CycleRange(self.coefficients * gain, self.orders, self.phase, self.durations)
 
     @property
     def cycles(self) -> int:
@@ -147,7 +172,8 @@ def cycle_range(time, value, starts, *, orders: int | None = None,
     keep = most if orders is not None else _significant(coefficients, most)
     if keep < most:
         coefficients = np.array([_fit(theta, y, keep) for theta, y in pieces])
-    return CycleRange(coefficients, keep, np.linspace(0.0, 2 * np.pi, grid, endpoint=False))
+    return CycleRange(coefficients, keep, np.linspace(0.0, 2 * np.pi, grid, endpoint=False),
+                      np.diff(edges))
 
 
 def _fit(theta: np.ndarray, y: np.ndarray, orders: int) -> np.ndarray:

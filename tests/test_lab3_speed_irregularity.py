@@ -317,7 +317,7 @@ def test_photographed_oscillogram_gives_the_signals_delta(photographed):
     """A phone photograph of each regime's frequency-to-voltage oscillogram (eight working
     cycles between TDC marks, its zero line drawn): δ of the mean cycle read off it holds the
     run's true δ within its stated interval (the eight cycles photographed scatter about it:
-    measured −1.7 % and −2.2 % from it, U = 1.9 % and 4.5 %; the signal's δ, 12 cycles,
+    measured −0.7 % and −1.1 % from it, U = 2.0 % and 3.7 %; the signal's δ, 12 cycles,
     −1.6 % and −1.0 %) and agrees with the signal's δ within
     their combined uncertainty; the report shows each photograph as read."""
     written, key, result = photographed
@@ -370,8 +370,9 @@ def test_photograph_alone_gives_delta_and_the_mean_speed(photograph_alone):
     """With no recording (no [wheel] either), each regime comes from its photographed
     oscillogram: δ of the mean cycle and the mean speed Θ/τ̄ from the TDC marks timed on the
     time marks, each holding the photographed cycles' truth within its 95 % interval
-    (measured: δ −2.7 % and −2.0 % from it, U 3.1 % and 4.0 %; n −0.2 and +0.0 min⁻¹,
-    U 1.5 and 1.8 min⁻¹), and agreeing with the tachometer."""
+    (measured: δ −1.6 % and −1.0 % from it, U 3.3 % and 4.1 %, the blur's flattening
+    restored; n −0.2 and +0.0 min⁻¹, U 1.5 and 1.8 min⁻¹), and agreeing with the
+    tachometer."""
     path, key, result = photograph_alone
     assert "wheel" not in path.read_text(encoding="utf-8")
     assert not {"delta_1", "omega_mean_1", "delta_tooth_1"} & set(result.results)

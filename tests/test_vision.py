@@ -289,6 +289,30 @@ def test_sharp_crests_are_read_off_the_strokes_outer_edge():
     assert rec.stroke_value < 0.0005
 
 
+def test_a_small_ripple_blurred_within_its_stroke_is_still_a_trace():
+    """A ripple of ±0.35 mm (±2.8 px) and a 5 mm (40 px) period under a 2 px blur stays
+    within its own blurred stroke, so its block medians peak on one row like a line's: it is
+    still read as a trace (it was once lifted off as a line, leaving a flat trace behind).
+    The blur flattens what is read about as much as the stroke's width implies
+    (exp(−(2πσ/P)²/2) at σ = PaperRecord.stroke_blur, 0.949): measured 0.938 of the true
+    ripple."""
+    period, amplitude = 0.002, 0.01
+    layout = Layout(length=0.25, speed=0.25 / 0.1, mark_period=0.005)
+    scene = render(layout, [Beam(lambda t: 1 + amplitude * np.sin(2 * np.pi * t / period),
+                                 0.02, 0.07, zero_line=True)],
+                   replace(PHOTO, size=(2400, 1200), fill=0.85, blur=2.0, rotation=0.0,
+                           perspective=0.0, noise=1.0, jpeg=None), seed=1)
+    rec = read_paper_record(scene.image, mark_period=0.005, paper_width=0.12, zero="line")
+    ok = np.isfinite(rec.value)
+    t, v = rec.time[ok], rec.value[ok]
+    w = 2 * np.pi / period
+    design = np.column_stack([np.sin(w * t), np.cos(w * t), np.ones_like(t), t])
+    c = np.linalg.lstsq(design, v, rcond=None)[0]
+    read = np.hypot(c[0], c[1]) / (0.07 * amplitude)
+    implied = np.exp(-0.5 * (2 * np.pi * rec.stroke_blur / period) ** 2)
+    assert implied < 0.96 and read == pytest.approx(implied, abs=0.02)
+
+
 # ----------------------------------------------------------------------------- failure region
 
 def test_poor_photograph_warns_with_the_share():

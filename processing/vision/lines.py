@@ -37,13 +37,6 @@ MAX_ABSENCE = 0.1
 line is broken only where a pip lifts it. A trace at rest for a while (a valve's force while
 the valve is shut, a decay settled) runs straight too, but leaves its row for whole events."""
 
-NEAR_LEAVING = 0.5
-"""Largest share of the columns where a line's row holds no ink (and there are at least 5 %
-of such columns) in which ink lies just beside the row, within two of its widths: a line
-leaves its row only where a pip lifts it clear (a pip stands five or more widths tall), while
-a trace that dwells at one level and dips off it (a speed trace of a small δ) leaves it for
-the rows next to it."""
-
 BLOCK_COLUMNS = 160
 """Typical block length along the line; 6 to 32 blocks per sheet. [px]"""
 
@@ -133,13 +126,11 @@ def remove_lines(density: np.ndarray, noise: float) -> list[Line]:
         position = float(fit.predict(w / 2))
         wide = med[max(row - 3 * reach, 0):min(row + 3 * reach + 1, h)]
         width = _fwhm(wide[:, present].mean(axis=1), row - max(row - 3 * reach, 0))
-        if _wavy(density, fit, max(2, int(round(width / 2.5))), noise):
+        if _wavy(density, fit, max(2, int(round(width))), noise):
             continue                    # a trace that keeps near one level, not a line
-        absent, near = _absences(density, fit, width, float(np.median(tops[present])), noise)
-        if absent > MAX_ABSENCE * w:
+        if _longest_absence(density, fit, width, float(np.median(tops[present])),
+                            noise) > MAX_ABSENCE * w:
             continue                    # a trace at rest between events, not a line
-        if near > NEAR_LEAVING:
-            continue                    # a trace dwelling at one level and dipping off it
         if any(abs(position - other.position) < max(3.0, width + other.width)
                for other in lines):
             continue                    # a shoulder of a stronger line (its pips, blurred)
@@ -164,10 +155,13 @@ def _without_shoulders(lines: list[Line]) -> list[Line]:
 
 def _wavy(density: np.ndarray, fit, reach: int, noise: float) -> bool:
     """Whether the stroke along a candidate line wanders to both sides of it: a fifth of its
-    column centroids (256 columns, ± ``reach`` rows: 0.4 of its width) lie more than
+    column centroids (256 columns, ± ``reach`` rows: its width) lie more than
     :data:`MAX_WANDER` px above the fitted line and a fifth as far below. A line holds its
     row in every column (pips beside it pull the centroids to one side only); a trace that
-    oscillates about one level keeps to it only in the block medians."""
+    oscillates about one level keeps to it only in the block medians. The window spans the
+    candidate's width as the block medians show it, which for a small ripple blurred into
+    its own stroke (or a trace dwelling at one level and dipping off it) is the width of the
+    rows it dwells on: narrower windows saw too little of its swing to tell it from a line."""
     h, w = density.shape
     cols = np.linspace(0, w - 1, 256).round().astype(int)
     centre = fit.predict(cols)
@@ -183,25 +177,18 @@ def _wavy(density: np.ndarray, fit, reach: int, noise: float) -> bool:
     return bool(low < -MAX_WANDER and high > MAX_WANDER)
 
 
-def _absences(density: np.ndarray, fit, width: float, strength: float,
-              noise: float) -> tuple[int, float]:
-    """Where the ink left the candidate line's row (± half its width + 1 px: less than a
-    third of its strength there): the longest run of such columns [px], and the share of
-    them with ink just beside the row (within two widths + 1 px) — 0 when they are fewer
-    than 5 % of the columns."""
+def _longest_absence(density: np.ndarray, fit, width: float, strength: float,
+                     noise: float) -> int:
+    """The longest run of columns in which the candidate line's row (± half its width + 1
+    px) holds less than a third of its strength: where the ink left it. [px]"""
     h, w = density.shape
     cols = np.arange(w)
     reach = int(np.ceil(width / 2)) + 1
-    beside = reach + int(np.ceil(2 * width)) + 1
-    offsets = np.arange(-beside, beside + 1)
-    rows = np.clip(np.round(fit.predict(cols))[None, :].astype(int) + offsets[:, None], 0, h - 1)
-    ink = density[rows, cols[None, :]] > max(strength / 3, 4 * noise)
-    inked = ink[np.abs(offsets) <= reach].any(axis=0)
+    rows = np.clip(np.round(fit.predict(cols))[None, :].astype(int)
+                   + np.arange(-reach, reach + 1)[:, None], 0, h - 1)
+    inked = density[rows, cols[None, :]].max(axis=0) > max(strength / 3, 4 * noise)
     edges = np.flatnonzero(np.diff(np.concatenate([[1], inked.astype(np.int8), [1]])))
-    longest = int((edges[1::2] - edges[::2]).max()) if edges.size else 0
-    if (~inked).mean() < 0.05:
-        return longest, 0.0
-    return longest, float(ink[:, ~inked].any(axis=0).mean())
+    return int((edges[1::2] - edges[::2]).max()) if edges.size else 0
 
 
 def _fwhm(profile: np.ndarray, near: int) -> float:
