@@ -340,3 +340,24 @@ def test_photographed_record_refusals(photographed, tmp_path, change, field, pro
         reduce(path)
     assert exc.value.field == field and problem in exc.value.problem, exc.value
     assert exc.value.file.endswith("decay.jpg")
+
+
+def test_variants_differ_in_the_damper(tmp_path):
+    """Seed 0 is the manual's damper 1; other seeds draw a damper of their own (stiffness,
+    loop, ring, decrement within the manual's six dampers) whose reduction holds its key."""
+    keys = {}
+    for seed in (0, 1, 2):
+        w = lab9.write_synthetic(tmp_path / str(seed), seed=seed)
+        keys[seed] = json.loads(w["answer"].read_text())["results"]
+        result = reduce(w["toml"], n_samples=1000)
+        for name in ("C_static", "log_decrement", "C_dynamic", "xi_static"):
+            lo, hi = result[name].estimate.interval95
+            assert lo <= keys[seed][name] <= hi, (seed, name, result[name].value)
+        assert 'rubber = "synthetic"' in w["toml"].read_text()
+    assert keys[0]["C_static"] == 2.6e4 and keys[0]["log_decrement"] == pytest.approx(0.89)
+    for seed in (1, 2):
+        assert lab9.DAMPERS["C"][0] <= keys[seed]["C_static"] <= lab9.DAMPERS["C"][1]
+        assert lab9.DAMPERS["decrement"][0] <= keys[seed]["log_decrement"] \
+            <= lab9.DAMPERS["decrement"][1]
+        assert keys[seed]["C_dynamic"] / keys[seed]["C_static"] == pytest.approx(1.87, rel=0.01)
+    assert len({k["C_static"] for k in keys.values()}) == 3
