@@ -16,7 +16,8 @@ from processing.result import Figure, Table
 def regime_table(regimes, results, scales) -> Table:
     """δ of every regime by every method, and the oscillogram's scale μ [mm per min⁻¹]
     (``scales``: regime number → μ, or None without oscillogram readings); the mean speed
-    from a photographed oscillogram's TDC marks where one was read."""
+    from a photographed oscillogram's TDC marks where one was read. Columns no regime fills
+    are left out."""
     rows = []
     for reg in regimes:
         r, rec = reg.number, reg.recording
@@ -30,17 +31,20 @@ def regime_table(regimes, results, scales) -> Table:
                "delta_osc": result_pm(results, f"delta_osc_{r}")}
         row["scale"] = "—" if scales.get(r) is None else f"{scales[r]:.4f}"
         rows.append(row)
+    recorded = bool(_recorded(regimes))
     photographed = any(reg.oscillogram is not None for reg in regimes)
-    cols = (("regime", bi("Regime", "Режим")), ("cycles", bi("Cycles", "Циклов")),
-            ("spt", bi("Samples per tooth", "Отсчётов на зуб")),
-            ("n_t", bi("n tachometer, min⁻¹", "n тахометр, мин⁻¹")),
-            ("n", bi("n signal, min⁻¹", "n по сигналу, мин⁻¹")),
-            *((("n_osc", bi("n oscillogram, min⁻¹", "n по осциллограмме, мин⁻¹")),)
-              if photographed else ()),
-            ("delta", bi("δ mean cycle", "δ среднего цикла")),
-            ("delta_z", bi("δ tooth by tooth", "δ по зубьям")),
-            ("delta_osc", bi("δ oscillogram", "δ по осциллограмме")),
-            ("scale", bi("μ, mm per min⁻¹", "μ, мм/мин⁻¹")))
+    shown = {"spt": recorded, "n": recorded, "n_osc": photographed, "delta": recorded,
+             "delta_z": recorded, "scale": any(v is not None for v in scales.values())}
+    cols = tuple((key, title) for key, title in (
+        ("regime", bi("Regime", "Режим")), ("cycles", bi("Cycles", "Циклов")),
+        ("spt", bi("Samples per tooth", "Отсчётов на зуб")),
+        ("n_t", bi("n tachometer, min⁻¹", "n тахометр, мин⁻¹")),
+        ("n", bi("n signal, min⁻¹", "n по сигналу, мин⁻¹")),
+        ("n_osc", bi("n oscillogram, min⁻¹", "n по осциллограмме, мин⁻¹")),
+        ("delta", bi("δ mean cycle", "δ среднего цикла")),
+        ("delta_z", bi("δ tooth by tooth", "δ по зубьям")),
+        ("delta_osc", bi("δ oscillogram", "δ по осциллограмме")),
+        ("scale", bi("μ, mm per min⁻¹", "μ, мм/мин⁻¹"))) if shown.get(key, True))
     return Table(bi("Speed irregularity by regime (± U, k = 2)",
                     "Степень неравномерности по режимам (± U, k = 2)"), cols, rows)
 

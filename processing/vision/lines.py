@@ -37,6 +37,12 @@ MAX_ABSENCE = 0.1
 line is broken only where a pip lifts it. A trace at rest for a while (a valve's force while
 the valve is shut, a decay settled) runs straight too, but leaves its row for whole events."""
 
+DIPPING = 0.5
+"""Largest share of the columns where a line's row holds no ink (when at least 5 % of the
+columns are such) that may lie in stretches along which the ink beside the row moves — its
+nearest row changing by 2 px or more. A pip lifts a line to a flat top; a trace that dwells
+at one level and dips off it (a speed trace of small δ) leaves for rows it sweeps through."""
+
 BLOCK_COLUMNS = 160
 """Typical block length along the line; 6 to 32 blocks per sheet. [px]"""
 
@@ -128,9 +134,12 @@ def remove_lines(density: np.ndarray, noise: float) -> list[Line]:
         width = _fwhm(wide[:, present].mean(axis=1), row - max(row - 3 * reach, 0))
         if _wavy(density, fit, max(2, int(round(width))), noise):
             continue                    # a trace that keeps near one level, not a line
-        if _longest_absence(density, fit, width, float(np.median(tops[present])),
-                            noise) > MAX_ABSENCE * w:
+        absent, dipping = _absences(density, fit, width, float(np.median(tops[present])),
+                                    noise)
+        if absent > MAX_ABSENCE * w:
             continue                    # a trace at rest between events, not a line
+        if dipping > DIPPING:
+            continue                    # a trace dwelling at one level and dipping off it
         if any(abs(position - other.position) < max(3.0, width + other.width)
                for other in lines):
             continue                    # a shoulder of a stronger line (its pips, blurred)
@@ -177,18 +186,31 @@ def _wavy(density: np.ndarray, fit, reach: int, noise: float) -> bool:
     return bool(low < -MAX_WANDER and high > MAX_WANDER)
 
 
-def _longest_absence(density: np.ndarray, fit, width: float, strength: float,
-                     noise: float) -> int:
-    """The longest run of columns in which the candidate line's row (± half its width + 1
-    px) holds less than a third of its strength: where the ink left it. [px]"""
+def _absences(density: np.ndarray, fit, width: float, strength: float,
+              noise: float) -> tuple[int, float]:
+    """Where the ink left the candidate line's row (± half its width + 1 px: less than a
+    third of its strength there): the longest stretch of such columns [px], and the share of
+    them in stretches along which the nearest ink beside the row (within two widths + 1 px
+    more) moves by 2 px or more — 0 when they are fewer than 5 % of the columns."""
     h, w = density.shape
     cols = np.arange(w)
     reach = int(np.ceil(width / 2)) + 1
-    rows = np.clip(np.round(fit.predict(cols))[None, :].astype(int)
-                   + np.arange(-reach, reach + 1)[:, None], 0, h - 1)
-    inked = density[rows, cols[None, :]].max(axis=0) > max(strength / 3, 4 * noise)
+    offsets = np.arange(-reach - int(np.ceil(2 * width)) - 1, reach + int(np.ceil(2 * width)) + 2)
+    rows = np.clip(np.round(fit.predict(cols))[None, :].astype(int) + offsets[:, None], 0, h - 1)
+    ink = density[rows, cols[None, :]] > max(strength / 3, 4 * noise)
+    inked = ink[np.abs(offsets) <= reach].any(axis=0)
     edges = np.flatnonzero(np.diff(np.concatenate([[1], inked.astype(np.int8), [1]])))
-    return int((edges[1::2] - edges[::2]).max()) if edges.size else 0
+    starts, stops = edges[::2], edges[1::2]
+    longest = int((stops - starts).max()) if edges.size else 0
+    if (~inked).mean() < 0.05:
+        return longest, 0.0
+    nearest = np.where(ink, np.abs(offsets)[:, None], np.inf).min(axis=0)
+    dipping = 0
+    for a, b in zip(starts, stops):
+        seen = nearest[a:b][np.isfinite(nearest[a:b])]
+        if seen.size >= 3 and np.ptp(seen) >= 2:
+            dipping += b - a
+    return longest, dipping / int((~inked).sum())
 
 
 def _fwhm(profile: np.ndarray, near: int) -> float:
