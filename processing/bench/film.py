@@ -29,6 +29,14 @@ target and which must each be warned irregular. Targets: the period within 0.02 
 case of the grid (20 oscillations at 30 fps and more) and of the variable-rate films,
 coverage 90–98 % (widened for the number of films), and ≥ 300 frames per second tracked on
 one core (decoding included).
+
+Amplitude: the angle read off the marker's arc (:attr:`~processing.vision.video.Filmed.
+amplitude`) on every film of the grid (from the side, 600 px arm) and on films of issue 18's
+scene (20 oscillations at 30 fps, 640 × 480) with the marker on a disc's edge 100 or 200 px
+from its axis seen from above, or on a 300 px arm from the side, at 2–10°, written to
+``amplitude.csv``. Targets: every film's stated limit
+(:attr:`~processing.vision.video.Filmed.amplitude_limit`) holds its truth, and the error is
+within 0.2° wherever that limit is (where it is wider, the film is warned of).
 """
 from __future__ import annotations
 
@@ -47,7 +55,8 @@ from scipy import stats
 
 from ..diagnostics import InputError, IrregularFrameRateWarning
 from ..synth.swing_film import Film, render
-from ..vision.video import Track, swing_of, track_marker
+from ..vision.video import AMPLITUDE_LIMIT, Track, swing_of, track_marker
+from ..vision.video import Filmed as Read
 from .harness import (Case, Family, MapAxes, Method, Target, abs_error, coverage_targets,
                       environment, plot_error_time, plot_map, run_family, summary, write_rows,
                       write_targets)
@@ -73,12 +82,23 @@ class Plan:
     """Coverage films per point of the grid."""
     variable_seeds: int
     """Films of each variable frame rate."""
+    amplitude_scenes: tuple
+    """(view, arm [px], amplitudes [deg], seeds) of the amplitude's films."""
 
 
 FULL = Plan(noise=(1.0, 4.0, 8.0), exposure=(0.1, 0.5), fps=(30.0, 60.0),
-            amplitude_deg=(3.0, 10.0), repeats=9, variable_seeds=3)
+            amplitude_deg=(3.0, 10.0), repeats=9, variable_seeds=3,
+            amplitude_scenes=(("above", 200.0, (2.0, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0), 2),
+                              ("above", 100.0, (5.0, 8.0), 1),
+                              ("side", 300.0, (3.0, 5.0, 8.0), 1)))
 QUICK = Plan(noise=(2.0, 8.0), exposure=(0.5,), fps=(30.0,), amplitude_deg=(3.0, 10.0),
-             repeats=6, variable_seeds=1)
+             repeats=6, variable_seeds=1,
+             amplitude_scenes=(("above", 200.0, (3.0, 5.0, 8.0), 1),))
+
+VIEWS = {"above": lambda arm: {"arm": arm, "pivot": (320.0, 240.0)},
+         "side": lambda arm: {"arm": arm, "pivot": (320.0, 120.0 - arm)}}
+"""Where the pivot is for an arm: a disc's axis in the frame's middle (from above), or above
+the frame with the marker swinging through its upper part (from the side)."""
 
 CROPPED = {"size": (320, 240), "pivot": (160.0, -420.0)}
 """The coverage films' frame: the default scene's swing cropped to 320 × 240."""
@@ -181,6 +201,40 @@ def _variable(plan: Plan, folder: Path, log) -> tuple[list[float], list[bool]]:
     return errors, warned
 
 
+def _amplitude_row(view: str, arm: float, film: Film, path, track=None, **more) -> dict:
+    """The amplitude read off a film against its truth, with the film's stated limit; a film
+    refused (:class:`InputError`: a swing narrower than the marker is not always told from
+    the background) has no error and its reason."""
+    row = {"view": view, "arm_px": arm, "amplitude_deg": math.degrees(film.amplitude), **more}
+    try:
+        track = track_marker(path) if track is None else track
+        read = Read("film", track, swing_of(track))
+    except InputError as exc:
+        return {**row, "error_deg": math.nan, "limit_deg": math.nan, "held": False,
+                "refused": exc.problem}
+    error = math.degrees(read.amplitude - film.amplitude)
+    limit = math.degrees(read.amplitude_limit)
+    return {**row, "error_deg": error, "limit_deg": limit, "held": abs(error) <= limit,
+            "refused": ""}
+
+
+def _amplitudes(plan: Plan, grid: list[Case], folder: Path, log) -> list[dict]:
+    rows = [_amplitude_row("side", Film().arm, Film(amplitude=math.radians(
+        case.params["amplitude_deg"])), case.data.track.path, case.data.track, case=k,
+        noise=case.params["noise"], exposure=case.params["exposure"], fps=case.params["fps"])
+        for k, case in enumerate(grid)]
+    for view, arm, degrees, seeds in plan.amplitude_scenes:
+        for amp, seed in itertools.product(degrees, range(seeds)):
+            film = Film(period=1.3, amplitude=math.radians(amp), **VIEWS[view](arm))
+            path = render(film, folder / f"amplitude{len(rows)}.mp4", seed=3000 + len(rows))
+            row = _amplitude_row(view, arm, film, path, seed=seed)
+            rows.append(row)
+            log(f"amplitude {amp:g}° from {view}, {arm:g} px arm (seed {seed}): "
+                + (f"refused ({row['refused']})" if row["refused"] else
+                   f"error {row['error_deg']:+.3f}°, stated limit {row['limit_deg']:.3f}°"))
+    return rows
+
+
 def run(out, *, quick: bool = False,
         log: Callable[[str], None] = print) -> tuple[pd.DataFrame, list[Target]]:
     """Run the grid and the coverage; write ``bench.csv``, the charts and ``targets.json``."""
@@ -201,7 +255,9 @@ def run(out, *, quick: bool = False,
                 row["tracking_fps"] = case.data.track.time.size / case.data.seconds
         covered = _coverage(plan, Path(tmp), log)
         variable, warned = _variable(plan, Path(tmp), log)
+        amplitudes = write_rows(_amplitudes(plan, grid, Path(tmp), log), out / "amplitude.csv")
     rates = [case.data.track.time.size / case.data.seconds for case in grid]
+    read = amplitudes[amplitudes["refused"] == ""]
     frame = write_rows(rows, out / "bench.csv")
     ours = frame[frame["method"] == "dynlab"]
     plot_error_time(frame, out / "error_time.png", {"period from film": "relative period error"})
@@ -213,6 +269,14 @@ def run(out, *, quick: bool = False,
                Target("variable-rate films warned irregular", float(np.mean(warned)), 1.0,
                       "min"),
                *coverage_targets("period from film", covered, "films"),
+               Target("film amplitude's stated limit holds the truth",
+                      float(read["held"].mean()), 1.0, "min",
+                      detail=f"{len(read)} films read, {len(amplitudes) - len(read)} refused"),
+               Target("film amplitude, worst |error| where its limit is ≤ 0.2°",
+                      float(read.loc[read["limit_deg"] <= AMPLITUDE_LIMIT,
+                                     "error_deg"].abs().max()), AMPLITUDE_LIMIT, unit="deg",
+                      detail=f"{int((read['limit_deg'] <= AMPLITUDE_LIMIT).sum())} films; "
+                      f"worst of all {read['error_deg'].abs().max():.3f}°"),
                Target("frames tracked per second (640 × 480, one core)",
                       float(np.median(rates)), FPS_TARGET, "min")]
     write_targets(targets, out / "targets.json", environment())

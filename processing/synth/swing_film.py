@@ -113,10 +113,33 @@ def _background(size, rng) -> np.ndarray:
     return base
 
 
+def _disc(canvas: np.ndarray, x: float, y: float, radius: float, grey: float) -> None:
+    """Paint a disc of centre (x, y) and ``radius`` [px] in ``grey`` over ``canvas``, each
+    pixel by the share of its area the disc covers (a camera's pixel integrates the light
+    over its area), that share taken as clip(radius + ½ − d, 0, 1) with d the distance of the
+    pixel's centre from the disc's.
+
+    The disc's centroid is then where it is drawn to within 0.01 px at any sub-pixel place.
+    OpenCV's antialiased :func:`cv2.circle` (at 1/16 px) misplaces it by up to 0.13 px, and
+    the error's pattern over a pixel bends a short arc's sagitta (0.27 px at 3° on a 200 px
+    arm) by half: the amplitude read off such a film was 1.7° off at 3° for a fault of the
+    film, not of its reading (0.04° with the disc drawn by area)."""
+    h, w = canvas.shape
+    reach = int(math.ceil(radius)) + 2
+    i0, j0 = max(int(math.floor(y)) - reach, 0), max(int(math.floor(x)) - reach, 0)
+    i1, j1 = min(int(math.floor(y)) + reach + 2, h), min(int(math.floor(x)) + reach + 2, w)
+    if i0 >= i1 or j0 >= j1:
+        return
+    rows, cols = np.mgrid[i0:i1, j0:j1]
+    cover = np.clip(radius + 0.5 - np.hypot(cols - x, rows - y), 0.0, 1.0)
+    patch = canvas[i0:i1, j0:j1]
+    patch += cover * (grey - patch)
+
+
 def _draw_marker(canvas, x, y, r) -> None:
-    centre = (int(round(x * 16)), int(round(y * 16)))
-    cv2.circle(canvas, centre, int(r * 1.6 * 16), 235, -1, cv2.LINE_AA, 4)
-    cv2.circle(canvas, centre, int(r * 16), 25, -1, cv2.LINE_AA, 4)
+    """The marker: a dark disc of radius ``r`` on a light rim of 1.6 r. [px]"""
+    _disc(canvas, x, y, 1.6 * r, 235.0)
+    _disc(canvas, x, y, r, 25.0)
 
 
 def frame_times(film: Film, rng: np.random.Generator) -> np.ndarray:

@@ -27,7 +27,8 @@ import cv2
 import numpy as np
 
 from ..decay import DampedSineFit, fit_damped_sine
-from ..diagnostics import InconsistentInputWarning, InputError, IrregularFrameRateWarning
+from ..diagnostics import (DynlabWarning, InconsistentInputWarning, InputError,
+                           IrregularFrameRateWarning)
 from ..uncertainty import Measured
 
 MIN_CONFIDENCE = 0.75
@@ -50,13 +51,17 @@ SWING_SNR = 5.0
 """The swing's amplitude over the track's residual σ below which there is no swing."""
 
 AMPLITUDE_LIMIT = 0.2
-"""Limit of error of a swing's amplitude read off its film's arc. [deg] (Measured on the
-synthetic films: the angle's error is the arc's radius's, which rests on the arc's sagitta
-R(1 − cos θ₀); with the tracker's sub-pixel alignment it is −0.02° from the side at 6° and
-600 px, −0.05° from above at 10° and 200 px, −0.12° from above at 6° and 200 px (sagitta
-1.1 px), −0.18° from the side at 3° and 600 px (0.8 px). Below a sagitta of 0.8 px the limit
-does not hold; below an excursion R θ₀ of about one marker's diameter the marker is not told
-from the background either.)"""
+"""The limit of error a film's amplitude is meant to keep (issue 18's target); a film whose
+own limit (:attr:`Filmed.amplitude_limit`) is wider is warned of
+(:class:`FilmAmplitudeWarning`). [deg]"""
+
+ARC_LOCKING = 0.025
+"""Bound of the bend the tracker's sub-pixel error puts into the marker's arc across its
+sagitta. [px] (The error is a function of the marker's place within a pixel: ECC's bilinear
+interpolation of the frame, the codec's blocks; the arc's sagitta R(1 − cos θ₀) spans less
+than a pixel at small swings, so the error does not average out there. Measured: a marker
+stepped across a pixel is tracked within 0.014 px; on 56 synthetic films of 2–10° at 100–600
+px arms, from above and the side, the arc's sagitta came out bent by up to 0.023 px.)"""
 
 NOTCH = 2.5
 """Frequency spacings (1/duration) each side of the swing's that the fit empties of
@@ -239,6 +244,12 @@ def _match(grey: np.ndarray, template: np.ndarray, ex: float, ey: float, reach: 
 ECC_STEPS = 30
 """Iterations of the ECC alignment that refines each frame's match."""
 
+ECC_BLUR = 5
+"""Side of the Gaussian kernel (σ 1.1 px) ECC smooths the template and the frame with before
+aligning them: the bilinear interpolation's error, a function of the marker's place within a
+pixel, falls with the image's curvature (measured on a sharp marker stepped across a pixel:
+up to 0.026 px unsmoothed, 0.014 px smoothed)."""
+
 
 def _refine(grey: np.ndarray, template: np.ndarray, x: float, y: float):
     """The template's place near (x, y) to a small fraction of a pixel, or None.
@@ -249,8 +260,9 @@ def _refine(grey: np.ndarray, template: np.ndarray, x: float, y: float):
     maximising the enhanced correlation coefficient (Evangelidis G.D., Psarakis E.Z.,
     "Parametric image alignment using enhanced correlation coefficient maximization", IEEE
     PAMI 30 (10), 2008: :func:`cv2.findTransformECC`), which interpolates the frame and is
-    as blind to an even change of lighting as the correlation. None where the alignment
-    does not converge or leaves the frame (the frame is then left out).
+    as blind to an even change of lighting as the correlation; both smoothed first
+    (:data:`ECC_BLUR`). None where the alignment does not converge or leaves the frame (the
+    frame is then left out).
     """
     side = template.shape[0]
     half, margin = side // 2, 3
@@ -263,7 +275,7 @@ def _refine(grey: np.ndarray, template: np.ndarray, x: float, y: float):
     try:
         _, warp = cv2.findTransformECC(template, window, warp, cv2.MOTION_TRANSLATION,
                                        (cv2.TERM_CRITERIA_EPS | cv2.TERM_CRITERIA_COUNT,
-                                        ECC_STEPS, 1e-5), None, 1)
+                                        ECC_STEPS, 1e-5), None, ECC_BLUR)
     except cv2.error:
         return None
     dx, dy = float(warp[0, 2]), float(warp[1, 2])
@@ -467,6 +479,25 @@ def arc(track: Track) -> tuple[float, float, float]:
     return float(fit.x[0]), float(fit.x[1]), float(abs(fit.x[2]))
 
 
+def arc_radius_u(track: Track) -> float:
+    """Standard uncertainty of the arc's radius (:func:`arc`) from the track's scatter about
+    it: s²(JᵀJ)⁻¹ of the geometric fit, s² widened by (1 + ρ)/(1 − ρ) for the residuals'
+    lag-one correlation ρ (a frame's error carried into the next). [px]"""
+    k = track.kept
+    xc, yc, R = track.circle
+    dx, dy = track.x[k] - xc, track.y[k] - yc
+    d = np.hypot(dx, dy)
+    r = d - R
+    rho = float(np.clip(np.corrcoef(r[:-1], r[1:])[0, 1], 0.0, 0.9)) if r.size > 3 else 0.0
+    s2 = float(r @ r) / max(r.size - 3, 1) * (1 + rho) / (1 - rho)
+    J = np.column_stack([dx / d, dy / d, np.ones_like(d)])
+    try:
+        normal = np.linalg.inv(J.T @ J)
+    except np.linalg.LinAlgError:
+        return math.inf
+    return float(math.sqrt(s2 * normal[2, 2]))
+
+
 @dataclass(frozen=True)
 class Filmed:
     """One film of a lab: where it was named, the track and the fitted swing."""
@@ -479,8 +510,33 @@ class Filmed:
 
     @property
     def amplitude(self) -> float:
-        """The swing's angle amplitude at the film's start, from the arc's radius. [rad]"""
+        """The swing's angle amplitude at the film's start, θ₀ = A/R: the way along the arc
+        over the arc's radius. [rad]"""
         return abs(self.swing.amplitude) / self.track.circle[2]
+
+    @property
+    def amplitude_limit(self) -> float:
+        r"""Limit of error of :attr:`amplitude`. [rad]
+
+        The arc's radius rests on its sagitta h = R(1 − cos θ₀); an error δh bends R by
+        δR/R = −δh/h and θ₀ = A/R by as much. The tracker's sub-pixel error bends the sagitta
+        by up to :data:`ARC_LOCKING` = L, and the track's noise moves R by its u from the
+        circle's fit (:func:`arc_radius_u`, k = 2):
+
+        .. math:: a_{θ_0} = θ_0 \left(\frac{L}{R(1 - \cos θ_0)} + \frac{2u(R)}{R}\right)
+                  ≈ \frac{2L}{A} + \frac{2θ_0 u(R)}{R}
+
+        with A = Rθ₀ the swing's way along the arc in px: the limit is set by how far the
+        marker swings in the picture, not by the angle (at 5° on a 200 px arm, A = 17 px:
+        0.16°, and 0.19° with the noise's part over 20 oscillations). The amplitude's own
+        error (≈ L/R) is negligible beside it.
+        """
+        A = abs(self.swing.amplitude)
+        theta = self.amplitude
+        R = self.track.circle[2]
+        locking = 2 * ARC_LOCKING / (A * np.sinc(theta / (2 * math.pi)) ** 2)
+        noise = 2 * theta * arc_radius_u(self.track) / R if math.isfinite(R) else 0.0
+        return float(locking + noise)
 
 
 def filmed_times(inputs, films: dict[str, dict[str, str]], needed=("t",)):
@@ -532,7 +588,8 @@ def filmed_times(inputs, films: dict[str, dict[str, str]], needed=("t",)):
             _compare_stopwatch(film, n)
             if ("amplitude" not in entry and "amplitude" not in changes
                     and _declares(inputs, section, "amplitude")):
-                changes["amplitude"] = Measured(film.amplitude, limit=math.radians(AMPLITUDE_LIMIT))
+                changes["amplitude"] = Measured(film.amplitude, limit=film.amplitude_limit)
+                _check_amplitude(film, f"{section}.amplitude")
         if changes:
             inputs = inputs.changed(section, **changes)
     return inputs, read
@@ -542,6 +599,32 @@ def _declares(inputs, section: str, name: str) -> bool:
     """Whether the lab's section has the field ``name``."""
     spec = inputs.spec
     return spec is not None and any(f.name == name for f in spec.section(section).fields)
+
+
+class FilmAmplitudeWarning(DynlabWarning):
+    """The amplitude read off a film is less certain than :data:`AMPLITUDE_LIMIT`: the marker
+    swings too little in the picture for its arc's radius to be found."""
+
+    code = "film_amplitude_uncertain"
+
+
+def _check_amplitude(film: Filmed, field_name: str) -> None:
+    """Warn where the film's amplitude is less certain than :data:`AMPLITUDE_LIMIT`."""
+    limit = math.degrees(film.amplitude_limit)
+    if limit <= AMPLITUDE_LIMIT:
+        return
+    swing = abs(film.swing.amplitude)
+    warnings.warn(FilmAmplitudeWarning(
+        f"{film.field}: the amplitude read off the film, {math.degrees(film.amplitude):.2f}°, "
+        f"is certain to ±{limit:.2f}° only (the marker swings {swing:.0f} px along an arc "
+        f"that sags {film.track.circle[2] * (1 - math.cos(film.amplitude)):.2f} px): the "
+        f"finite-amplitude correction carries it; give {field_name} from the scale, or film "
+        "closer so that the marker swings wider in the picture",
+        f"{film.field}: амплитуда по видео {math.degrees(film.amplitude):.2f}° известна лишь с "
+        f"точностью ±{limit:.2f}° (метка проходит {swing:.0f} пикс по дуге с прогибом "
+        f"{film.track.circle[2] * (1 - math.cos(film.amplitude)):.2f} пикс): поправка на "
+        f"конечную амплитуду учитывает это; задайте {field_name} по шкале или снимайте ближе, "
+        "чтобы размах метки на кадре был больше"))
 
 
 def _compare_stopwatch(film: Filmed, n: int) -> None:
