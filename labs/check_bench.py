@@ -58,7 +58,9 @@ SLIP_SHIFT = 0.05
 
 
 def _text(value: float, unit: str, figures: int) -> str:
-    return f"{value:.{figures}g} {unit}".strip() if unit else f"{value:.{figures}g}"
+    """The value as a student writes it to ``figures`` significant figures, trailing zeros
+    kept (0.2 to four figures is 0.2000, not 0.2: a figure dropped is a coarser value)."""
+    return f"{value:#.{figures}g} {unit}".strip() if unit else f"{value:#.{figures}g}"
 
 
 def _written(lab_id: str, seed: int, folder: Path) -> dict:
