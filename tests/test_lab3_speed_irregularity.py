@@ -370,7 +370,7 @@ def test_photograph_alone_gives_delta_and_the_mean_speed(photograph_alone):
     """With no recording (no [wheel] either), each regime comes from its photographed
     oscillogram: δ of the mean cycle and the mean speed Θ/τ̄ from the TDC marks timed on the
     time marks, each holding the photographed cycles' truth within its 95 % interval
-    (measured: δ −1.6 % and −1.0 % from it, U 3.3 % and 4.1 %, the blur's flattening
+    (measured: δ −1.5 % and −0.9 % from it, U 3.4 % and 4.1 %, the blur's flattening
     restored; n −0.2 and +0.0 min⁻¹, U 1.5 and 1.8 min⁻¹), and agreeing with the
     tachometer."""
     path, key, result = photograph_alone
