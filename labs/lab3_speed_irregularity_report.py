@@ -191,10 +191,11 @@ def conclusion(regimes, results, ranges) -> list[dict]:
                         f"по {reg.cycles} рабочим циклам"))
         if f"delta_osc_{r}" in results:
             o = results[f"delta_osc_{r}"]
+            gap = f"{100 * (o.value / d.value - 1):+.1f} %" if d.value else "—"
             lines.append(bi(f"Regime {r}: the oscillogram gives δ = {o.value:.4f} "
-                            f"({100 * (o.value / d.value - 1):+.1f} % against the signal)",
+                            f"({gap} against the signal)",
                             f"Режим {r}: по осциллограмме δ = {o.value:.4f} "
-                            f"({100 * (o.value / d.value - 1):+.1f} % к значению по сигналу)"))
+                            f"({gap} к значению по сигналу)"))
     for name, (lo, hi) in ranges.items():
         inside = [reg.number for reg in regimes if lo <= _delta(results, reg.number).value <= hi]
         en = {"automotive": "automotive engines", "tractor": "tractor engines"}[name]

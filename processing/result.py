@@ -246,11 +246,17 @@ def flag_estimates(results: Mapping[str, ResultValue], comparisons, lang_names=N
                 f"[{lo:.4g}, {hi:.4g}] {unit_text(r.display_unit, 'ru')}"))
     for c in comparisons:
         if not c.agree:
-            rel = c.relative_to(results[c.b].value)
+            b = results[c.b]
+            if b.value:
+                gap = f"{100 * c.relative_to(b.value):+.2f} %"
+                bound = f"{100 * c.difference.U / abs(b.value):.2f} %"
+            else:                       # nothing to scale by: the difference as it is
+                gap, bound = (f"{b.shown(v):+.4g} {unit_text(b.display_unit)}".rstrip()
+                              for v in (c.difference.value, c.difference.U))
             warnings.warn(MethodsDisagreeWarning(
-                f"{c.a} and {c.b} differ by {100 * rel:+.2f} %, more than the expanded "
-                f"uncertainty of their difference ({100 * c.difference.U / abs(results[c.b].value):.2f} %): "
-                f"look for a systematic error (a misread length, a wrong count of oscillations)",
-                f"{c.a} и {c.b} различаются на {100 * rel:+.2f} %, больше расширенной "
-                f"неопределённости разности ({100 * c.difference.U / abs(results[c.b].value):.2f} %): "
-                f"ищите систематическую ошибку (неверно измеренная длина, счёт колебаний)"))
+                f"{c.a} and {c.b} differ by {gap}, more than the expanded uncertainty of "
+                f"their difference ({bound}): look for a systematic error (a misread length, "
+                f"a wrong count of oscillations)",
+                f"{c.a} и {c.b} различаются на {gap}, больше расширенной неопределённости "
+                f"разности ({bound}): ищите систематическую ошибку (неверно измеренная длина, "
+                f"счёт колебаний)"))

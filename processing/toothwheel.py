@@ -163,6 +163,7 @@ def track_teeth(edge_times, teeth: int, missing: int = 0, *, reference: str | No
         position = count
         closed = int(count[-1] // teeth)
         bad = np.empty(0, int)
+        spoiled = np.zeros(count.size, bool)
     else:
         if reference == "gap":
             starts = gaps
@@ -170,10 +171,9 @@ def track_teeth(edge_times, teeth: int, missing: int = 0, *, reference: str | No
             starts, offset = _mark_starts(t, np.asarray(reference_times, dtype=float), teeth)
         if starts.size == 0:
             starts = np.array([0])
-        position, bad = _positions(count, starts, teeth)
-        closed = starts.size - 1
+        position, bad, spoiled, closed = _positions(count, starts, teeth)
     revolution = np.floor_divide(position, teeth)
-    valid = (revolution >= 0) & (revolution < closed) & ~np.isin(revolution, bad)
+    valid = (revolution >= 0) & (revolution < closed) & ~spoiled
     return ToothTrack(times=t, position=position, valid=valid, teeth=teeth, missing=missing,
                       reference=reference, revolutions=max(closed, 0), bad_revolutions=bad,
                       missed=max(missed, 0), doubled=doubled, gap_found=bool(gap_found),
@@ -245,15 +245,25 @@ def _mark_starts(t: np.ndarray, marks: np.ndarray, teeth: int) -> tuple[np.ndarr
 
 
 def _positions(count: np.ndarray, starts: np.ndarray, teeth: int):
-    """Pitch position of every edge, counted afresh from each reference; the revolutions
-    between references that did not count ``teeth`` pitches are returned as bad."""
-    bad = np.flatnonzero(np.diff(count[starts]) != teeth)
+    """Pitch position of every edge, counted afresh from each reference.
+
+    Each reference is numbered by the revolutions counted since the first (a reference not
+    seen — a missed tooth beside the gap hides it — leaves a span of two revolutions, and
+    the numbers after it stay true). Returns the positions, the numbers of the revolutions
+    in spans between references that did not count ``teeth`` pitches (bad), which edges lie
+    in such a span (told by their reference: a long span spills past its own number), and
+    the number of the last reference."""
+    number = np.rint((count[starts] - count[starts[0]]) / teeth).astype(int)
+    spans = np.flatnonzero(np.diff(count[starts]) != teeth)
     anchor = np.searchsorted(starts, np.arange(count.size), side="right") - 1
     before = anchor < 0
     anchor = np.maximum(anchor, 0)
-    position = anchor * teeth + count - count[starts[anchor]]
+    position = number[anchor] * teeth + count - count[starts[anchor]]
     position[before] = count[before] - count[starts[0]]
-    return position.astype(int), bad
+    spoiled = np.isin(anchor, spans) & ~before
+    bad = [np.arange(number[k], max(number[k + 1], number[k] + 1)) for k in spans]
+    return (position.astype(int), np.concatenate(bad) if bad else np.empty(0, int), spoiled,
+            int(number[-1]))
 
 
 @dataclass(frozen=True)

@@ -36,3 +36,24 @@ def test_zero_residuals_and_signed_quantities_pass(value, unit, signed):
 def test_a_result_that_is_not_finite_is_refused(value):
     with pytest.raises(InputError, match="cannot be computed"):
         _result(value, "kg").check_sense()
+
+
+def test_methods_disagreeing_with_a_zero_reference_are_told_in_its_unit():
+    """A comparison whose reference value is exactly zero (a flat mean cycle's δ) cannot be
+    put in per cent: the warning gives the difference and its bound as they are, and does
+    not fail."""
+    import warnings
+
+    from processing.diagnostics import MethodsDisagreeWarning
+    from processing.measurement import bi
+    from processing.result import compare, flag_estimates, result_values
+    from processing.uncertainty import Measured, propagate
+
+    prop = propagate(lambda a, b: {"a": a, "b": b * 0.0},
+                     {"a": Measured(0.02, 0.0005), "b": Measured(0.02, 0.0005)}, n_samples=0)
+    results = result_values(prop, {"a": (bi("a", "a"), "a", ""), "b": (bi("b", "b"), "b", "")})
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        flag_estimates(results, compare(prop, [("a", "b")]))
+    (note,) = [w.message for w in caught if isinstance(w.message, MethodsDisagreeWarning)]
+    assert "differ by +0.02," in str(note) and "%" not in str(note).split("(")[0]

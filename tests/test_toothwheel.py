@@ -70,6 +70,22 @@ def test_missing_edge_is_counted_and_its_slot_left_empty(ideal):
     assert ideal.position[TOOTH_25] not in tr.position
 
 
+def test_missed_tooth_beside_the_gap_hides_it_but_not_the_count(ideal):
+    """The last tooth before a gap missed: that gap reads four pitches, not three, so it is
+    not taken for a gap and two revolutions run between the references around it. Both are
+    left out (their teeth cannot be told), and every revolution after keeps its true number
+    (numbering the references one by one put the rest a revolution behind their angle, and
+    a coast-down calibration through them 1.7° off)."""
+    hidden = LEAD_IN + 2 * 58 + 57           # tooth 57 of revolution 2
+    tr = track_teeth(np.delete(TIMES, hidden), 60, 2)
+    assert tr.revolutions == 7 and tr.missed == 3          # the tooth and the hidden gap's two
+    assert_array_equal(tr.bad_revolutions, [2, 3])
+    assert_array_equal(tr.position, np.delete(ideal.position, hidden),
+                       err_msg="every remaining edge keeps its pitch position")
+    assert_array_equal(np.unique(tr.revolution[tr.valid]), [0, 1, 4, 5, 6])
+    assert_array_equal(np.bincount(tr.revolution[tr.valid])[[0, 1, 4, 5, 6]], 58)
+
+
 def test_doubled_edge_is_removed(ideal):
     k = TOOTH_25
     spurious = TIMES[k - 1] + 0.6 * (TIMES[k] - TIMES[k - 1])
@@ -126,10 +142,11 @@ def test_no_reference_counts_from_the_first_edge():
 
 def test_wrong_tooth_count_is_flagged():
     # a 60−2 wheel declared as 36−2: the gap is still seen (three pitches), but every
-    # revolution counts 60 pitches, not 36, so all of them are bad and no edge is valid
+    # revolution counts 60 pitches, not 36, so all of them are bad and no edge is valid (the
+    # 7 × 60 pitches read as 12 revolutions of the declared wheel)
     tr = track_teeth(TIMES, 36, 2)
-    assert tr.gap_found and tr.revolutions == 7
-    assert_array_equal(tr.bad_revolutions, np.arange(7))
+    assert tr.gap_found and tr.revolutions == 12
+    assert_array_equal(tr.bad_revolutions, np.arange(12))
     assert not tr.valid.any()
     # declared 60−1: no one-pitch hole recurs, the gap is not found (counting falls back to
     # the first edge) and each real gap is reported as a missed tooth
