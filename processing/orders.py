@@ -109,9 +109,21 @@ class OrderFit(Record):
         return np.hstack([g.real * c - g.imag * s, g.imag * c + g.real * s])
 
     def synthesize(self, angle, gain=None) -> np.ndarray:
-        """Σ_k Re(G_k c_k e^{ikθ}) at the given crank angles. [record unit]"""
-        ab = np.concatenate([self.coefficient.real, -self.coefficient.imag])
-        return self.design(angle, gain) @ ab
+        """Σ_k Re(G_k c_k e^{ikθ}) at the given crank angles. [record unit]
+
+        The orders k = j·s (j = 1 … m, as :func:`order_fit` makes them) are summed by
+        Horner's rule in z = e^{isθ}, one complex exponential per angle; other orders term
+        by term."""
+        theta = np.asarray(angle, dtype=float)
+        d = self.coefficient * (1.0 if gain is None else np.asarray(gain, complex))
+        s = self.order[0] if self.order.size else 1.0
+        if not np.allclose(self.order, s * np.arange(1, self.order.size + 1)):
+            return (np.exp(1j * theta[:, None] * self.order) @ d).real
+        z = np.exp(1j * s * theta)
+        total = np.zeros(theta.shape, complex)
+        for c in d[::-1]:
+            total = (total + c) * z
+        return total.real
 
     def variance(self, rows, *, white: bool = False) -> np.ndarray:
         """Variance of the linear combinations ``rows @ (a, b)`` (rows from :meth:`design`,
@@ -235,7 +247,10 @@ def order_fit(time, angle, x, *, step: float = 0.5, max_order: float = 12.0,
     drift_cols = np.polynomial.legendre.legvander(u, drift_degree)
     phase = th[:, None] * order
     A = np.hstack([np.cos(phase), np.sin(phase), drift_cols])
-    coef, *_ = np.linalg.lstsq(A, x, rcond=None)
+    # the normal equations: their inverse is the covariance's anyway, and the columns
+    # (sines, cosines and Legendre polynomials over the record) are near orthogonal
+    normal = np.linalg.pinv(A.T @ A)
+    coef = normal @ (A.T @ x)
     fitted_orders = A[:, :2 * m] @ coef[:2 * m]
     drift = drift_cols @ coef[2 * m:]
     r = x - fitted_orders - drift
@@ -245,7 +260,7 @@ def order_fit(time, angle, x, *, step: float = 0.5, max_order: float = 12.0,
     f_rev = (th[-1] - th[0]) / (2 * np.pi * (t[-1] - t[0]))
     ratio = noise_ratio(r, rate, order * f_rev, step * f_rev)
     scale = np.sqrt(np.concatenate([ratio, ratio]))
-    covariance = s2 * np.linalg.pinv(A.T @ A)[:2 * m, :2 * m] * scale[:, None] * scale[None, :]
+    covariance = s2 * normal[:2 * m, :2 * m] * scale[:, None] * scale[None, :]
     a, b = coef[:m], coef[m:2 * m]
     return OrderFit(order=order, coefficient=a - 1j * b, covariance=covariance,
                     noise_ratio=ratio, residual_sd=float(np.sqrt(s2)), dof=int(dof),

@@ -669,6 +669,10 @@ class _Table:
         return values
 
 
+_CONTROLS = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f]")
+"""Control characters other than tab, CR and LF: a text table holds almost none."""
+
+
 def _read_text(src: _Source) -> str:
     """The table's text: UTF-8, else Windows-1251 (Russian Excel); binary data refused."""
     raw = src.path.read_bytes()
@@ -679,7 +683,7 @@ def _read_text(src: _Source) -> str:
             text = raw.decode("cp1251")
         except UnicodeDecodeError:
             text = "\x00"
-    controls = sum(ch < " " and ch not in "\t\r\n" for ch in text[:65536])
+    controls = len(_CONTROLS.findall(text, 0, 65536))
     if "\x00" in text or controls > 0.01 * min(len(text), 65536):
         raise src.error("not a text table (binary data)",
                         "give a .csv/.txt table of numbers, or the recording's real extension")
