@@ -282,7 +282,8 @@ def propagate(model: Callable[..., Mapping[str, np.ndarray]],
         jac[name] = {k: float((y[1 + 2 * i] - y[2 + 2 * i]) / (2 * steps[k]))
                      for i, k in enumerate(uncertain)}
         mc[name] = np.asarray(y[1 + 2 * p:])
-        mc_lin[name] = nominal[name] + sum((jac[name][k] * deltas[k] for k in uncertain),
-                                           np.zeros(n_samples if p else 0))
+        mc_lin[name] = (nominal[name] + sum((jac[name][k] * deltas[k] for k in uncertain),
+                                            np.zeros(n_samples))
+                        if n_samples and p else np.zeros(0))
     return Propagation(nominal, jac, {k: inputs[k].u for k in uncertain},
                        {k: inputs[k].dof for k in uncertain}, mc, mc_lin)
