@@ -108,13 +108,26 @@ def magnitude_verdict(value: float, unit: str) -> tuple[str, tuple[float, float,
 
 
 @cache
+@cache
+def _to_base(unit: str) -> tuple[float, float]:
+    """(factor, offset) with x·factor + offset the SI base value of x in ``unit`` (the
+    offset is 0 but for temperatures): pint asked once per unit."""
+    zero = float(ureg.Quantity(0.0, unit).to_base_units().magnitude)
+    return float(ureg.Quantity(1.0, unit).to_base_units().magnitude) - zero, zero
+
+
+@cache
+def _dimensionality(unit: str):
+    return ureg.Quantity(1.0, unit).dimensionality
+
+
 def si_factor(unit: str) -> float:
     """Factor converting a value in ``unit`` to SI base units (degrees → radians).
 
     >>> si_factor("mm")
     0.001
     """
-    return float(ureg.Quantity(1.0, unit).to_base_units().magnitude)
+    return _to_base(unit)[0]
 
 
 @cache
@@ -135,7 +148,10 @@ def convert(value: float, unit: str, to: str) -> float:
     >>> convert(1500, "mm", "m")
     1.5
     """
-    return float(ureg.Quantity(value, unit).to(to).magnitude)
+    if _dimensionality(unit) != _dimensionality(to):
+        return float(ureg.Quantity(value, unit).to(to).magnitude)   # pint says why not
+    (a, b), (c, d) = _to_base(unit), _to_base(to)
+    return float((value * a + b - d) / c)
 
 
 def parse_quantity(text: str, expected_unit: str) -> tuple[float, float | None]:
@@ -208,24 +224,29 @@ def _unit_of(s: str) -> str:
     return m.group(1).strip() if m else ""
 
 
+_NUMBER_AND_UNIT = re.compile(r"^([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*)$")
+"""A number and what follows it (its unit)."""
+
+
 def _to_si(s: str, expected_unit: str, whole: str) -> float:
     s = s.strip()
     if _is_number(s):
         return to_si(float(s), expected_unit)
     if not re.match(r"^\s*[-+]?(?:\d|\.\d)", s):
         raise ValueError(f"cannot read {whole!r}: it should start with a number, e.g. '12.5 {expected_unit}'")
+    number, unit = _NUMBER_AND_UNIT.match(s).groups()
     try:
-        q = ureg.Quantity(s)
+        dimension = _dimensionality(unit)
+        factor, offset = _to_base(unit)
     except Exception as exc:
         raise ValueError(f"cannot read {whole!r} as a value with a unit ({exc})") from None
-    want = ureg.Quantity(1.0, expected_unit).dimensionality
-    if q.dimensionality != want:
+    if dimension != _dimensionality(expected_unit):
         raise ValueError(
-            f"{whole!r} is {_dimension_name(str(q.units))}, but "
+            f"{whole!r} is {_dimension_name(str(ureg.Unit(unit)))}, but "
             f"{_dimension_name(expected_unit)} "
             f"is expected (unit like '{expected_unit}')"
         )
-    return float(q.to_base_units().magnitude)
+    return float(number) * factor + offset
 
 
 RU_UNITS = {"kg": "кг", "mm": "мм", "m": "м", "s": "с", "g": "г", "deg": "°", "GPa": "ГПа",
