@@ -95,10 +95,14 @@ QUICK = Plan(noise=(2.0, 8.0), exposure=(0.5,), fps=(30.0,), amplitude_deg=(3.0,
              repeats=6, variable_seeds=1,
              amplitude_scenes=(("above", 200.0, (3.0, 5.0, 8.0), 1),))
 
-VIEWS = {"above": lambda arm: {"arm": arm, "pivot": (320.0, 240.0)},
-         "side": lambda arm: {"arm": arm, "pivot": (320.0, 120.0 - arm)}}
+VIEWS = {"above": lambda arm, phase: {"arm": arm, "pivot": (320.0 + phase, 240.0 + phase)},
+         "side": lambda arm, phase: {"arm": arm, "pivot": (320.0 + phase, 120.0 - arm + phase)}}
 """Where the pivot is for an arm: a disc's axis in the frame's middle (from above), or above
-the frame with the marker swinging through its upper part (from the side)."""
+the frame with the marker swinging through its upper part (from the side), shifted by a
+fraction of a pixel (the tracker's error is a function of the marker's place in a pixel)."""
+
+PHASE = 0.37
+"""Step of that shift from one amplitude film to the next. [px]"""
 
 CROPPED = {"size": (320, 240), "pivot": (160.0, -420.0)}
 """The coverage films' frame: the default scene's swing cropped to 320 × 240."""
@@ -225,7 +229,8 @@ def _amplitudes(plan: Plan, grid: list[Case], folder: Path, log) -> list[dict]:
         for k, case in enumerate(grid)]
     for view, arm, degrees, seeds in plan.amplitude_scenes:
         for amp, seed in itertools.product(degrees, range(seeds)):
-            film = Film(period=1.3, amplitude=math.radians(amp), **VIEWS[view](arm))
+            film = Film(period=1.3, amplitude=math.radians(amp),
+                        **VIEWS[view](arm, PHASE * len(rows) % 1.0))
             path = render(film, folder / f"amplitude{len(rows)}.mp4", seed=3000 + len(rows))
             row = _amplitude_row(view, arm, film, path, seed=seed)
             rows.append(row)

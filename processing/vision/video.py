@@ -55,13 +55,14 @@ AMPLITUDE_LIMIT = 0.2
 own limit (:attr:`Filmed.amplitude_limit`) is wider is warned of
 (:class:`FilmAmplitudeWarning`). [deg]"""
 
-ARC_LOCKING = 0.025
+ARC_LOCKING = 0.03
 """Bound of the bend the tracker's sub-pixel error puts into the marker's arc across its
-sagitta. [px] (The error is a function of the marker's place within a pixel: ECC's bilinear
-interpolation of the frame, the codec's blocks; the arc's sagitta R(1 − cos θ₀) spans less
-than a pixel at small swings, so the error does not average out there. Measured: a marker
-stepped across a pixel is tracked within 0.014 px; on 56 synthetic films of 2–10° at 100–600
-px arms, from above and the side, the arc's sagitta came out bent by up to 0.023 px.)"""
+sagitta. [px] (The error is a function of the marker's place within a pixel relative to the
+template's: ECC's bilinear interpolation of the frame, the codec's blocks; the arc's sagitta
+R(1 − cos θ₀) spans less than a pixel at small swings, so the error does not average out
+there. Measured: a marker stepped across a pixel is tracked within 0.014 px; on the
+synthetic films of 2–10° at 100–600 px arms, from above and the side, at any sub-pixel place
+of the arc, the sagitta came out short by up to 0.030 px, most where it is about 0.8 px.)"""
 
 NOTCH = 2.5
 """Frequency spacings (1/duration) each side of the swing's that the fit empties of
@@ -528,8 +529,8 @@ class Filmed:
 
         with A = Rθ₀ the swing's way along the arc in px: the limit is set by how far the
         marker swings in the picture, not by the angle (at 5° on a 200 px arm, A = 17 px:
-        0.16°, and 0.19° with the noise's part over 20 oscillations). The amplitude's own
-        error (≈ L/R) is negligible beside it.
+        0.20°, and 0.23° with the noise's part over 20 oscillations; at 6°, 0.20°). The
+        amplitude's own error (≈ L/R) is negligible beside it.
         """
         A = abs(self.swing.amplitude)
         theta = self.amplitude
