@@ -246,6 +246,14 @@ class SpeedDisagreesWarning(DynlabWarning):
     code = "speed_disagrees"
 
 
+class FilmAmplitudeWarning(DynlabWarning):
+    """The amplitude read off a film is less certain than its limit
+    (:data:`processing.vision.video.AMPLITUDE_LIMIT`): the marker swings too little in the
+    picture for its arc's radius to be found."""
+
+    code = "film_amplitude_uncertain"
+
+
 class IrregularFrameRateWarning(DynlabWarning):
     """A film's frame intervals vary (a phone's variable frame rate): each frame's own
     timestamp is used, but a film whose clock stutters times the swing less well."""

@@ -27,8 +27,8 @@ import cv2
 import numpy as np
 
 from ..decay import DampedSineFit, fit_damped_sine
-from ..diagnostics import (DynlabWarning, InconsistentInputWarning, InputError,
-                           IrregularFrameRateWarning)
+from ..diagnostics import (FilmAmplitudeWarning, InconsistentInputWarning,
+                           InputError, IrregularFrameRateWarning)
 from ..uncertainty import Measured
 
 MIN_CONFIDENCE = 0.75
@@ -600,13 +600,6 @@ def _declares(inputs, section: str, name: str) -> bool:
     """Whether the lab's section has the field ``name``."""
     spec = inputs.spec
     return spec is not None and any(f.name == name for f in spec.section(section).fields)
-
-
-class FilmAmplitudeWarning(DynlabWarning):
-    """The amplitude read off a film is less certain than :data:`AMPLITUDE_LIMIT`: the marker
-    swings too little in the picture for its arc's radius to be found."""
-
-    code = "film_amplitude_uncertain"
 
 
 def _check_amplitude(film: Filmed, field_name: str) -> None:
