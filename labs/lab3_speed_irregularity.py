@@ -303,12 +303,11 @@ def _oscillogram(inputs: Inputs, i: int, entry: dict, revolutions: int) -> Oscil
     # the camera's blur low-passed the ripple by an amount between none and what the stroke's
     # whole width allows: δ between the two, u of that rectangle (type B)
     sigma = channel.stroke_blur
-    low, _ = cycles.relative_swing()
-    high, _ = cycles.deblurred(sigma).relative_swing()
+    full = cycles.deblurred(sigma)
+    span = abs(full.swing / full.level - cycles.swing / cycles.level)
     delta, u = cycles.deblurred(sigma / np.sqrt(2)).relative_swing()
     inside = starts[(starts >= channel.time[0]) & (starts <= channel.time[-1])]
-    return Oscillogram(channel, cycles, _jack(delta, u, cycles.cycles,
-                                              u_b=abs(high - low) / (2 * np.sqrt(3))),
+    return Oscillogram(channel, cycles, _jack(delta, u, cycles.cycles, u_b=span / (2 * np.sqrt(3))),
                        mean_speed(inside, 2 * np.pi * revolutions, channel.time_scale))
 
 
@@ -648,8 +647,7 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
         comparisons = compare(prop, pairs)
         # the tooth method is biased up by timing noise by design: only the student's
         # oscillogram reading is flagged when it disagrees with the signal
-        flag_estimates(results, [c for c in comparisons if c.a.endswith(
-            tuple(f"_osc_{r.number}" for r in regimes))])
+        flag_estimates(results, [c for c in comparisons if "_osc_" in c.a])
     kind = inputs["engine"].get("kind")
     ranges = {k: v for k, v in REFERENCE_RANGES.items() if kind in (None, k)}
     return LabResult.of(inputs, results, comparisons=comparisons,

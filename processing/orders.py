@@ -114,11 +114,12 @@ class OrderFit(Record):
         The orders k = j·s (j = 1 … m, as :func:`order_fit` makes them) are summed by
         Horner's rule in z = e^{isθ}, one complex exponential per angle; other orders term
         by term."""
-        theta = np.asarray(angle, dtype=float)
-        d = self.coefficient * (1.0 if gain is None else np.asarray(gain, complex))
         s = self.order[0] if self.order.size else 1.0
         if not np.allclose(self.order, s * np.arange(1, self.order.size + 1)):
-            return (np.exp(1j * theta[:, None] * self.order) @ d).real
+            return self.design(angle, gain) @ np.concatenate([self.coefficient.real,
+                                                              -self.coefficient.imag])
+        theta = np.asarray(angle, dtype=float)
+        d = self.coefficient * (1.0 if gain is None else np.asarray(gain, complex))
         z = np.exp(1j * s * theta)
         total = np.zeros(theta.shape, complex)
         for c in d[::-1]:

@@ -108,7 +108,6 @@ def magnitude_verdict(value: float, unit: str) -> tuple[str, tuple[float, float,
 
 
 @cache
-@cache
 def _to_base(unit: str) -> tuple[float, float]:
     """(factor, offset) with x·factor + offset the SI base value of x in ``unit`` (the
     offset is 0 but for temperatures): pint asked once per unit."""
@@ -219,13 +218,13 @@ def _is_number(s: str) -> bool:
     return True
 
 
-def _unit_of(s: str) -> str:
-    m = re.match(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*(.*)$", s)
-    return m.group(1).strip() if m else ""
-
-
-_NUMBER_AND_UNIT = re.compile(r"^([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*)$")
+_NUMBER_AND_UNIT = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*)$")
 """A number and what follows it (its unit)."""
+
+
+def _unit_of(s: str) -> str:
+    m = _NUMBER_AND_UNIT.match(s)
+    return m.group(2).strip() if m else ""
 
 
 def _to_si(s: str, expected_unit: str, whole: str) -> float:

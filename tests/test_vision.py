@@ -290,15 +290,28 @@ def test_sharp_crests_are_read_off_the_strokes_outer_edge():
     assert rec.stroke_value < 0.0005
 
 
-def _ripple(blur: float, rotation: float = 0.0):
-    """A ripple of ±0.35 mm (±2.8 px) and a 5 mm (40 px) period about a level, photographed
-    with a Gaussian blur of ``blur`` px."""
-    period, amplitude = 0.002, 0.01
+RIPPLE_PERIOD, RIPPLE = 0.002, 0.01
+"""The ripple's period [s] (5 mm, 40 px on the sheet) and its relative amplitude (±0.35 mm,
+±2.8 px, about a 70 mm level)."""
+
+
+def _ripple(blur: float, rotation: float = 0.0) -> tuple[float, float]:
+    """The ripple photographed with a Gaussian blur of ``blur`` px and read back: its
+    amplitude as read over the truth (a sine of the known period fitted, on a line), and what
+    the stroke's blur implies, exp(−(2πσ/P)²/2) at σ = PaperRecord.stroke_blur."""
     layout = Layout(length=0.25, speed=0.25 / 0.1, mark_period=0.005)
-    return render(layout, [Beam(lambda t: 1 + amplitude * np.sin(2 * np.pi * t / period),
-                                0.02, 0.07, zero_line=True)],
-                  replace(PHOTO, size=(2400, 1200), fill=0.85, blur=blur, rotation=rotation,
-                          perspective=0.0, noise=1.0, jpeg=None), seed=1)
+    scene = render(layout, [Beam(lambda t: 1 + RIPPLE * np.sin(2 * np.pi * t / RIPPLE_PERIOD),
+                                 0.02, 0.07, zero_line=True)],
+                   replace(PHOTO, size=(2400, 1200), fill=0.85, blur=blur, rotation=rotation,
+                           perspective=0.0, noise=1.0, jpeg=None), seed=1)
+    rec = read_paper_record(scene.image, mark_period=0.005, paper_width=0.12, zero="line")
+    ok = np.isfinite(rec.value)
+    t, v = rec.time[ok], rec.value[ok]
+    w = 2 * np.pi / RIPPLE_PERIOD
+    design = np.column_stack([np.sin(w * t), np.cos(w * t), np.ones_like(t), t])
+    c = np.linalg.lstsq(design, v, rcond=None)[0]
+    return (float(np.hypot(c[0], c[1]) / (0.07 * RIPPLE)),
+            float(np.exp(-0.5 * (2 * np.pi * rec.stroke_blur / RIPPLE_PERIOD) ** 2)))
 
 
 def test_the_blur_flattens_a_ripple_as_much_as_the_stroke_implies():
@@ -306,16 +319,7 @@ def test_the_blur_flattens_a_ripple_as_much_as_the_stroke_implies():
     exp(−(2πσ/P)²/2)); the pen's width does not. Read at a 1 px blur (the sheet skewed
     1.5°), the ripple keeps 0.971 of its amplitude, as the σ its stroke implies were it all
     blur (PaperRecord.stroke_blur) predicts: 0.973."""
-    period = 0.002
-    rec = read_paper_record(_ripple(1.0, 1.5).image, mark_period=0.005, paper_width=0.12,
-                            zero="line")
-    ok = np.isfinite(rec.value)
-    t, v = rec.time[ok], rec.value[ok]
-    w = 2 * np.pi / period
-    design = np.column_stack([np.sin(w * t), np.cos(w * t), np.ones_like(t), t])
-    c = np.linalg.lstsq(design, v, rcond=None)[0]
-    read = np.hypot(c[0], c[1]) / (0.07 * 0.01)
-    implied = np.exp(-0.5 * (2 * np.pi * rec.stroke_blur / period) ** 2)
+    read, implied = _ripple(1.0, 1.5)
     assert read < 0.985 and read == pytest.approx(implied, abs=0.01)
 
 
@@ -325,16 +329,7 @@ def test_a_small_ripple_blurred_within_its_stroke_is_still_a_trace():
     band, still swing to both sides, so it is read as a trace (it was once lifted off as a
     line, leaving a flat trace behind), 0.934 of its true amplitude, within 0.02 of what its
     stroke's blur implies (0.949)."""
-    period = 0.002
-    rec = read_paper_record(_ripple(2.0).image, mark_period=0.005, paper_width=0.12,
-                            zero="line")
-    ok = np.isfinite(rec.value)
-    t, v = rec.time[ok], rec.value[ok]
-    w = 2 * np.pi / period
-    design = np.column_stack([np.sin(w * t), np.cos(w * t), np.ones_like(t), t])
-    c = np.linalg.lstsq(design, v, rcond=None)[0]
-    read = np.hypot(c[0], c[1]) / (0.07 * 0.01)
-    implied = np.exp(-0.5 * (2 * np.pi * rec.stroke_blur / period) ** 2)
+    read, implied = _ripple(2.0)
     assert implied < 0.96 and read == pytest.approx(implied, abs=0.02)
 
 

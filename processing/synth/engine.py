@@ -140,14 +140,13 @@ class EngineRun(Record):
         tuple of float
             δ [1] and mean angular speed [rad/s].
         """
-        points = int(round(self.cycle_angle / (self.crank_angle[1] - self.crank_angle[0])))
+        h = self.crank_angle[1] - self.crank_angle[0]
+        points = int(round(self.cycle_angle / h))
         k = int(self.angle_at(duration) // self.cycle_angle)
         if k < 1:
             raise ValueError(f"cycles_within: no whole cycle within {duration:g} s")
-        average = self.angular_speed[:k * points].reshape(k, points).mean(axis=0)
-        average = np.append(average, self.angular_speed[points:(k + 1) * points:points].mean())
-        time = _cumulative_trapezoid(1 / average, self.crank_angle[1] - self.crank_angle[0])[-1]
-        return (float((average.max() - average.min()) * time / self.cycle_angle),
+        return (_average_delta(self.angular_speed[:k * points + 1], k, points, h,
+                               self.cycle_angle),
                 float(k * self.cycle_angle / self.time[k * points]))
 
     def angle_at(self, t) -> np.ndarray:
@@ -213,6 +212,22 @@ def _cycle_torque(engine: Engine, points: int) -> _CycleTorque:
                         motored=np.append(total["motored"], total["motored"][0]),
                         inertia=np.append(total["inertia"], total["inertia"][0]),
                         combustion=np.vstack([each, each[:1]]), firing_offset=offset)
+
+
+def _cycle_rows(omega: np.ndarray, cycles: int, points: int) -> np.ndarray:
+    """ω over each of the first ``cycles`` cycles, a row each, its last point the next
+    cycle's first (``points`` grid steps a cycle)."""
+    return np.column_stack([omega[:cycles * points].reshape(cycles, points),
+                            omega[points:(cycles + 1) * points:points]])
+
+
+def _average_delta(omega: np.ndarray, cycles: int, points: int, h: float,
+                   period: float) -> float:
+    """True δ = (ω_max − ω_min)/ω_mean of the average of the first ``cycles`` cycles ω(α),
+    ω_mean its time mean Φ/∫dα/ω (grid step ``h``, cycle angle Φ = ``period``)."""
+    average = _cycle_rows(omega, cycles, points).mean(axis=0)
+    return float((average.max() - average.min()) * _cumulative_trapezoid(1 / average, h)[-1]
+                 / period)
 
 
 def run_engine(engine: Engine, n_cycles: int, *, seed=0, step=STEP) -> EngineRun:
@@ -318,15 +333,13 @@ def run_engine(engine: Engine, n_cycles: int, *, seed=0, step=STEP) -> EngineRun
         time[j0:j0 + points + 1] = t_start + _cumulative_trapezoid(1 / w, h)
 
     crank_angle = np.arange(n_cycles * points + 1) * h
-    rows = np.column_stack([omega[:-1].reshape(n_cycles, points), omega[points::points]])
+    rows = _cycle_rows(omega, n_cycles, points)
     durations = np.diff(time[::points])
     delta_cycles = (rows.max(axis=1) - rows.min(axis=1)) * durations / period
-    average = rows.mean(axis=0)
-    average_duration = _cumulative_trapezoid(1 / average, h)[-1]
     return EngineRun(
         crank_angle=crank_angle, time=time, angular_speed=omega, cycle_angle=period,
         delta_cycles=delta_cycles,
-        delta=float((average.max() - average.min()) * average_duration / period),
+        delta=_average_delta(omega, n_cycles, points, h, period),
         mean_angular_speed=float(crank_angle[-1] / time[-1]),
         settings={"kind": "engine", "engine": _json(asdict(engine)), "n_cycles": int(n_cycles),
                   "seed": int(seed), "step": h})

@@ -515,7 +515,7 @@ class Filmed:
         over the arc's radius. [rad]"""
         return abs(self.swing.amplitude) / self.track.circle[2]
 
-    @property
+    @cached_property
     def amplitude_limit(self) -> float:
         r"""Limit of error of :attr:`amplitude`. [rad]
 
@@ -608,15 +608,16 @@ def _check_amplitude(film: Filmed, field_name: str) -> None:
     if limit <= AMPLITUDE_LIMIT:
         return
     swing = abs(film.swing.amplitude)
+    sag = film.track.circle[2] * (1 - math.cos(film.amplitude))
     warnings.warn(FilmAmplitudeWarning(
         f"{film.field}: the amplitude read off the film, {math.degrees(film.amplitude):.2f}°, "
         f"is certain to ±{limit:.2f}° only (the marker swings {swing:.0f} px along an arc "
-        f"that sags {film.track.circle[2] * (1 - math.cos(film.amplitude)):.2f} px): the "
+        f"that sags {sag:.2f} px): the "
         f"finite-amplitude correction carries it; give {field_name} from the scale, or film "
         "closer so that the marker swings wider in the picture",
         f"{film.field}: амплитуда по видео {math.degrees(film.amplitude):.2f}° известна лишь с "
         f"точностью ±{limit:.2f}° (метка проходит {swing:.0f} пикс по дуге с прогибом "
-        f"{film.track.circle[2] * (1 - math.cos(film.amplitude)):.2f} пикс): поправка на "
+        f"{sag:.2f} пикс): поправка на "
         f"конечную амплитуду учитывает это; задайте {field_name} по шкале или снимайте ближе, "
         "чтобы размах метки на кадре был больше"))
 
