@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from labs import catalogue, lab4_vibration_report as report
-from processing.band_rms import (QUANTITIES, BandRMS, band_rms, band_signal, level_db,
+from processing.band_rms import (QUANTITIES, BandRMS, band_rms, band_signals, level_db,
                                  peaks)
 from processing.balance import phasor_sum
 from processing.diagnostics import InputError, collect_notices
@@ -335,11 +335,15 @@ def _record(inputs: Inputs, i: int, entry: dict, points: int, phases) -> Recorde
                      "record at least two working cycles (a few seconds)", "tdc_channel")
     span = slice(int(np.ceil(tdc[0] * rate)), int(np.ceil(tdc[last] * rate)))
     step = 0.5 if strokes == 4 else 1.0     # with marks per revolution: their phase is lost
-    chans = []
+    chans, band_angle = [], None
     for p, (name, x) in enumerate(zip(names, data[:-1])):
         rms = band_rms(x, rate)
-        pp = {q: peaks(mean_cycle(band_signal(x[span], rate, q, periodic=True),
-                                   angle[span], cycle)).peak_to_peak for q in QUANTITIES}
+        band = band_signals(x[span], rate, periodic=True)
+        if band_angle is None:      # every channel's cut is as long: one grid for them all
+            band_angle = steady_crank_angle(time[span.start] + band.time, revs) \
+                * per_mark / (2 * np.pi)
+        pp = {q: peaks(mean_cycle(band[q], band_angle, cycle)).peak_to_peak
+              for q in QUANTITIES}
         try:
             fit = order_fit(*decimate(time, angle, x, rate, MAX_ORDER * speed / (2 * np.pi)),
                             step=step, max_order=MAX_ORDER)

@@ -19,8 +19,8 @@ would bias the sum; the weight is therefore deconvolved to second order,
 g̃ = g − ½ σ_f² g'' (:func:`deconvolved_weight`), which leaves an error of order (σ_f/f)⁴. The
 window-weighted mean is taken out first (a sensor's offset would otherwise leak into the lowest bins, where
 the displacement's weight is largest). Nothing is integrated in the time domain, so nothing
-drifts; the high-pass edge at 1.4 Hz is the meter's own. :func:`band_signal` gives the
-band-limited a, v or x as a time signal (for the peak and peak-to-peak detectors).
+drifts; the high-pass edge at 1.4 Hz is the meter's own. :func:`band_signals` gives the
+band-limited a, v and x as time signals (for the peak and peak-to-peak detectors).
 Its edge filters have order 2 for the acceleration, 3 for the velocity, 4 for the displacement
 (:data:`FILTER_ORDER`), so that no reading passes a constant or a slow wander.
 
@@ -350,21 +350,52 @@ def white_noise_rms(sample_rate: float, quantity: str, band: Band | None = None)
 
 
 TAPER = 0.1
-"""Share of a record tapered (and left out) at each end by :func:`band_signal`."""
+"""Share of a record tapered (and left out) at each end by :func:`band_signals`."""
 
 
-def band_signal(acceleration, sample_rate: float, quantity: str, band: Band | None = None,
-                *, periodic: bool = False, taper: float = TAPER) -> np.ndarray:
-    """The band-limited acceleration, velocity or displacement as a time signal.
+@lru_cache(maxsize=16)
+def _response(length: int, sample_rate: float, band: Band, integrations: int) -> np.ndarray:
+    """H(f)/(i2πf)ⁿ on the bins of an rfft of ``length`` samples (0 at f = 0); cached, as a
+    record's channels are cut alike."""
+    f = np.fft.rfftfreq(length, 1.0 / sample_rate)
+    positive = np.where(f > 0, f, 1.0)
+    h = np.where(f > 0, band.gain(f) / (2j * np.pi * positive) ** integrations, 0.0)
+    h.flags.writeable = False
+    return h
 
-    The record less its mean is multiplied in the frequency domain by the meter's
-    H(f)/(i2πf)ⁿ and transformed back. A band edge at 1.4 Hz rings for about a second, as
-    long as a record, so the signal is exact only where the record's periodic extension is
-    seamless: a record cut to whole periods (``periodic``: a steady regime cut at its working
-    cycles' TDC marks) is transformed as it is and comes back whole. Otherwise it is tapered
-    (cosine ends over ``taper`` of its length), padded with as many zeros and cut back to its
-    untapered middle: no wrap-around and no drift, but the taper's own low frequencies reach
-    the displacement (its peaks then err by up to 10–15 % below 20 Hz).
+
+@dataclass(frozen=True)
+class BandSignals(Record):
+    """Band-limited acceleration, velocity and displacement of one record as time signals
+    (:func:`band_signals`)."""
+
+    time: np.ndarray
+    """Of each sample, from the record's first sample. [s]"""
+    signals: dict
+    """Each quantity's signal on ``time``. [m/s², m/s, m]"""
+
+    def __getitem__(self, quantity: str) -> np.ndarray:
+        return self.signals[quantity]
+
+
+def band_signals(acceleration, sample_rate: float, quantities=QUANTITIES, *,
+                 bands: dict | None = None, periodic: bool = False,
+                 taper: float = TAPER) -> BandSignals:
+    """The band-limited acceleration, velocity and displacement as time signals.
+
+    The record less its mean is transformed once, multiplied in the frequency domain by each
+    band's H(f)/(i2πf)ⁿ and transformed back. A band edge at 1.4 Hz rings for about a
+    second, as long as a record, so a signal is exact only where the record's periodic
+    extension is seamless: a record cut to whole periods (``periodic``: a steady regime cut at
+    its working cycles' TDC marks) is transformed as it is and comes back whole, on the next
+    length the FFT factors fast (:func:`scipy.fft.next_fast_len`): the spectrum is padded
+    with zeros and its Nyquist bin split between ±f_s/2, which is the periodic signal's
+    band-limited interpolation, exact at every point, and spares the slow inverse transforms
+    of lengths with large prime factors (a record cut to whole cycles has any length; 51 197
+    samples transform 15 times slower than 51 200). Otherwise it is tapered (cosine ends over
+    ``taper`` of its length), padded with zeros to at least twice its length and cut back to
+    its untapered middle: no wrap-around and no drift, but the taper's own low frequencies
+    reach the displacement (its peaks then err by up to 10–15 % below 20 Hz).
 
     Parameters
     ----------
@@ -372,9 +403,9 @@ def band_signal(acceleration, sample_rate: float, quantity: str, band: Band | No
         [m/s²]
     sample_rate : float
         [Hz]
-    quantity : {"a", "v", "x"}
-    band : Band, optional
-        Default: the manual's band of ``quantity``.
+    quantities : sequence of {"a", "v", "x"}
+    bands : dict, optional
+        Band of each quantity (default :data:`BANDS`).
     periodic : bool, keyword-only
         The record spans whole periods of everything it holds.
     taper : float, keyword-only
@@ -382,19 +413,20 @@ def band_signal(acceleration, sample_rate: float, quantity: str, band: Band | No
 
     Returns
     -------
-    ndarray
-        The record (periodic) or its middle (1 − 2 taper of it). [m/s², m/s or m]
+    BandSignals
+        The whole period (periodic, at a rate raised by less than a few per cent) or the
+        record's middle (1 − 2 taper of it, at its own samples).
 
     Examples
     --------
     Ten periods of a 10 m/s² sine at 50 Hz integrated twice: 10/(2π·50)² = 101.3 µm:
 
     >>> t = np.arange(5120) / 25600.0
-    >>> x = band_signal(10 * np.cos(2 * np.pi * 50 * t), 25600.0, "x", periodic=True)
-    >>> round(float(x.max() * 1e6), 2), round(float(x.min() * 1e6), 2)
+    >>> s = band_signals(10 * np.cos(2 * np.pi * 50 * t), 25600.0, periodic=True)
+    >>> round(float(s["x"].max() * 1e6), 2), round(float(s["x"].min() * 1e6), 2)
     (101.32, -101.32)
     """
-    band = BANDS[quantity] if band is None else band
+    bands = BANDS if bands is None else {**BANDS, **bands}
     x = np.asarray(acceleration, dtype=float)
     size = x.size
     edge = 0 if periodic else int(round(taper * size))
@@ -402,13 +434,17 @@ def band_signal(acceleration, sample_rate: float, quantity: str, band: Band | No
     if edge > 0:
         ramp = 0.5 - 0.5 * np.cos(np.pi * np.arange(edge) / edge)
         w[:edge], w[size - edge:] = ramp, ramp[::-1]
-    length = size if periodic else 2 * size
-    f = np.fft.rfftfreq(length, 1.0 / sample_rate)
-    n = INTEGRATIONS[quantity]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        h = np.where(f > 0, band.gain(f) / (2j * np.pi * np.where(f > 0, f, 1.0)) ** n, 0.0)
-    out = scipy.fft.irfft(scipy.fft.rfft((x - x.mean()) * w, length) * h, length)[:size]
-    return out[edge:size - edge]
+    length = size if periodic else scipy.fft.next_fast_len(2 * size, real=True)
+    back = scipy.fft.next_fast_len(size, real=True) if periodic else length
+    spectrum = scipy.fft.rfft((x - x.mean()) * w, length) * (back / length)
+    if back > length and length % 2 == 0:
+        spectrum[-1] *= 0.5
+    keep = slice(0, back) if periodic else slice(edge, size - edge)
+    signals = {q: scipy.fft.irfft(spectrum * _response(length, float(sample_rate), bands[q],
+                                                       INTEGRATIONS[q]), back)[keep]
+               for q in quantities}
+    step = size / back if periodic else 1.0
+    return BandSignals(np.arange(keep.start, keep.stop) * (step / sample_rate), signals)
 
 
 @dataclass(frozen=True)
@@ -422,7 +458,7 @@ class Peaks(Record):
 
 
 def peaks(signal) -> Peaks:
-    """Peak and peak-to-peak of a band signal (:func:`band_signal`).
+    """Peak and peak-to-peak of a band signal (:func:`band_signals`).
 
     Examples
     --------

@@ -4,7 +4,7 @@ signals' peaks."""
 import numpy as np
 import pytest
 
-from processing.band_rms import (BANDS, QUANTITIES, REFERENCES, Band, band_rms, band_signal,
+from processing.band_rms import (BANDS, QUANTITIES, REFERENCES, Band, band_rms, band_signals,
                                  level_db, meter_gain, peaks, sine_band_rms, window_spread)
 
 RATE = 25600.0
@@ -67,13 +67,35 @@ def test_whole_periods_integrate_exactly_in_time():
     cycle = int(RATE / 6.25)                # 6.25 Hz: the half order at 750 min⁻¹
     t = np.arange(8 * cycle) / RATE
     acc = 10 * np.cos(2 * np.pi * 6.25 * t) + 4 * np.cos(2 * np.pi * 50 * t + 0.3)
-    x = band_signal(acc, RATE, "x", periodic=True)
+    x = band_signals(acc, RATE, periodic=True)["x"]
     x_true = (10 * meter_gain(6.25, "x") * np.cos(2 * np.pi * 6.25 * t)
               + 4 * meter_gain(50, "x") * np.cos(2 * np.pi * 50 * t + 0.3))
     # zero-phase band: cos in, −cos out for two integrations
     assert np.max(np.abs(x + x_true)) < 1e-3 * np.max(np.abs(x_true))
     p = peaks(x)
     assert p.peak_to_peak == pytest.approx(np.ptp(x_true), rel=1e-3)
+
+
+def test_a_period_of_any_length_comes_back_interpolated_exactly():
+    # 51 206 samples (2·25 603, a prime): transformed back on the FFT's next fast length,
+    # 51 840; the band signals are the closed forms at the finer grid's times, the Nyquist
+    # cosine (−1)ⁿ included
+    size = 51206
+    t = np.arange(size) / RATE
+    period = size / RATE
+    f1, f2 = 7 / period, 911 / period
+    acc = 6 * np.cos(2 * np.pi * f1 * t + 0.4) + 2 * np.sin(2 * np.pi * f2 * t) \
+        + 0.5 * np.cos(np.pi * RATE * t)
+    s = band_signals(acc, RATE, periodic=True)
+    assert s.time.size == 51840 and s.time[-1] < period
+    u = s.time
+    for q, n in zip(QUANTITIES, (0, 1, 2)):
+        gain = [meter_gain(f, q) for f in (f1, f2, RATE / 2)]
+        # integrating n times: each sine lags by n·90°
+        truth = (6 * gain[0] * np.cos(2 * np.pi * f1 * u + 0.4 - n * np.pi / 2)
+                 + 2 * gain[1] * np.sin(2 * np.pi * f2 * u - n * np.pi / 2)
+                 + 0.5 * gain[2] * np.cos(np.pi * RATE * u - n * np.pi / 2))
+        assert np.max(np.abs(s[q] - truth)) < 1e-9 * np.max(np.abs(truth)), q
 
 
 def test_a_long_record_is_read_in_segments_as_exactly():
