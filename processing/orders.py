@@ -245,9 +245,12 @@ def order_fit(time, angle, x, *, step: float = 0.5, max_order: float = 12.0,
         raise ValueError(f"order_fit: {x.size} samples cannot fit {m} orders and a drift of "
                          f"degree {drift_degree}")
     u = 2 * (t - t[0]) / (t[-1] - t[0]) - 1
-    drift_cols = np.polynomial.legendre.legvander(u, drift_degree)
-    phase = th[:, None] * order
-    A = np.hstack([np.cos(phase), np.sin(phase), drift_cols])
+    A = np.empty((x.size, 2 * m + drift_degree + 1))
+    # e^{ijsθ} as the running product of e^{isθ}: one complex exponential per sample
+    # instead of a cosine and a sine per sample and order (rounding grows as j·ε)
+    powers = np.cumprod(np.broadcast_to(np.exp(1j * step * th)[:, None], (x.size, m)), axis=1)
+    A[:, :m], A[:, m:2 * m] = powers.real, powers.imag
+    A[:, 2 * m:] = drift_cols = np.polynomial.legendre.legvander(u, drift_degree)
     # the normal equations: their inverse is the covariance's anyway, and the columns
     # (sines, cosines and Legendre polynomials over the record) are near orthogonal
     normal = np.linalg.pinv(A.T @ A)
