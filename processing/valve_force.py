@@ -36,9 +36,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import savgol_coeffs, savgol_filter
+from scipy.signal import savgol_coeffs
 
 from .decay import DampedSineFit, fit_damped_sine
+from .savgol import savgol
 from .result import Record
 
 ZERO_BAND = 5.0
@@ -258,7 +259,7 @@ def valve_events(time, force, preload: float, *, noise: float,
     t, y = np.asarray(time, dtype=float), np.asarray(force, dtype=float)
     if y.size <= SMOOTH_WINDOW:
         return []
-    smooth = savgol_filter(y, SMOOTH_WINDOW, 2)
+    smooth = savgol(y, SMOOTH_WINDOW, 2)
     gain = float(np.sqrt(np.sum(savgol_coeffs(SMOOTH_WINDOW, 2) ** 2)))
     s_noise = noise * gain
     loaded = smooth > max(CONTACT_LEVEL * s_noise, resolution)
@@ -389,7 +390,7 @@ def free_oscillation(time, force, start: float, stop: float,
     window = max(5, int(round(T * rate)) | 1)
     if t.size <= window + 2:
         raise RuntimeError("free_oscillation: the stretch is shorter than a period")
-    swing = np.abs(y - savgol_filter(y, window, 2))
+    swing = np.abs(y - savgol(y, window, 2))
     half = t <= start + 0.5 * (stop - start)
     k = int(np.argmax(np.where(half, swing, -np.inf)))
     t0 = float(t[k])
