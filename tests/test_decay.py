@@ -199,3 +199,23 @@ def test_benchmark_families_and_targets_on_a_few_records():
     judged = [t for t in found if "at most" not in t.name]
     assert all(t.passed for t in judged), [t.line() for t in judged]
     assert sum(t.name.startswith("Table 1") for t in found) == 2
+
+
+def test_variable_projection_jacobian_is_the_residuals_derivative():
+    # Golub–Pereyra's Jacobian of P⊥x against a central difference, on a noisy record far
+    # from its fit (where Kaufman's shortcut, without the second term, would be off)
+    from scipy.optimize._numdiff import approx_derivative
+
+    from processing.decay import _Projection
+
+    rng = np.random.default_rng(3)
+    tau = np.linspace(0, 0.05, 300)
+    u = tau / tau[-1]
+    x = 3 * np.exp(-40 * tau) * np.cos(2 * np.pi * 120 * tau + 0.3) + 0.5 + 0.2 * u \
+        + 0.3 * rng.standard_normal(tau.size)
+    for gamma_unit, p in ((None, [0.25, 2 * np.pi * 118]),
+                          (1 / 0.05**2, [0.25, 2 * np.pi * 118, 0.3])):
+        projection = _Projection(tau, u, x, 2, gamma_unit)
+        exact = projection.jacobian(np.array(p))
+        numeric = approx_derivative(projection.residual, np.array(p), method="3-point")
+        assert np.max(np.abs(exact - numeric)) < 1e-8 * np.max(np.abs(numeric))
