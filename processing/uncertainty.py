@@ -160,9 +160,10 @@ class Propagation:
     estimate of ``a − b`` with the correlations of shared inputs taken into account.
     """
 
-    def __init__(self, nominal, jacobian, u_inputs, dof_inputs, mc, mc_linear):
+    def __init__(self, nominal, jacobian, inputs, u_inputs, dof_inputs, mc, mc_linear):
         self._nominal = nominal
         self._jac = jacobian
+        self._inputs = inputs
         self._u = u_inputs
         self._dof = dof_inputs
         self._mc = mc
@@ -187,15 +188,16 @@ class Propagation:
 
     def difference(self, a: str, b: str) -> Estimate:
         """Estimate of output ``a`` minus output ``b``, correlations included."""
-        jac = {k: self._jac[a][k] - self._jac[b][k] for k in self._u}
-        return self._estimate(self._nominal[a] - self._nominal[b], jac,
+        return self._estimate(self._nominal[a] - self._nominal[b], self._jac[a] - self._jac[b],
                               self._mc[a] - self._mc[b], self._mc_lin[a] - self._mc_lin[b])
 
     def _estimate(self, value, jac, mc, mc_lin) -> Estimate:
-        contrib = {k: abs(jac[k]) * self._u[k] for k in self._u}
-        u = math.sqrt(sum(c * c for c in contrib.values()))
-        denom = sum(c**4 / self._dof[k] for k, c in contrib.items() if math.isfinite(self._dof[k]))
+        c = np.abs(jac) * self._u
+        u = math.sqrt(float(c @ c))
+        finite = np.isfinite(self._dof)
+        denom = float(np.sum(c[finite] ** 4 / self._dof[finite]))
         dof = u**4 / denom if denom > 0 else math.inf
+        contrib = {self._inputs[i]: float(c[i]) for i in np.flatnonzero(c)}
         if mc.size == 0:
             return Estimate(value, u, dof, contrib, (value, value), 0.0, False)
         ok = np.isfinite(mc)
@@ -275,15 +277,15 @@ def propagate(model: Callable[..., Mapping[str, np.ndarray]],
         out = model(**args)
     length = 1 + 2 * p + n_samples
     nominal, jac, mc, mc_lin = {}, {}, {}, {}
-    deltas = {k: args[k][1 + 2 * p:] - inputs[k].value for k in uncertain}
+    h = np.array([steps[k] for k in uncertain])
+    deltas = np.array([args[k][1 + 2 * p:] - inputs[k].value for k in uncertain]).reshape(
+        p, n_samples)
     for name, y in out.items():
         y = np.broadcast_to(np.asarray(y, dtype=float), (length,)) if p else np.asarray(y, float).reshape(-1)
         nominal[name] = float(y[0])
-        jac[name] = {k: float((y[1 + 2 * i] - y[2 + 2 * i]) / (2 * steps[k]))
-                     for i, k in enumerate(uncertain)}
+        jac[name] = (y[1:1 + 2 * p:2] - y[2:2 + 2 * p:2]) / (2 * h)
         mc[name] = np.asarray(y[1 + 2 * p:])
-        mc_lin[name] = (nominal[name] + sum((jac[name][k] * deltas[k] for k in uncertain),
-                                            np.zeros(n_samples))
-                        if n_samples and p else np.zeros(0))
-    return Propagation(nominal, jac, {k: inputs[k].u for k in uncertain},
-                       {k: inputs[k].dof for k in uncertain}, mc, mc_lin)
+        mc_lin[name] = (nominal[name] + jac[name] @ deltas if n_samples and p
+                        else np.zeros(0))
+    return Propagation(nominal, jac, uncertain, np.array([inputs[k].u for k in uncertain]),
+                       np.array([inputs[k].dof for k in uncertain], dtype=float), mc, mc_lin)
