@@ -18,7 +18,9 @@ Each cell is judged as a scalar is (:func:`processing.grading.agrees`): right if
 policy's ``rel_tol`` of ours plus half a unit of its last written digit — plus an absolute
 floor of :data:`FLOOR_SHARE` × ``rel_tol`` × the column's largest value, because near a zero
 crossing (T at the dead centres, p where gas and inertia forces cancel) a relative tolerance
-asks for more digits than the table has. Ours is any of the accepted ways of computing the
+asks for more digits than the table has. The largest value is the smaller of the student's
+column's and the model's: a slipped model that blows up (tg β of β in degrees taken as
+radians nears a pole) would otherwise set a floor that takes any cell for its own. Ours is any of the accepted ways of computing the
 table: exact or two-harmonic piston acceleration (j ≈ Rω²(cos α + λ cos 2α)), exact or
 first-order factors (tg β ≈ λ sin α, sin(α+β)/cos β ≈ sin α + λ/2 sin 2α, …), and, at the
 pressure jumps (α = 0°, 180°, 360°, 540°), either side of the jump.
@@ -377,8 +379,9 @@ def _reference(table: StudentTable, args: dict) -> np.ndarray:
 
 def _agree(column: Column, judged: _Judged, rel_tol: float) -> np.ndarray:
     """Cells of ``column`` within tolerance of any variant (empty cells agree)."""
-    floor = FLOOR_SHARE * rel_tol * judged.scale.get(column.key, 0.0)
     ok = np.isnan(column.values)
+    written = float(np.max(np.abs(column.values[~ok]))) if not ok.all() else 0.0
+    floor = FLOOR_SHARE * rel_tol * min(judged.scale.get(column.key, 0.0), written)
     for values in judged.values:
         x = values[column.key]
         tol = rel_tol * np.abs(x) + floor + np.nan_to_num(column.half_digit)
