@@ -719,7 +719,7 @@ def _clean_columns(frame: pd.DataFrame, header: bool) -> pd.DataFrame:
     frame = frame.set_axis(names, axis=1)
     empty = [n for n in names
              if (not header or n.startswith("Unnamed:")) and frame[n].isna().all()]
-    return frame.drop(columns=empty)
+    return frame.drop(columns=empty) if empty else frame
 
 
 def _csv_channels(src: _Source, selectors: list, given: float | None) -> list[Channel]:
