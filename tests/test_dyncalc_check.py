@@ -344,3 +344,33 @@ def test_read_table_converts_to_si_and_keeps_the_written_digits(tmp_path):
 
 def test_the_drawing_scale_in_the_spec():
     assert dc.SPEC.section("drawing").field("mu_p").unit == "MPa/mm"
+
+
+def test_a_slip_that_blows_up_does_not_take_every_table_for_its_own(tmp_path):
+    """Variant 102: β in degrees taken as radians puts tg β near a pole on the reference
+    grid. Its tolerance floor, scaled by that peak, took the summed table of p₀ not
+    subtracted (and of four other slips) for its own; the floor now scales with the smaller
+    of the student's column and the model's, and each slip is named as itself."""
+    from dataclasses import replace
+
+    from labs import check_bench as cb
+    from labs import dyncalc_check as ck
+    from labs.registry import LABS
+    from processing.measurement import load, read_toml
+
+    written = cb._written("dyncalc", 102, tmp_path)
+    inputs = load(written["toml"], LABS["dyncalc"].SPEC, read_toml(written["toml"]))
+    scene = replace(ck.Scene(ck.arguments(inputs)), kinematics="exact",
+                    factor_kinematics="exact")
+    x, first = cb._rows("summed", scene.args, 10.0)
+    blown = ck.summed(next(s for s in ck.TABLE_SLIPS if s.name == "beta_degrees")
+                      .scene(scene, inputs), np.radians(np.linspace(0, 180, 721)))
+    assert max(np.max(np.abs(v)) for k, v in blown.items() if k.startswith("T")) > \
+        10 * max(np.max(np.abs(v)) for k, v in ck.summed(scene, x).items() if k.startswith("T"))
+    for name in ("p0_not_subtracted", "exponents_swapped"):
+        slip = next(s for s in ck.TABLE_SLIPS if s.name == name)
+        table = cb._write_table(tmp_path / "summed.csv", first, x,
+                                cb._model("summed", slip.scene(scene, inputs), x), 3, ",")
+        (t,) = ck.check_tables(written["toml"], {"summed": table.name}, inputs)
+        assert t.verdict == "wrong" and {r.slip.name for r in t.roots if r.slip} == {name}, \
+            t.cause()
