@@ -88,7 +88,7 @@ class Plan:
 FULL = Plan(speeds=(800.0, 1300.0, 2000.0, 2700.0, 3400.0), snr_db=(20.0, 30.0, 50.0),
             durations=(1.2, 2.4, 10.0), seeds=2, sizes=tuple(2 ** k for k in range(14, 23)),
             cut_speeds=(1000.0, 2000.0, 3000.0), cut_seeds=3)
-QUICK = Plan(speeds=(800.0, 2000.0, 3400.0), snr_db=(20.0, 40.0), durations=(2.4,), seeds=1,
+QUICK = Plan(speeds=(800.0, 2000.0, 3400.0), snr_db=(20.0, 50.0), durations=(2.4,), seeds=1,
              sizes=(2 ** 14, 2 ** 17, 2 ** 20), cut_speeds=(2000.0,), cut_seeds=1, repeat=2)
 
 
