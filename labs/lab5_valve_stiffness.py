@@ -33,6 +33,7 @@ from __future__ import annotations
 import json
 import math
 import warnings
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -497,20 +498,23 @@ inputs as the slip leaves them."""
 
 def synthetic(seed: int = 0, *, runs: int = 1, friction: float = 8.0, contact: float = 0.0,
               lash: float = 0.0, resolution: float = 1.0, scatter: float = 0.25,
-              top: float = 1000.0, step: float = 100.0, train=None) -> tuple[dict, dict]:
+              top: float = 1000.0, step: float = 100.0, train=None,
+              part: int | None = None) -> tuple[dict, dict]:
     """A synthetic lab 5 measurement as a document and its answer key.
 
-    The default rig: a push-rod valve train (:class:`processing.synth.valve_table.ValveTrain`,
-    i = 1.5, c = 2.055 kN/mm at the valve) loaded 0 → 1000 N in 100 N steps and back through
-    the manual's lever (i₁ = 10, true ratio within ± 0.5 %), read on 0.01 mm dial gauges (scale
-    errors within ± 2 %), and its springs (45 N/mm, 250 N preload) lifted 0 → 10 mm on the
-    manual's dynamometer (1 mm = 145 N within ± 1 %); masses on a ± 1 g balance, lengths
-    ± 0.5 mm, the rocker's inertia ± 3 %. The file states each of those tolerances.
+    The rig of seed 0: a push-rod valve train
+    (:class:`processing.synth.valve_table.ValveTrain`, i = 1.5, c = 2.055 kN/mm at the valve)
+    loaded 0 → 1000 N in 100 N steps and back through the manual's lever (i₁ = 10, true ratio
+    within ± 0.5 %), read on 0.01 mm dial gauges (scale errors within ± 2 %), and its springs
+    (45 N/mm, 250 N preload) lifted 0 → 10 mm on the manual's dynamometer (1 mm = 145 N
+    within ± 1 %); masses on a ± 1 g balance, lengths ± 0.5 mm, the rocker's inertia ± 3 %.
+    The file states each of those tolerances. Any other seed draws a train, springs and
+    masses of its own (:func:`_part`, over :data:`VALVE_TRAINS`).
 
     Parameters
     ----------
     seed : int
-        Seed of everything random.
+        Seed of the readings and their errors (and of the part, unless ``part`` is given).
     runs : int
         Loading–unloading runs (the same gauges and lever).
     friction : float
@@ -524,7 +528,10 @@ def synthetic(seed: int = 0, *, runs: int = 1, friction: float = 8.0, contact: f
     top, step : float
         Largest load at the valve and its step. [N]
     train : ValveTrain, optional
-        Overrides the default train (``friction``, ``contact``, ``lash`` then ignored).
+        Overrides the drawn train (``friction``, ``contact``, ``lash`` then ignored).
+    part : int, optional
+        Seed of the part: the train, springs and masses (default ``seed``; 0: the scene's
+        defaults, whatever ``seed`` draws the readings).
 
     Returns
     -------
@@ -536,12 +543,11 @@ def synthetic(seed: int = 0, *, runs: int = 1, friction: float = 8.0, contact: f
         without ``contact``; with it, the stiffness over the load programme), the springs',
         M and ν.
     """
-    from processing.synth.valve_table import (DialGauges, ValveMasses, ValveSpring,
-                                              ValveTrain, load_steps, spring_run,
-                                              stiffness_run)
+    from processing.synth.valve_table import DialGauges, load_steps, spring_run, stiffness_run
 
     rng = np.random.default_rng([seed, 5])
-    train = train or ValveTrain(friction=friction, contact=contact, lash=lash)
+    drawn, spring, masses = _part(seed if part is None else part)
+    train = train or replace(drawn, friction=friction, contact=contact, lash=lash)
     gauges = DialGauges(resolution=resolution, scatter=scatter)
     lever_error = rng.uniform(-0.005, 0.005)
     scale_error = rng.uniform(-gauges.scale_limit, gauges.scale_limit, 4)
@@ -556,12 +562,10 @@ def synthetic(seed: int = 0, *, runs: int = 1, friction: float = 8.0, contact: f
                           scale_error=scale_error)
         doc["run"].append({"table": format_table(
             {"Q[N]": t.Q, **{f"dl{j + 1}": t.readings[j] + 0.0 for j in range(4)}})})
-    spring = ValveSpring()
     sp = spring_run(spring, rng)
     doc["spring"] = {"table": format_table({"h[mm]": np.round(sp.h * 1e3, 3),
                                             "d[mm]": np.round(sp.reading * 1e3, 3)}),
                      "k_dyn": "145 N/mm"}
-    masses = ValveMasses()
     kg = ("m_valve", "m_spring", "m_rod", "m_tappet", "m_span")
     J = 1e6 * masses.J_rocker
     doc["masses"] = {**{k: f"{getattr(masses, k) + rng.uniform(-1e-3, 1e-3):.4f} kg" for k in kg},
@@ -586,19 +590,21 @@ def synthetic(seed: int = 0, *, runs: int = 1, friction: float = 8.0, contact: f
 
 def write_synthetic(out_dir, seed: int = 0, *, runs: int = 1, friction: float = 8.0,
                     contact: float = 0.0, lash: float = 0.0, resolution: float = 1.0,
-                    scatter: float = 0.25, top: float = 1000.0,
-                    step: float = 100.0) -> dict[str, Path]:
+                    scatter: float = 0.25, top: float = 1000.0, step: float = 100.0,
+                    part: int | None = None) -> dict[str, Path]:
     """Write a synthetic lab 5 measurement and its answer key.
+
+    Seed 0 is the scene's default valve train; any other seed draws its own (:func:`_part`).
 
     Parameters
     ----------
     out_dir : str or Path
         Folder to write into (created).
     seed : int
-    runs, friction, contact, lash, resolution, scatter, top, step
+    runs, friction, contact, lash, resolution, scatter, top, step, part
         As :func:`synthetic`: loading runs, joint friction [N], contact deformation at
         1000 N [m], lash [m], what the student writes down and the reading scatter
-        [divisions], largest load and its step at the valve [N].
+        [divisions], largest load and its step at the valve [N], the part's seed.
 
     Returns
     -------
@@ -608,8 +614,54 @@ def write_synthetic(out_dir, seed: int = 0, *, runs: int = 1, friction: float = 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     doc, answer = synthetic(seed, runs=runs, friction=friction, contact=contact, lash=lash,
-                            resolution=resolution, scatter=scatter, top=top, step=step)
+                            resolution=resolution, scatter=scatter, top=top, step=step,
+                            part=part)
     written = {"toml": out / f"lab5_seed{seed}.toml", "answer": out / "answer_key.json"}
     written["toml"].write_text(dumps(doc), encoding="utf-8")
     written["answer"].write_text(json.dumps(answer, indent=1), encoding="utf-8")
     return written
+
+
+VALVE_TRAINS = {"i": (1.4, 1.6), "scale": (0.8, 1.2), "rocker": (0.75, 0.95),
+                "link": (0.95, 1.1), "c_n": (30e3, 50e3), "preload": (230.0, 290.0),
+                "mass": (0.85, 1.15), "length": (0.9, 1.1)}
+"""Ranges a variant's valve train is drawn from, about the scene's push-rod train of a
+D-240 class diesel (:class:`processing.synth.valve_table.ValveTrain`, ``ValveSpring``,
+``ValveMasses``): the rocker ratio; one scale on the four links' stiffnesses (c at the valve
+1.4–2.7 kN/mm against the scene's 2.055; the least-moving gauges, Δl₂ and Δl₄, still move
+3.5–9 divisions at the manual's 1000 N, 5 in the scene, and Δl₁ stays under 0.8 mm of the
+gauge's 10), times the rocker's own factor and each other link's: the rocker no stiffer
+than the scale makes it, so that its deformation — Δl₁ less the others' reduced, the
+method's one difference of large readings — keeps at least the scene's 29 % of the total
+(its Monte Carlo interval stays the linear one, as in the scene); the springs' stiffness and
+preload between lab 6's drive (30 N/mm, 260 N) and lab 5's springs (45 N/mm, 250 N) and a
+little beyond (the manual's dynamometer then reads 1.6–5.5 mm at 10 mm of lift); every mass
+and the rocker's inertia within ± 15 %, the rocker's arm and the camshaft's span and cam
+position within ± 10 % (so l < L). [1] each, [N/m], [N], [1], [1]"""
+
+
+def _part(seed: int):
+    """A variant's valve train, springs and masses (:data:`VALVE_TRAINS`); seed 0 the scene's
+    defaults (i = 1.5, c = 2.055 kN/mm, c_n = 45 N/mm, 250 N, M = 0.237 kg).
+
+    Returns
+    -------
+    tuple
+        (:class:`~processing.synth.valve_table.ValveTrain`, ``ValveSpring``, ``ValveMasses``)
+    """
+    from processing.synth.valve_table import ValveMasses, ValveSpring, ValveTrain
+
+    if seed == 0:
+        return ValveTrain(), ValveSpring(), ValveMasses()
+    rng = np.random.default_rng([seed, 51])
+    r = VALVE_TRAINS
+    scale = rng.uniform(*r["scale"])
+    own = {"c_rocker": "rocker", "c_shaft": "link", "c_rod": "link", "c_cam": "link"}
+    train = ValveTrain(i=rng.uniform(*r["i"]), **{
+        k: getattr(ValveTrain, k) * scale * rng.uniform(*r[v]) for k, v in own.items()})
+    spring = ValveSpring(c_n=rng.uniform(*r["c_n"]), preload=rng.uniform(*r["preload"]))
+    kind = {"m_valve": "mass", "m_spring": "mass", "J_rocker": "mass", "m_rod": "mass",
+            "m_tappet": "mass", "m_span": "mass", "a": "length", "l": "length", "L": "length"}
+    masses = ValveMasses(**{k: getattr(ValveMasses, k) * rng.uniform(*r[v])
+                            for k, v in kind.items()})
+    return train, spring, masses
