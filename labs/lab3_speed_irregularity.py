@@ -783,14 +783,51 @@ def oscillogram_photo(run, *, seed: int = 0):
 
 
 
-def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=(1800.0, 1840.0),
+ENGINES = {"inertia": (0.18, 0.23), "p_z": (5.0e6, 6.0e6), "speed": (1700.0, 1900.0),
+           "gap": (20.0, 50.0)}
+"""Ranges a variant's engine and regimes are drawn from: the moment of inertia of everything
+turning with the crankshaft (flywheel, crank train, clutch) [kg·m²], the maximum cycle pressure,
+i.e. the load [Pa] (within the 4–7 MPa of a petrol engine at full load,
+:class:`processing.synth.engine.Engine`), the first regime's speed and the second's above it
+[min⁻¹] (the manual: two regimes 20–50 min⁻¹ apart). The scene's engine (0.2 kg·m², 5.5 MPa,
+1800 min⁻¹) lies inside. δ falls with J, rises with p_z and falls with the speed (roughly as
+n⁻³ here: the inertia torque cancels part of the gas torque's swing), so the ranges hold δ to
+0.013–0.024 (40 seeds), about the manual's automotive 0.01–0.02: the photographed ripple
+(δ·70 mm) stays near a millimetre and a 60−2 wheel at 48 kHz gets ≥ 24 samples per tooth."""
+
+
+def engine_variant(seed: int):
+    """A variant's engine and its two regimes' speeds (:data:`ENGINES`). Seed 0 is the scene's
+    engine (:class:`processing.synth.engine.Engine` with 2 % cycle-to-cycle scatter) at 1800
+    and 1840 min⁻¹.
+
+    Returns
+    -------
+    engine : processing.synth.engine.Engine
+        Its mean speed is the regime's to set.
+    speeds : tuple of float
+        The regimes' mean speeds. [min⁻¹]
+    """
+    from processing.synth.engine import Engine
+
+    if seed == 0:
+        return Engine(cycle_variation=0.02), (1800.0, 1840.0)
+    rng = np.random.default_rng([seed, 31])
+    engine = Engine(inertia=rng.uniform(*ENGINES["inertia"]), p_z=rng.uniform(*ENGINES["p_z"]),
+                    cycle_variation=0.02)
+    first = float(np.round(rng.uniform(*ENGINES["speed"])))
+    return engine, (first, first + float(np.round(rng.uniform(*ENGINES["gap"]))))
+
+
+def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=None,
                     cycles: int = 40, snr_db: float = 30.0, pitch_error_deg: float = 0.03,
                     sample_rate: float = 48e3, calibrate: bool = True,
                     image: bool = False, recording: bool = True) -> dict[str, Path]:
     """Write a synthetic lab 3 measurement: recordings, a measurement file and the answer key.
 
-    Two regimes of the default four-cylinder engine (:class:`processing.synth.engine.Engine`)
-    at ``speeds`` (min⁻¹), seen by a 60−2 wheel with pitch errors through an inductive sensor
+    Two regimes of the variant's four-cylinder engine (:func:`engine_variant`: seed 0 the
+    scene's default :class:`processing.synth.engine.Engine`, any other seed its own flywheel
+    and load) at ``speeds`` (min⁻¹), seen by a 60−2 wheel with pitch errors through an inductive sensor
     and a 16-bit sound card; a coast-down record for the pitch calibration; the oscillogram
     readings a student would take (mean level 90 mm, read to 0.2 mm) from the true mean cycle.
 
@@ -799,11 +836,12 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=(1800.0,
     out_dir : str or Path
         Folder to write into (created).
     seed : int
-        Seed of everything random (engine scatter, wheel, noise, readings).
+        Seed of everything random (the engine and its regimes, engine scatter, wheel, noise,
+        readings).
     fmt : {"wav", "csv", "h5"}
         Recording format.
-    speeds : sequence of float
-        Regimes' mean speeds. [min⁻¹]
+    speeds : sequence of float, optional
+        Regimes' mean speeds (default: the variant's, 1800 and 1840 for seed 0). [min⁻¹]
     cycles : int
         Working cycles recorded per regime.
     snr_db, pitch_error_deg, sample_rate : float
@@ -830,8 +868,9 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=(1800.0,
     import json
 
     from processing.signals import write_csv, write_hdf5, write_wav
-    from processing.synth.engine import (Engine, Sensor, ToothWheel, coast_run, record,
-                                         run_engine)
+    from dataclasses import replace
+
+    from processing.synth.engine import Sensor, ToothWheel, coast_run, record, run_engine
 
     if fmt not in SYNTH_FORMATS:
         raise InputError(f"unknown recording format {fmt!r}", f"use one of {', '.join(SYNTH_FORMATS)}")
@@ -841,6 +880,8 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=(1800.0,
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     rng = np.random.default_rng([seed, 3])
+    engine, drawn = engine_variant(seed)
+    speeds = drawn if speeds is None else speeds
     wheel = ToothWheel(teeth=60, missing=2, pitch_error=np.radians(pitch_error_deg), seed=seed)
     sensor = Sensor(sample_rate=sample_rate, snr_db=snr_db, spikes_per_second=0.5)
 
@@ -857,8 +898,8 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=(1800.0,
 
     written, regimes, answers, photographed = {}, [], [], []
     for i, n in enumerate(speeds, start=1):
-        run = run_engine(Engine(mean_angular_speed=n * np.pi / 30, cycle_variation=0.02),
-                         cycles + 1, seed=seed * 100 + i)
+        run = run_engine(replace(engine, mean_angular_speed=n * np.pi / 30), cycles + 1,
+                         seed=seed * 100 + i)
         rec = record(run, wheel, sensor, seed=seed * 100 + i)
         regime = ""
         if recording:
