@@ -724,6 +724,60 @@ factor a slip of the arithmetic puts on them."""
 
 SYNTH_FORMATS = ("csv", "h5")
 
+BENCH_ENGINES = {"R": (0.032, 0.039), "lambda": (0.26, 0.31), "m_j": (0.45, 0.65),
+                 "mass": (120.0, 165.0), "mounts": (0.9, 1.06), "chart": (0.9, 1.1)}
+"""Ranges a variant's engine, mounts and accelerometer are drawn from. The crank radius R [m]:
+the scene's 82 mm bore with a 64–78 mm stroke, a 1.35–1.65 l four-cylinder car engine about
+the scene's 1.5 l; λ = R/L: β_max = arcsin λ of 15–18° (FORMULAS.md A, modern engines); m_j per
+cylinder [kg]: 85–123 kg/m² of the piston's area, the coursework's car example at 120 kg/m²
+(12 g/cm², ``sample_data/dyncalc/car_petrol.toml``) at the top; the mass on the mounts [kg]
+(about the scene's 140 kg of engine and gearbox; its roll and pitch inertia in proportion);
+one factor on the mounts' four natural frequencies (a stiffer or softer set, k = m(2πf)²),
+which keeps them within the 4–8 Hz of soft bench mounts, below the lowest half order of a run
+(:class:`processing.synth.engine_mount.Block`); and the accelerometer's chart value over its
+family's nominal 100 or 50 mV/g, the ± 10 % a general-purpose IEPE accelerometer's datasheet
+allows (e.g. PCB 352C33, 100 mV/g ± 10 %), written in mV/g or in mV/(m/s²) as charts give
+it."""
+
+
+def bench_variant(seed: int):
+    """A variant's engine on its mounts and its accelerometer's chart (:data:`BENCH_ENGINES`).
+    Seed 0 is the scene's: :class:`processing.synth.engine.Engine`,
+    :class:`processing.synth.engine_mount.Block` and a 10.2 mV/(m/s²) chart.
+
+    The drawn values are rounded as a data sheet gives them (R to 0.1 mm, λ to 0.001, m_j to
+    10 g, the mass to 1 kg, the chart to three figures), so the file states the part exactly.
+
+    Returns
+    -------
+    engine : processing.synth.engine.Engine
+    block : processing.synth.engine_mount.Block
+    chart : str
+        The chart's sensitivity as the file gives it, without its limit.
+    """
+    from dataclasses import replace
+
+    from processing.synth.engine import Engine
+    from processing.synth.engine_mount import Block
+
+    engine, block = Engine(), Block()
+    if seed == 0:
+        return engine, block, "10.2 mV/(m/s^2)"
+    rng = np.random.default_rng([seed, 42])
+    engine = replace(engine,
+                     crank_radius=round(rng.uniform(*BENCH_ENGINES["R"]), 4),
+                     lambda_=round(rng.uniform(*BENCH_ENGINES["lambda"]), 3),
+                     reciprocating_mass=round(rng.uniform(*BENCH_ENGINES["m_j"]), 2))
+    mass = float(np.round(rng.uniform(*BENCH_ENGINES["mass"])))
+    stiffer = rng.uniform(*BENCH_ENGINES["mounts"])
+    block = replace(block, mass=mass, roll_inertia=block.roll_inertia * mass / block.mass,
+                    pitch_inertia=block.pitch_inertia * mass / block.mass,
+                    frequencies=tuple(stiffer * f for f in block.frequencies))
+    per_g = rng.choice([100.0, 50.0]) * rng.uniform(*BENCH_ENGINES["chart"])
+    value, unit = (per_g, "mV/g") if rng.random() < 0.5 else (per_g / G_RATIO, "mV/(m/s^2)")
+    decimals = max(0, 2 - int(np.floor(np.log10(value))))
+    return engine, block, f"{value:.{decimals}f} {unit}"
+
 
 def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "h5", snr_db: float = 30.0,
                     speeds=(1000.0, 3000.0), step: float = 500.0, cut_speed: float = 2000.0,
@@ -732,10 +786,12 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "h5", snr_db: float = 
     """Write a synthetic lab 4 measurement: records of a speed sweep, one with a cylinder's
     ignition cut, meter readings, a measurement file and the answer key.
 
-    The scene of :mod:`processing.synth.engine_mount`: a 1.5 l four-cylinder petrol engine
+    The scene of :mod:`processing.synth.engine_mount`: a four-cylinder petrol engine
     (firing order 1-3-4-2) on soft bench mounts, three points (cylinder head vertical and
-    transverse, front cover longitudinal), an accelerometer of 10.2 mV/(m/s²) (its true
-    sensitivity within its ±2 % chart value) with its resonance at 28 kHz, recorded at
+    transverse, front cover longitudinal), an accelerometer (its true sensitivity within its
+    ±2 % chart value) with its resonance at 28 kHz; seed 0 the scene's 1.5 l engine, 140 kg,
+    and a 10.2 mV/(m/s²) chart, any other seed its own engine, mounts and sensor
+    (:func:`bench_variant`); recorded at
     25.6 kHz beside cylinder 1's ignition pickup; every ``step`` min⁻¹ over ``speeds`` and,
     at ``cut_speed``, with the ignition of a cylinder drawn from the seed cut. The meter's
     readings of the cut record and its healthy companion (true values within the meter's
@@ -746,7 +802,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "h5", snr_db: float = 
     out_dir : str or Path
         Folder to write into (created).
     seed : int
-        Seed of everything random.
+        Seed of everything random (the engine, its mounts and the sensor's chart too).
     fmt : {"csv", "h5"}
         Record format.
     snr_db : float
@@ -773,21 +829,19 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "h5", snr_db: float = 
     import json
 
     from processing.signals import write_csv, write_hdf5
-    from processing.synth.engine import Engine
-    from processing.synth.engine_mount import (POINTS, Accelerometer, Block, cylinder_factors,
-                                               record)
+    from processing.synth.engine_mount import POINTS, Accelerometer, cylinder_factors, record
 
     if fmt not in SYNTH_FORMATS:
         raise InputError(f"unknown record format {fmt!r}", f"use one of {', '.join(SYNTH_FORMATS)}")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     rng = np.random.default_rng([seed, 41])
-    engine, block = Engine(), Block()
+    engine, block, chart = bench_variant(seed)
     firing = (1, 3, 4, 2)
     factors = cylinder_factors(engine, block, rng)
     cut = int(rng.integers(1, engine.cylinders + 1))
-    chart = 0.0102
-    sensor = Accelerometer(sensitivity=chart * (1 + rng.uniform(-0.02, 0.02)), snr_db=snr_db)
+    sensor = Accelerometer(sensitivity=sensitivity(chart).value * (1 + rng.uniform(-0.02, 0.02)),
+                           snr_db=snr_db)
     plan = [(n, "all") for n in np.arange(speeds[0], speeds[1] + 1e-9, step)]
     plan.append((cut_speed, "cut"))
     written, bodies, truth = {}, [], {}
@@ -839,7 +893,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "h5", snr_db: float = 
             f'firing_order = "{"-".join(map(str, firing))}"\nR = "{1e3 * R:g} mm"\n'
             f'lambda = {lam:g}\nm_j = "{mj:g} kg"\nm_r = "0 kg"\n'
             f'mass = "{block.mass:g} kg"\n\n'
-            f'[sensor]\nsensitivity = "{1e3 * chart:g} mV/(m/s^2) ± 2 %"\n\n'
+            f'[sensor]\nsensitivity = "{chart} ± 2 %"\n\n'
             + "".join(f'[[point]]\nname = "{p.name}"\ndirection = "{p.direction}"\n\n'
                       for p in POINTS)
             + "\n".join(bodies) + "\n" + "\n".join(meter_bodies))

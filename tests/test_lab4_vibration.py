@@ -31,10 +31,15 @@ def codes(result):
     return {w.code for w in result.warnings}
 
 
+ENGINE, BLOCK, CHART = lab4.bench_variant(1)
+"""Seed 1's engine, its mounts and its sensor's chart (the bench's)."""
+
+
 @pytest.fixture(scope="module")
 def bench(tmp_path_factory):
     """A sweep 1000–3000 min⁻¹ in 1000 min⁻¹ steps and a cylinder cut at 2000 (seed 1:
-    cylinder 3), with the meter's readings at 2000 min⁻¹."""
+    cylinder 3), with the meter's readings at 2000 min⁻¹; seed 1's own engine on its own
+    mounts (:data:`ENGINE`, :data:`BLOCK`)."""
     folder = tmp_path_factory.mktemp("lab4")
     written = lab4.write_synthetic(folder, seed=1, step=1000.0)
     key = json.loads(written["answer"].read_text())["results"]
@@ -150,8 +155,8 @@ def test_no_cylinder_is_reported_cut_in_a_healthy_record(bench, tmp_path):
     text = written["toml"].read_text()
     cut_file = written["r4"].name
     # the "cut" record replaced by a second healthy record at 2000 min⁻¹ (another seed)
-    rec = record(Engine(), Block(), POINTS, Accelerometer(), 2000 * np.pi / 30, 2.4, seed=77,
-                 firing_order=(1, 3, 4, 2))
+    rec = record(ENGINE, BLOCK, POINTS, Accelerometer(lab4.sensitivity(CHART).value),
+                 2000 * np.pi / 30, 2.4, seed=77, firing_order=(1, 3, 4, 2))
     from processing.signals import write_hdf5
     write_hdf5(tmp_path / "healthy.h5", {**rec.volts, "tdc": rec.tdc}, rec.sample_rate)
     for f in written.values():
@@ -165,6 +170,39 @@ def test_no_cylinder_is_reported_cut_in_a_healthy_record(bench, tmp_path):
     assert "cut_cylinder" in codes(res)
 
 
+def test_variants_put_engines_of_their_own_on_the_bench_and_their_keys_are_held(bench,
+                                                                                 tmp_path):
+    """Seed 0 is the scene's engine, mounts and 10.2 mV/(m/s²) chart; seeds 1 and 2 draw
+    their own (:data:`labs.lab4_vibration.BENCH_ENGINES`), stated in the file's [engine] and
+    [sensor] tables; every value of seed 2's answer key lies within the U (k = 2) of its
+    result, as seed 1's does, and the cut cylinder is found."""
+    engine, block, chart = lab4.bench_variant(0)
+    assert (engine, block, chart) == (Engine(), Block(), "10.2 mV/(m/s^2)")
+    written = lab4.write_synthetic(tmp_path, seed=2, speeds=(2000.0, 2000.0), duration=1.2,
+                                   meter=False)
+    texts = [w["toml"].read_text() for w in (bench[0], written)]
+    part = [t.split("[engine]")[1].split("[[point]]")[0] for t in texts]
+    assert part[0] != part[1]
+    parts = {0: (engine, block, chart)}
+    for seed, text in ((1, texts[0]), (2, texts[1])):
+        engine, block, chart = parts[seed] = lab4.bench_variant(seed)
+        drawn = {"R": engine.crank_radius, "lambda": engine.lambda_,
+                 "m_j": engine.reciprocating_mass, "mass": block.mass}
+        for name, value in drawn.items():
+            lo, hi = lab4.BENCH_ENGINES[name]
+            assert lo <= value <= hi, (seed, name, value)
+        assert f'R = "{1e3 * engine.crank_radius:g} mm"' in text
+        assert f'lambda = {engine.lambda_:g}\n' in text and f'mass = "{block.mass:g} kg"' in text
+        assert f'sensitivity = "{chart} ± 2 %"' in text
+    assert parts[0] != parts[1] != parts[2] != parts[0]
+    key = json.loads(written["answer"].read_text())["results"]
+    res = reduce(written["toml"])
+    for name, truth in key.items():
+        r = res[name]
+        assert abs(r.value - truth) <= r.estimate.U + 1e-12, (name, r.value, truth)
+    assert "cut_cylinder" not in codes(res)
+
+
 def test_meter_and_record_agree_within_the_meters_error(bench):
     _, _, res = bench
     assert len(res.comparisons) == 18       # 3 points × (healthy, cut) × (a, v, x)
@@ -174,14 +212,14 @@ def test_meter_and_record_agree_within_the_meters_error(bench):
 
 def test_second_order_against_the_formula_for_the_heave(bench):
     # point 1 sits above the centre of mass (no roll there): its second order is the
-    # block's heave, P_j2/m raised by the mounts' response ω²/(ω² − ω_n²) (6 Hz) and the
-    # exact kinematics' second harmonic (λ + λ³/4 + … over λ)
+    # block's heave, P_j2/m raised by the mounts' response ω²/(ω² − ω_n²) (the heave's
+    # natural frequency) and the exact kinematics' second harmonic (λ + λ³/4 + … over λ)
     _, _, res = bench
-    lam = Engine().lambda_
+    lam = ENGINE.lambda_
     for r in (1, 2, 3):
         n = res[f"n_{r}"].value
         j = 3 * (r - 1) + 1
-        mount = n ** 2 * 4 / (n ** 2 * 4 - (2 * np.pi * 6.0) ** 2)
+        mount = n ** 2 * 4 / (n ** 2 * 4 - (2 * np.pi * BLOCK.frequencies[0]) ** 2)
         exact = 1 + lam ** 2 / 4
         assert res[f"a2_{j}"].value == pytest.approx(res[f"a2_model_{r}"].value * mount * exact,
                                                      rel=0.05)
@@ -210,8 +248,9 @@ def _copy(bench, tmp_path, edit):
 
 
 def test_a_sensitivity_per_g_written_per_m_s2_is_refused(bench, tmp_path):
-    path = _copy(bench, tmp_path, lambda t: t.replace('"10.2 mV/(m/s^2) ± 2 %"',
-                                                      '"100 mV/(m/s^2) ± 2 %"'))
+    per_g = 1e3 * lab4.sensitivity(CHART).value * lab4.G_RATIO     # the chart per g
+    path = _copy(bench, tmp_path, lambda t: t.replace(f'"{CHART} ± 2 %"',
+                                                      f'"{per_g:.3g} mV/(m/s^2) ± 2 %"'))
     with pytest.raises(InputError, match="per g") as e:
         reduce(path)
     assert e.value.field == "sensor.sensitivity"
@@ -256,8 +295,8 @@ def test_a_clipped_record_warns_with_its_share(bench, tmp_path):
 
 
 def test_cli_refuses_bad_input_with_exit_2_and_writes_nothing(bench, tmp_path, capsys):
-    path = _copy(bench, tmp_path, lambda t: t.replace('"10.2 mV/(m/s^2) ± 2 %"',
-                                                      '"10.2 mV/mm"'))
+    path = _copy(bench, tmp_path, lambda t: t.replace(f'"{CHART} ± 2 %"',
+                                                      f'"{CHART.split()[0]} mV/mm"'))
     out = tmp_path / "reports"
     assert main(["run", str(path), "--out", str(out)]) == 2
     err = capsys.readouterr().err
