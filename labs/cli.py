@@ -276,7 +276,7 @@ def _synth(args) -> int:
               ("periods", args.periods), ("amplitude_exponent", args.amplitude_exponent),
               ("paper", args.paper or None), ("image", args.image or None),
               ("film", args.film or None),
-              ("recording", False if args.no_recording else None))
+              ("recording", False if args.no_recording else None), ("part", args.part))
              if value is not None}
     foreign = [name for name in given if name not in takes]
     if foreign:
@@ -376,6 +376,9 @@ def parser() -> argparse.ArgumentParser:
     syn.add_argument("--no-recording", action="store_true",
                      help="lab 3 with --image: the photographed oscillograms alone, no "
                           "sensor recording")
+    syn.add_argument("--part", type=_seed, metavar="SEED",
+                     help="labs 3–7: the rig of this seed (0: the scene's own) under --seed's "
+                          "readings and noise (default: --seed's own rig)")
     syn.set_defaults(func=_synth)
     return p
 

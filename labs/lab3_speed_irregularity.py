@@ -822,7 +822,8 @@ def engine_variant(seed: int):
 def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=None,
                     cycles: int = 40, snr_db: float = 30.0, pitch_error_deg: float = 0.03,
                     sample_rate: float = 48e3, calibrate: bool = True,
-                    image: bool = False, recording: bool = True) -> dict[str, Path]:
+                    image: bool = False, recording: bool = True,
+                    part: int | None = None) -> dict[str, Path]:
     """Write a synthetic lab 3 measurement: recordings, a measurement file and the answer key.
 
     Two regimes of the variant's four-cylinder engine (:func:`engine_variant`: seed 0 the
@@ -842,6 +843,9 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=None,
         Recording format.
     speeds : sequence of float, optional
         Regimes' mean speeds (default: the variant's, 1800 and 1840 for seed 0). [min⁻¹]
+    part : int, optional
+        Seed of the engine and its regimes (default ``seed``; 0: the scene's engine, whatever
+        ``seed`` draws the rest).
     cycles : int
         Working cycles recorded per regime.
     snr_db, pitch_error_deg, sample_rate : float
@@ -880,7 +884,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=None,
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     rng = np.random.default_rng([seed, 3])
-    engine, drawn = engine_variant(seed)
+    engine, drawn = engine_variant(seed if part is None else part)
     speeds = drawn if speeds is None else speeds
     wheel = ToothWheel(teeth=60, missing=2, pitch_error=np.radians(pitch_error_deg), seed=seed)
     sensor = Sensor(sample_rate=sample_rate, snr_db=snr_db, spikes_per_second=0.5)

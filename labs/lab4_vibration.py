@@ -782,7 +782,7 @@ def bench_variant(seed: int):
 def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "h5", snr_db: float = 30.0,
                     speeds=(1000.0, 3000.0), step: float = 500.0, cut_speed: float = 2000.0,
                     duration: float = 2.4, meter: bool = True,
-                    adc_range: float | None = None) -> dict[str, Path]:
+                    adc_range: float | None = None, part: int | None = None) -> dict[str, Path]:
     """Write a synthetic lab 4 measurement: records of a speed sweep, one with a cylinder's
     ignition cut, meter readings, a measurement file and the answer key.
 
@@ -803,6 +803,9 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "h5", snr_db: float = 
         Folder to write into (created).
     seed : int
         Seed of everything random (the engine, its mounts and the sensor's chart too).
+    part : int, optional
+        Seed of the engine, its mounts and the sensor's chart (default ``seed``; 0: the
+        scene's, whatever ``seed`` draws the rest).
     fmt : {"csv", "h5"}
         Record format.
     snr_db : float
@@ -836,7 +839,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "h5", snr_db: float = 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     rng = np.random.default_rng([seed, 41])
-    engine, block, chart = bench_variant(seed)
+    engine, block, chart = bench_variant(seed if part is None else part)
     firing = (1, 3, 4, 2)
     factors = cylinder_factors(engine, block, rng)
     cut = int(rng.integers(1, engine.cylinders + 1))

@@ -460,6 +460,8 @@ CLI = [
     (["synth", "lab3", "--sample-rate", "0", "--out", "{tmp}/s"], 2, r"sample.rate|samples"),
     (["synth", "lab3", "--pitch-error", "-1", "--out", "{tmp}/s"], 2, r"pitch"),
     (["synth", "lab99"], 2, r"invalid choice"),
+    (["synth", "lab1", "--part", "0", "--out", "{tmp}/s"], 2, r"takes no part"),
+    (["synth", "lab3", "--part", "x", "--out", "{tmp}/s"], 2, r"seed"),
     (["demo", "--data", "{tmp}/nowhere"], 2, r"no sample data"),
     (["frobnicate"], 2, r"invalid choice"),
 ]
