@@ -8,6 +8,7 @@ frequencies; the lab must recover them within the uncertainty it states.
 """
 import json
 import re
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -23,8 +24,10 @@ from processing.signals import write_csv
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "sample_data" / "lab7" / "lab7_seed7.toml"
 FAST = {"n_samples": 2000}
-SMALL = dict(speeds=(1400.0, 1600.0), step=100.0, fine=50.0, revolutions=8, chain=False)
-"""A short sweep through the order-8 resonance: five records of eight revolutions."""
+SMALL = dict(speeds=(1400.0, 1600.0), step=100.0, fine=50.0, revolutions=8, chain=False,
+             part=0)
+"""A short sweep through the scene's order-8 resonance (near 1500 min⁻¹; part 0, the scene's
+crankshaft under any seed's readings): five records of eight revolutions."""
 
 
 def reduce(path, **options):
@@ -116,6 +119,29 @@ def test_hdf5_records_round_trip(tmp_path):
     assert result["n_res_1"].value == pytest.approx(truth["n_res_1"], rel=0.01)
     assert result["phi_max"].value == pytest.approx(truth["phi_max"], rel=0.02)
     assert codes(result) == {"mixed_orders"}
+
+
+def test_each_variant_draws_its_own_crankshaft(tmp_path):
+    """Seeds 1 and 2 draw their own chain and torsiograph (the [chain] and f_c in the file,
+    the model's frequencies and the resonance's speed in the key differ); each key value lies
+    within 3 u of its reduction, as the sample's, over a sweep through the drawn order-8
+    resonance, which the lab finds."""
+    texts, keys = [], []
+    for seed in (1, 2):
+        written = lab7.write_synthetic(tmp_path / str(seed), seed=seed, speeds=(1300.0, 1700.0),
+                                       step=100.0, revolutions=8)
+        key = json.loads(written["answer"].read_text())["results"]
+        result = reduce(written["toml"])
+        assert result["K_res_1"].value == key["K_res_1"] == 8.0
+        for name, truth in key.items():
+            r = result[name]
+            assert abs(r.value - truth) <= 3 * r.u + 1e-9 * abs(truth), (seed, name, r.value)
+        texts.append(tomllib.loads(written["toml"].read_text(encoding="utf-8")))
+        keys.append(key)
+    assert texts[0]["chain"] != texts[1]["chain"]
+    assert texts[0]["torsiograph"]["f_c"] != texts[1]["torsiograph"]["f_c"]
+    assert keys[0]["f_model_1"] != keys[1]["f_model_1"]
+    assert keys[0]["n_res_1"] != keys[1]["n_res_1"]
 
 
 # ----------------------------------------------------------------------------- failure regions
@@ -253,8 +279,8 @@ def test_photographed_sweep_gives_the_recorded_sweeps_results(tmp_path):
     speeds within 0.05 %), the design value φ_max within 1 % of the truth, every stated
     interval holding its truth (the photographs' amplitudes carry their reading's limit,
     PHOTO_AMPLITUDE), and the report shows each photograph as read."""
-    photo = lab7.write_synthetic(tmp_path / "jpg", seed=7, image=True, revolutions=6)
-    recorded = lab7.write_synthetic(tmp_path / "csv", seed=7, revolutions=6)
+    photo = lab7.write_synthetic(tmp_path / "jpg", seed=7, image=True, revolutions=6, part=0)
+    recorded = lab7.write_synthetic(tmp_path / "csv", seed=7, revolutions=6, part=0)
     key = json.loads(photo["answer"].read_text())["results"]
     a, b = reduce(recorded["toml"]), reduce(photo["toml"])
     for name in ("K_res_1", "K_res_2"):

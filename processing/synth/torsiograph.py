@@ -31,7 +31,7 @@ from scipy.signal import find_peaks, peak_prominences
 
 from ..dynamics import (crank_train_forces, firing_phases, gas_force, indicator_pressure,
                         reciprocating_inertia_force)
-from ..resonance import PROMINENCE
+from ..resonance import PROMINENCE, locate_resonances
 from ..result import Record
 from ..seismic import torsiograph_response
 from ..torsion import forced_response, natural_modes
@@ -288,6 +288,19 @@ def sweep(shaft: Crankshaft, low: float, high: float, *, step: float = 200 * RPM
     speeds = np.concatenate([base, *extra]) if extra else base
     speeds = speeds[(speeds >= low - 1e-9) & (speeds <= high + 1e-9)]
     return np.unique(np.round(speeds / RPM, 6)) * RPM
+
+
+def sweep_resonances(shaft: Crankshaft, speeds, *, load: float = 1.0,
+                     prominence: float = PROMINENCE):
+    """What the lab's search (:func:`processing.resonance.locate_resonances`) finds in a
+    sweep of noise-free records: the nose's true order amplitudes at ``speeds`` [rad/s], each
+    record's dominant order their largest. Returns ``(resonances, edges)`` as that function
+    does: whether a sweep resolves the scene's resonances, and whether an order still rises
+    at its ends."""
+    orders, coefficients = nose_coefficients(shaft, speeds, load)
+    amp = np.abs(coefficients)
+    return locate_resonances(speeds, amp, orders, orders[np.argmax(amp, axis=1)],
+                             prominence=prominence)
 
 
 @dataclass(frozen=True)
