@@ -650,23 +650,26 @@ CLEARANCES = (0.3e-3, 0.5e-3, 0.8e-3)
 def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
                     clearances=CLEARANCES, valves=VALVES, snr_db: float | None = None,
                     sample_rate: float = 10e3, revolutions: float = 4.4,
-                    bend: float = 0.0, image: bool = False) -> dict[str, Path]:
+                    bend: float = 0.0, image: bool = False,
+                    part: int | None = None) -> dict[str, Path]:
     """Write a synthetic lab 6 measurement: the calibrations, a record per speed and
     clearance, the measurement file and the answer key.
 
-    The scene of :mod:`processing.synth.valve_drive`: the default cam (9 mm harmonic main
-    event over 110° of the cam with 0.25 mm ramps) and drive (M = 0.25 kg, c = 2 kN/mm,
-    c_n = 30 N/mm, P₀ = 260 N, ζ = 0.06: ν ≈ 453 Hz), each valve's gauge at 1500 N per 90 mm
-    of trace with 0.2 mm of noise and a 4 mm zero, TDC marks every revolution, time marks
-    every 2 ms; a calibration of six loads read to ± 0.2 mm. At 0.8 mm the drive separates
-    near 1630 min⁻¹.
+    The scene of :mod:`processing.synth.valve_drive`: seed 0 has the default cam (9 mm
+    harmonic main event over 110° of the cam with 0.25 mm ramps) and drive (M = 0.25 kg,
+    c = 2 kN/mm, c_n = 30 N/mm, P₀ = 260 N, ζ = 0.06: ν ≈ 453 Hz; at 0.8 mm the drive
+    separates near 1630 min⁻¹), any other seed a cam and drive of its own (:func:`_part`);
+    each valve's gauge at 1500 N per 90 mm of trace with 0.2 mm of noise and a 4 mm zero,
+    TDC marks every revolution, time marks every 2 ms; a calibration of six loads read to
+    ± 0.2 mm.
 
     Parameters
     ----------
     out_dir : str or Path
         Folder to write into (created).
     seed : int
-        Seed of everything random (start angles, noise, calibration readings).
+        Seed of the start angles, noise and calibration readings (and of the part, unless
+        ``part`` is given).
     fmt : {"csv", "h5"}
         Record format.
     speeds : sequence of float
@@ -689,6 +692,9 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
         intake's trace above the exhaust's, time marks every :data:`PHOTO_MARKS`, a TDC mark
         every revolution) at :data:`PHOTO_SCALE`, with an ``[image]`` table; the calibration's
         deflections in mm of paper.
+    part : int, optional
+        Seed of the part: the cam's lift and the drive (default ``seed``; 0: the scene's
+        defaults, whatever ``seed`` draws the readings).
 
     Returns
     -------
@@ -696,7 +702,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
         Paths written: ``toml``, ``answer``, and one per record (``r1``, ``r2``, …).
     """
     from processing.signals import write_csv, write_hdf5
-    from processing.synth.valve_drive import (RPM, Cam, Drive, Gauge, calibration, record,
+    from processing.synth.valve_drive import (RPM, Gauge, calibration, record,
                                               separation_speed as true_separation,
                                               simulate_event)
 
@@ -705,7 +711,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
                          f"use one of {', '.join(SYNTH_FORMATS)}")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    cam, drive = Cam(), Drive()
+    cam, drive = _part(seed if part is None else part)
     noise = 0.2 if snr_db is None else 90.0 / 10 ** (snr_db / 20)
     gauge = Gauge(noise=noise, sample_rate=sample_rate)
     if image:       # the beam draws the force itself; the photograph adds its own noise
@@ -791,3 +797,66 @@ def _photograph(rec, valves, seed: int):
                       float(t[-1]), 1e-3, mark_period=PHOTO_MARKS, tdc_times=tdc_times,
                       zero=[PHOTO_ZEROS[v] for v in valves], seed=seed,
                       shot=replace(PHONE, size=PHOTO_SIZE))
+
+
+DRIVES = {"M": (0.21, 0.28), "c": (1.7e6, 2.4e6), "c_n": (30e3, 45e3), "P0": (240.0, 290.0),
+          "lift": (8.5e-3, 9.5e-3)}
+"""Ranges a variant's valve drive is drawn from: the reduced mass, the drive's stiffness at
+the valve and the springs' stiffness and preload over lab 5's scene and its variants (M =
+0.237 kg, c = 2.055 kN/mm, c_n = 45 N/mm, P₀ = 250 N there; :data:`labs.lab5_valve_stiffness
+.VALVE_TRAINS`) and this scene's (0.25 kg, 2 kN/mm, 30 N/mm, 260 N); the cam's lift at the
+valve within ± 0.5 mm of the scene's 9 mm (:func:`_part` keeps those whose separation
+falls where the manual's records find it: seeds 1–30 draw ν of 414–512 Hz, separating at
+0.8 mm between 1600 and 1955 min⁻¹). [kg], [N/m], [N/m], [N], [m]"""
+
+KEPT_MARGIN = 15.0
+"""The least P_min a variant's record keeps where it keeps contact: 4.5 σ of the trace's
+noise (0.2 mm at 1500 N per 90 mm), so that a kept record is not read as lost (the scene's
+closest, 1500 min⁻¹ at 0.8 mm, keeps 18.9 N). [N]"""
+
+LOSS_MARGIN = math.radians(1.0)
+"""The least loss of contact a variant's record shows where it loses contact: two samples
+of 10 kHz at 1800 min⁻¹, so that a lost record is not read as kept (the scene's least,
+1800 min⁻¹ at 0.8 mm, 1.6°). [rad of the cam]"""
+
+KEPT_UP_TO = 1500.0
+"""A variant's drive keeps contact at every clearance up to this speed, as the scene's: its
+separation then falls between 1500 and 2000 min⁻¹, where the manual's records are 200–300
+min⁻¹ apart and the line through the last two kept ones finds it within its interval (a
+drive separating between 1000 and 1500 min⁻¹ is found 6 % low). [min⁻¹]"""
+
+
+def _part(seed: int):
+    """A variant's cam and drive (:data:`DRIVES`); seed 0 the scene's (ν = 453 Hz, the
+    drive separating near 1630 min⁻¹ at 0.8 mm).
+
+    A drive is drawn until it separates within the manual's speeds at its largest clearance
+    (at 2000 min⁻¹ and 0.8 mm), keeps contact up to :data:`KEPT_UP_TO`, and no record of the
+    manual's speeds and clearances sits at the edge of a separation (each either keeps
+    :data:`KEPT_MARGIN` or loses :data:`LOSS_MARGIN`): every variant has a separation to
+    find, between records the lab tells apart. The events are
+    :func:`processing.synth.valve_drive.simulate_event`'s, which the records then reuse.
+
+    Returns
+    -------
+    tuple
+        (:class:`~processing.synth.valve_drive.Cam`, :class:`~processing.synth.valve_drive.Drive`)
+    """
+    from processing.synth.valve_drive import RPM, Cam, Drive, simulate_event
+
+    if seed == 0:
+        return Cam(), Drive()
+    def lost(n, event):
+        return n > KEPT_UP_TO and event.loss >= LOSS_MARGIN
+
+    rng = np.random.default_rng([seed, 62])
+    records = [(lash, n) for lash in sorted(CLEARANCES, reverse=True)
+               for n in sorted(SPEEDS, reverse=True)]
+    while True:
+        M, c, c_n, P0, lift = (float(rng.uniform(*DRIVES[k]))
+                               for k in ("M", "c", "c_n", "P0", "lift"))
+        cam, drive = Cam(lift=lift), Drive(M=M, c=c, c_n=c_n, P0=P0)
+        events = ((n, simulate_event(cam, drive, lash, n * RPM / 2)) for lash, n in records)
+        if lost(*next(events)) and all(e.P_min >= KEPT_MARGIN or lost(n, e)
+                                       for n, e in events):
+            return cam, drive
