@@ -846,6 +846,7 @@ def _part(seed: int):
 
     if seed == 0:
         return Cam(), Drive()
+
     def lost(n, event):
         return n > KEPT_UP_TO and event.loss >= LOSS_MARGIN
 
