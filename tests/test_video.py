@@ -214,3 +214,22 @@ def test_small_swing_from_above_is_warned_in_the_lab(from_above, tmp_path):
     amplitude = inputs["trifilar"]["amplitude"]
     assert amplitude.limit == pytest.approx(films[0].amplitude_limit)
     assert math.degrees(amplitude.limit) > AMPLITUDE_LIMIT
+
+
+def test_a_frame_off_the_path_does_not_bend_a_short_arc():
+    """A 3° swing on a 200 px arm (its sag 0.27 px) with one false match 15 px off: the
+    frame is left out of the arc (and its neighbours of the local quadratic), whose radius
+    stays within 1 % of the arm; with it the circle came out at 355 000 px."""
+    from processing.vision.video import Track, arc
+
+    rng = np.random.default_rng(4)
+    t = np.arange(600) / 30.0
+    theta = math.radians(3.0) * np.cos(2 * np.pi * t / 1.3)
+    x = 320.48 + 200 * np.sin(theta) + rng.normal(0, 0.02, t.size)
+    y = 240.48 + 200 * np.cos(theta) + rng.normal(0, 0.02, t.size)
+    y[300] += 15.0
+    track = Track("synthetic", t, x, y, np.ones_like(t), 29, 0.0)
+    assert not track.on_path[300] and track.on_path.sum() >= t.size - 7
+    xc, yc, R = arc(track)
+    assert R == pytest.approx(200.0, rel=0.01) and (xc, yc) == pytest.approx((320.48, 240.48),
+                                                                             abs=2.0)

@@ -29,6 +29,7 @@ import numpy as np
 from ..decay import DampedSineFit, fit_damped_sine
 from ..diagnostics import (FilmAmplitudeWarning, InconsistentInputWarning,
                            InputError, IrregularFrameRateWarning)
+from ..savgol import savgol
 from ..uncertainty import Measured
 
 MIN_CONFIDENCE = 0.75
@@ -77,6 +78,13 @@ the grid, 96 % at 3° and 60 frames per second, where it weighs most.)"""
 STRAIGHT = 0.01
 """Half the angle a track must sweep for its arc's angle to be its displacement. [rad]"""
 
+OFF_PATH = (10.0, 0.5, 7)
+"""A kept frame is off the marker's path (:attr:`Track.on_path`) where it lies further than
+the larger of this many robust σ (1.4826 × the median) and this many px from a quadratic
+through its this-many neighbouring frames (a moment's false match: one frame of the
+bench's 3° film from above sat 15 px off a path its others follow within 0.07 px, and bent
+that short arc's circle to a 355 000 px radius)."""
+
 IRREGULAR = 0.02
 """Relative spread of the frame intervals above which the timestamps are called irregular."""
 
@@ -114,6 +122,20 @@ class Track:
     @property
     def kept(self) -> np.ndarray:
         return np.isfinite(self.x)
+
+    @cached_property
+    def on_path(self) -> np.ndarray:
+        """The kept frames on the marker's smooth path (:data:`OFF_PATH`): those the arc is
+        fitted through."""
+        sigmas, floor, window = OFF_PATH
+        k = self.kept
+        on = k.copy()
+        if k.sum() <= window:
+            return on
+        x, y = self.x[k], self.y[k]
+        off = np.hypot(x - savgol(x, window, 2), y - savgol(y, window, 2))
+        on[k] = off <= max(sigmas * 1.4826 * float(np.median(off)), floor)
+        return on
 
     @property
     def frame_rate(self) -> float:
@@ -467,24 +489,26 @@ def period_of(fit: DampedSineFit, t: np.ndarray, s: np.ndarray) -> Measured:
 
 def arc(track: Track) -> tuple[float, float, float]:
     """The circle the marker runs on: its centre and radius, by a geometric least-squares
-    fit through the track (robust: soft-L1), started from the algebraic one. [px]"""
+    fit through the frames on the marker's path (:attr:`Track.on_path`; robust: soft-L1),
+    started from the algebraic one on coordinates about their mean. [px]"""
     from scipy.optimize import least_squares
 
-    k = track.kept
-    x, y = track.x[k], track.y[k]
+    k = track.on_path
+    x0, y0 = float(np.mean(track.x[k])), float(np.mean(track.y[k]))
+    x, y = track.x[k] - x0, track.y[k] - y0
     design = np.column_stack([x, y, np.ones_like(x)])
     c, *_ = np.linalg.lstsq(design, x**2 + y**2, rcond=None)
     start = [c[0] / 2, c[1] / 2, math.sqrt(c[2] + c[0] ** 2 / 4 + c[1] ** 2 / 4)]
     fit = least_squares(lambda p: np.hypot(x - p[0], y - p[1]) - p[2], start, loss="soft_l1",
                         f_scale=0.5)
-    return float(fit.x[0]), float(fit.x[1]), float(abs(fit.x[2]))
+    return float(fit.x[0] + x0), float(fit.x[1] + y0), float(abs(fit.x[2]))
 
 
 def arc_radius_u(track: Track) -> float:
     """Standard uncertainty of the arc's radius (:func:`arc`) from the track's scatter about
     it: s²(JᵀJ)⁻¹ of the geometric fit, s² widened by (1 + ρ)/(1 − ρ) for the residuals'
     lag-one correlation ρ (a frame's error carried into the next). [px]"""
-    k = track.kept
+    k = track.on_path
     xc, yc, R = track.circle
     dx, dy = track.x[k] - xc, track.y[k] - yc
     d = np.hypot(dx, dy)
