@@ -667,14 +667,21 @@ def fit_damped_sine(time, x, *, start: float | None = None, period: float | None
         lin = p[3 if curved_envelope else 2:]
         return d, w, g, lin
 
+    last = {}
+
+    def columns(d, w, g):
+        """A at (δ, ω_d, γ), kept for the Jacobian the solver asks for at the same point."""
+        if last.get("at") != (d, w, g):
+            last.update(at=(d, w, g), A=_columns(tau, u, d, w, g, order))
+        return last["A"]
+
     def residual(p):
         d, w, g, lin = unpack(p)
-        A = _columns(tau, u, d, w, g, order)
-        return A @ lin - x
+        return columns(d, w, g) @ lin - x
 
     def jacobian(p):
         d, w, g, lin = unpack(p)
-        A = _columns(tau, u, d, w, g, order)
+        A = columns(d, w, g)
         swing = [a @ lin[:2] for a in _column_derivatives(tau, A, d, w, curved_envelope)]
         return np.column_stack(swing + [A])
 
