@@ -166,6 +166,7 @@ class Propagation:
         self._inputs = inputs
         self._u = u_inputs
         self._dof = dof_inputs
+        self._finite_dof = np.isfinite(dof_inputs)
         self._mc = mc
         self._mc_lin = mc_linear
         self._cache: dict[str, Estimate] = {}
@@ -194,7 +195,7 @@ class Propagation:
     def _estimate(self, value, jac, mc, mc_lin) -> Estimate:
         c = np.abs(jac) * self._u
         u = math.sqrt(float(c @ c))
-        finite = np.isfinite(self._dof)
+        finite = self._finite_dof
         denom = float(np.sum(c[finite] ** 4 / self._dof[finite]))
         dof = u**4 / denom if denom > 0 else math.inf
         contrib = {self._inputs[i]: float(c[i]) for i in np.flatnonzero(c)}
