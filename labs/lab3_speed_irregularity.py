@@ -870,10 +870,9 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=None,
         the recordings and the photographs.
     """
     import json
-
-    from processing.signals import write_csv, write_hdf5, write_wav
     from dataclasses import replace
 
+    from processing.signals import write_csv, write_hdf5, write_wav
     from processing.synth.engine import Sensor, ToothWheel, coast_run, record, run_engine
 
     if fmt not in SYNTH_FORMATS:
