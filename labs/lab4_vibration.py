@@ -50,7 +50,8 @@ from processing.orders import OrderFit, order_fit
 from processing.record_checks import check_tachometer
 from processing.result import LabResult, compare, flag_estimates, result_values
 from processing.signals import open_channels
-from processing.steady_record import clipped_share, decimate, mean_cycle
+from processing.record_quality import clipped_share
+from processing.steady_record import decimate, mean_cycle
 from processing.torsiogram import revolutions, steady_crank_angle
 from processing.uncertainty import Measured, propagate
 from processing.units import parse_quantity

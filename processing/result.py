@@ -34,6 +34,10 @@ shares its dimension with a torque, which may be negative, and is left to the la
 SIGNED = "signed"
 """Marks a declared result of a :data:`POSITIVE` dimension that may be negative (a residual)."""
 
+STRICTLY_POSITIVE = "strictly positive"
+"""Marks a declared result that is > 0 by its nature whatever its dimension: a speed
+irregularity δ, an amplitude, a decrement, a natural frequency, a stiffness."""
+
 
 @dataclass(frozen=True)
 class ResultValue:
@@ -50,6 +54,8 @@ class ResultValue:
     display_unit: str = ""
     signed: bool = False
     """A difference or residual: may be negative whatever its dimension."""
+    positive: bool = False
+    """> 0 by its nature (:data:`STRICTLY_POSITIVE`)."""
 
     @property
     def value(self) -> float:
@@ -159,9 +165,10 @@ class LabResult:
 
     def check_sense(self) -> None:
         """Raise :class:`~processing.diagnostics.InputError` if a result is not a finite
-        number, or is a mass, a moment of inertia, a linear stiffness or a density below zero
-        (:data:`POSITIVE`, unless declared :data:`SIGNED`): its inputs lie where the lab's
-        formulas do not hold. (Zero may mean "none", e.g. no flywheel needed.)"""
+        number, is a mass, a moment of inertia, a linear stiffness or a density below zero
+        (:data:`POSITIVE`, unless declared :data:`SIGNED`; zero may mean "none", e.g. no
+        flywheel needed), or is declared :data:`STRICTLY_POSITIVE` and is not above zero: its
+        inputs lie where the lab's formulas do not hold, or a record was misread."""
         from .diagnostics import InputError
 
         fix = ("check the inputs' values and units against the template "
@@ -173,6 +180,11 @@ class LabResult:
             if r.value < 0 and not r.signed and dimension(r.unit) in POSITIVE:
                 raise InputError(f"{name} ({r.label['en']}) comes out {r.value:.4g} {r.unit}: "
                                  f"a {POSITIVE[dimension(r.unit)]} cannot be negative", fix,
+                                 file=self.source)
+            if r.positive and not r.value > 0:
+                raise InputError(f"{name} ({r.label['en']}) comes out {r.value:.4g} "
+                                 f"{r.unit}".rstrip() + ", but it is above zero by its nature: "
+                                 "the inputs or a record were read wrongly", fix,
                                  file=self.source)
 
     def __contains__(self, name: str) -> bool:
@@ -215,11 +227,12 @@ def result_values(prop: Propagation, declared: Mapping[str, tuple]) -> dict[str,
 
     ``declared`` maps output name → ``(label dict, symbol, display unit)``, with
     :data:`SIGNED` as a fourth element for a difference or residual that may be negative
-    although its dimension is a mass's or an inertia's; outputs not declared are left out
-    (they are internal, e.g. intermediate quantities).
+    although its dimension is a mass's or an inertia's, or :data:`STRICTLY_POSITIVE` for a
+    result that must come out above zero; outputs not declared are left out (they are
+    internal, e.g. intermediate quantities).
     """
     return {name: ResultValue(name, prop[name], si_unit(disp) if disp else "", label, symbol,
-                              disp, signed=SIGNED in rest)
+                              disp, signed=SIGNED in rest, positive=STRICTLY_POSITIVE in rest)
             for name, (label, symbol, disp, *rest) in declared.items() if name in prop}
 
 

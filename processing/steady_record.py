@@ -1,12 +1,11 @@
-"""A record of a steady regime prepared for the crank-angle domain: its mean working cycle, a
-lower rate for an order fit, and the share of it a recorder clipped.
+"""A record of a steady regime prepared for the crank-angle domain: its mean working cycle and
+a lower rate for an order fit.
 
 - :func:`mean_cycle`: the time-synchronous average, each working cycle interpolated on one
   crank-angle grid and averaged (noise and whatever is not periodic in the cycle average
   out; peaks of the mean cycle are not lifted by the noise as a record's are);
 - :func:`decimate`: time, angle and record resampled to the least rate an order fit up to a
   given frequency needs (an order fit's cost grows with the samples);
-- :func:`clipped_share`: the samples stuck at an ADC's or an amplifier's limit.
 
 References
 ----------
@@ -21,10 +20,6 @@ import numpy as np
 
 DECIMATION_TAPS = 24
 """Length of the anti-alias filter of :func:`decimate`, in decimated samples."""
-
-CLIP_PILE = 5.0
-"""How many times the samples of each of the next values below an extreme value must pile up
-at it for that side to count as clipped (:func:`clipped_share`)."""
 
 
 def mean_cycle(signal, angle, cycle: float) -> np.ndarray:
@@ -103,32 +98,3 @@ def decimate(time, angle, x, rate: float, highest: float):
     cut = DECIMATION_TAPS // 2 + 1
     keep = slice(cut, y.size - cut)
     return np.asarray(time)[::q][keep], np.asarray(angle)[::q][keep], y[keep]
-
-
-def clipped_share(x) -> float:
-    """Share of samples stuck at the record's extremes (an ADC's full scale, a saturated
-    amplifier).
-
-    A side counts as clipped when its extreme value holds more than :data:`CLIP_PILE` times
-    as many samples as each of the next three values below it (for unquantized floats: in
-    three of their smallest steps). A sine's crest piles samples at its top code about twice
-    as densely as below it; a rail, far more.
-
-    Examples
-    --------
-    >>> t = np.arange(10000) / 10000
-    >>> sine = np.round(np.sin(2 * np.pi * 7 * t) * 50)        # 50 codes: not clipped
-    >>> clipped_share(sine), round(clipped_share(np.clip(1.2 * sine, -50, 50)), 3)
-    (0.0, 0.377)
-    """
-    x = np.asarray(x, dtype=float)
-    share = 0.0
-    for side in (x, -x):
-        top = side.max()
-        near = np.unique(side[side >= top - 0.05 * np.ptp(side)])
-        step = np.diff(near).min() if near.size > 1 else 0.0
-        at_top = np.count_nonzero(side >= top - 0.5 * step)
-        below = np.count_nonzero((side < top - 0.5 * step) & (side >= top - 3.5 * step))
-        if at_top > 2 and at_top > CLIP_PILE * max(below / 3, 1):
-            share += at_top / side.size
-    return float(share)

@@ -8,9 +8,10 @@ from processing.result import LabResult, ResultValue
 from processing.uncertainty import Estimate
 
 
-def _result(value, unit, *, signed=False):
+def _result(value, unit, *, signed=False, positive=False):
     label = {"en": "x", "ru": "x"}
-    rv = ResultValue("x", Estimate(value, 0.0, math.inf), unit, label, signed=signed)
+    rv = ResultValue("x", Estimate(value, 0.0, math.inf), unit, label, signed=signed,
+                     positive=positive)
     return LabResult("lab0", "0", label, label, {}, [], {"x": rv}, source="in.toml")
 
 
@@ -30,6 +31,19 @@ def test_a_negative_mass_inertia_stiffness_or_density_is_refused(unit, what):
 ])
 def test_zero_residuals_and_signed_quantities_pass(value, unit, signed):
     _result(value, unit, signed=signed).check_sense()
+
+
+@pytest.mark.parametrize("value, unit", [(0.0, ""), (-0.0185, ""), (-2.0, "rad"),
+                                         (0.0, "1/s"), (-1e-9, "N*m")])
+def test_a_strictly_positive_result_at_or_below_zero_is_refused(value, unit):
+    """δ, an amplitude, a frequency, a torsional stiffness: never reported ≤ 0."""
+    with pytest.raises(InputError, match="above zero by its nature") as info:
+        _result(value, unit, positive=True).check_sense()
+    assert info.value.file == "in.toml" and "template" in info.value.fix
+
+
+def test_a_strictly_positive_result_above_zero_passes():
+    _result(1e-12, "", positive=True).check_sense()
 
 
 @pytest.mark.parametrize("value", [math.nan, math.inf])
