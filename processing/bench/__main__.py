@@ -24,7 +24,7 @@ from . import damper, film, paper, speed, torsion, valve  # noqa: E402
 
 TOPICS = {"speed": speed, "torsion": torsion, "damper": damper, "valve": valve, "paper": paper,
           "film": film, "check": "labs.check_bench", "vibration": "processing.bench.vibration",
-          "valve_dynamics": "labs.valve_dynamics_bench"}
+          "valve_dynamics": "labs.valve_dynamics_bench", "boundary": "labs.boundary_bench"}
 """The benchmark topics, by name: a module, or the name of one imported when run (the
 teachers' tools live with the labs they check)."""
 
