@@ -27,7 +27,8 @@ from processing.measurement import (AMPLITUDE, COUNT, GRAVITY, LENGTH, MASS, STO
 from processing.oscillation import check_amplitude, pendulum_period_factor, period_from_total
 from processing.reporting.content import fmt_pm
 from processing.reporting.figures import histogram, method_chart
-from processing.result import SIGNED, Figure, LabResult, Table, compare, flag_estimates, result_values
+from processing.result import (SIGNED, STRICTLY_POSITIVE, Figure, LabResult, Table, compare,
+                               flag_estimates, result_values)
 from processing.uncertainty import Measured, propagate
 from processing.vision.video import film_figures, filmed_times
 
@@ -233,17 +234,21 @@ _QUANTITIES = {
 METHODS = {"weighing": bi("weighing", "взвешивание"), "swinging": bi("swinging", "качание"),
            "statistics": bi("statistics", "статистика")}
 RESULTS = {
-    f"{q}_{m}": ({k: f"{lab[k]} ({mlab[k]})" for k in ("en", "ru")}, sym, unit)
+    f"{q}_{m}": ({k: f"{lab[k]} ({mlab[k]})" for k in ("en", "ru")}, sym, unit,
+                 STRICTLY_POSITIVE)
     for m, mlab in METHODS.items() for q, (lab, sym, unit) in _QUANTITIES.items()
 }
 RESULTS.update({
     "J_cm_swinging": (bi("moment of inertia about the centre of mass (swinging)",
-                         "момент инерции относительно центра масс (качание)"), "J_c", "kg*m^2"),
+                         "момент инерции относительно центра масс (качание)"), "J_c", "kg*m^2",
+                      STRICTLY_POSITIVE),
     "dJ_third_condition": (bi("third condition residual J_c − m_sh l_shp l_shk",
                               "невязка третьего условия J_c − m_ш l_шп l_шк"), "ΔJ", "kg*m^2",
                            SIGNED),
-    "l_C_swinging": (bi("centre of mass from prism C", "центр масс от призмы C"), "l_C", "mm"),
-    "l_D_swinging": (bi("centre of mass from prism D", "центр масс от призмы D"), "l_D", "mm"),
+    "l_C_swinging": (bi("centre of mass from prism C", "центр масс от призмы C"), "l_C", "mm",
+                     STRICTLY_POSITIVE),
+    "l_D_swinging": (bi("centre of mass from prism D", "центр масс от призмы D"), "l_D", "mm",
+                     STRICTLY_POSITIVE),
     "kappa_swinging": (bi("condition number of formula (10)", "число обусловленности формулы (10)"),
                        "κ", ""),
 })
