@@ -445,6 +445,14 @@ class _Laid:
         """The pips the orientation is told by: the time marks', else the TDC marks'."""
         return self.time_pips if self.time_pips is not None else self.tdc_pips
 
+    def upright(self) -> bool | None:
+        """Whether the sheet lies upright, by every sign it shows: each mark line's pips
+        point up, and the time-mark line runs below the TDC line; None when they disagree."""
+        signs = [p.side < 0 for p in (self.time_pips, self.tdc_pips) if p is not None]
+        if self.time_pips is not None and self.tdc_pips is not None:
+            signs.append(self.time_pips.line.position > self.tdc_pips.line.position)
+        return signs[0] if len(set(signs)) == 1 else None
+
 
 def _laid_out(grey: np.ndarray, corners, turns: int) -> _Laid:
     """The sheet squared up and turned ``turns`` quarters counter-clockwise: its density,
@@ -457,18 +465,21 @@ def _laid_out(grey: np.ndarray, corners, turns: int) -> _Laid:
 
 
 def _upright(where: _Where, grey: np.ndarray) -> _Laid:
-    """The sheet turned upright by what is drawn on it: time along the mark lines, and the
-    marks lifting their lines (the pips point up).
+    """The sheet turned upright by what is drawn on it (:meth:`_Laid.upright`): time along
+    the mark lines, the marks lifting their lines (the pips point up), the time-mark line
+    below the TDC line.
 
     The sheet is read as its edges (or the frame) lay it out, its long side along the rows;
-    if its marks point down it is turned half round; if it has no mark line along the rows,
-    it is read turned a quarter, and turned the other quarter if the marks then point down.
-    A sheet without any mark line is read as laid out (nothing on it tells which way is up).
+    if it has no mark line along the rows, it is read turned a quarter. Lying upside down,
+    it is turned half round. A sheet without any mark line is read as laid out (nothing on
+    it tells which way is up).
 
     Raises
     ------
     InputError
-        The marks point down whichever way the sheet is turned.
+        The signs disagree (a layout the reader does not know: one line's marks pointing up,
+        the other's down, or the time-mark line above the TDC line with the marks up), or
+        they do once the sheet is turned half round.
     """
     corners = find_sheet(grey)
     laid = _laid_out(grey, corners, 0)
@@ -477,15 +488,29 @@ def _upright(where: _Where, grey: np.ndarray) -> _Laid:
         if across.marks is None:
             return laid
         laid = across
-    if laid.marks.side < 0:
+    up = laid.upright()
+    if up is None:
+        raise _orientation_unknown(where, laid)
+    if up:
         return laid
     turned = _laid_out(grey, corners, laid.sheet.turns + 2)
-    if turned.marks is None or turned.marks.side > 0:
-        raise where.error("the photograph's orientation cannot be told: its time marks point "
-                          "down, and turned half round they are lost",
-                          "rotate the photograph so that the time runs left to right and the "
-                          "time marks rise above their line, and crop it to the sheet")
+    if turned.marks is None or not turned.upright():
+        raise _orientation_unknown(where, laid)
     return turned
+
+
+def _orientation_unknown(where: _Where, laid: _Laid) -> InputError:
+    time, tdc = laid.time_pips, laid.tdc_pips
+    told = [f"the {kind} marks point {'up' if p.side < 0 else 'down'}"
+            for kind, p in (("time", time), ("TDC", tdc)) if p is not None]
+    if time is not None and tdc is not None:
+        below = time.line.position > tdc.line.position
+        told.append(f"the time-mark line runs {'below' if below else 'above'} the TDC line")
+    return where.error(
+        f"which way is up cannot be told from the sheet: {', '.join(told)}",
+        "rotate the photograph so that the time runs left to right along the sheet, with the "
+        "time-mark line at the bottom below the TDC line and the marks pointing up (a marker "
+        "lifts its line)")
 
 
 def _where(source, field, options) -> _Where:
