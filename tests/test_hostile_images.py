@@ -133,6 +133,30 @@ def test_turned_photographs_read_as_upright_ones(folder_of, upright_results, cap
     assert codes(turned) == codes(straight)
 
 
+def with_exif_orientation(data: bytes, orientation: int) -> bytes:
+    """A JPEG with an EXIF segment (APP1) stating ``orientation`` (6: the stored picture is
+    to be turned a quarter clockwise to be seen, as a phone held in portrait writes it)."""
+    ifd = struct.pack(">HHHIHHI", 1, 0x0112, 3, 1, orientation, 0, 0)
+    tiff = b"MM\x00*" + struct.pack(">I", 8) + ifd
+    app1 = b"Exif\x00\x00" + tiff
+    return data[:2] + b"\xff\xe1" + struct.pack(">H", len(app1) + 2) + app1 + data[2:]
+
+
+def test_phone_jpeg_with_exif_orientation(folder_of, upright_results, capsys, tmp_path):
+    """A phone's JPEG stored sideways with an EXIF orientation tag (the header is found past
+    the EXIF segment; the picture is read turned as it is shown): lab 9 holds what the
+    upright photograph holds."""
+    key = json.loads((LAB9 / "answer_key.json").read_text())["results"]
+    if "lab9" not in upright_results:
+        upright_results["lab9"] = reduced(capsys, the_toml(LAB9))
+    folder = shutil.copytree(LAB9, tmp_path / "in")
+    image = cv2.rotate(cv2.imread(str(LAB9 / "decay.jpg")), cv2.ROTATE_90_COUNTERCLOCKWISE)
+    ok, buf = cv2.imencode(".jpg", image, [cv2.IMWRITE_JPEG_QUALITY, 95])
+    (folder / "decay.jpg").write_bytes(with_exif_orientation(buf.tobytes(), 6))
+    assert image_header(folder / "decay.jpg").field == "SOF0"
+    assert held(reduced(capsys, the_toml(folder)), key) == held(upright_results["lab9"], key)
+
+
 def decay(t):
     """Lab 9's free decay: 12 Hz, δ = 0.25, released at t = 0."""
     return np.exp(-3.0 * t) * np.cos(2 * np.pi * 12.0 * t)
@@ -196,6 +220,18 @@ def test_mirror_image_reads_backwards_in_time():
     backwards = flipped.value[::-1][:n] - np.nanmean(flipped.value)
     forwards = upright_rec.value[:n] - np.nanmean(upright_rec.value)
     assert np.nanmax(np.abs(backwards - forwards)) < 0.15 * np.nanmax(np.abs(forwards))
+
+
+@pytest.mark.parametrize("flip", [0, 1])
+def test_mirrored_decay_named_as_such(tmp_path, capsys, flip):
+    """Lab 9's decay photographed mirrored (either way) reads growing: refused, and the fix
+    names the mirror image and how to undo it, beside the record itself."""
+    folder = copy_with_images(LAB9, tmp_path / "in", lambda image: cv2.flip(image, flip))
+    code, out, err = run(capsys, "run", folder / "photographed_decay.toml", "--out",
+                         tmp_path / "out")
+    assert_one_clear_error(code, out, err, folder / "decay.jpg", "decay.signal",
+                           r"not a free decay.*Fix:.*mirror image.*flip it left to right",
+                           tmp_path / "out")
 
 
 def test_marks_pointing_down_from_the_lower_line_are_refused(tmp_path, capsys):
