@@ -18,10 +18,12 @@ traces followed (:func:`~.traces.find_runs`, :func:`~.traces.follow`), then the 
   when no length scale is known.
 
 The sheet is turned upright by what the oscillograph draws on it: the time runs along the
-mark lines, and a marker lifts its line (a pip points up). A photograph taken upside down or
-in portrait, either way, is read turned upright (``turns`` of each record says how); one
-whose marks point down whichever way it is turned is refused ("rotate the photograph"). A
-sheet with no mark line at all is read as its edges lay it out (nothing on it tells up from
+mark lines, a marker lifts its line (a pip points up), and the time-mark line runs below the
+TDC line. A photograph taken upside down, in portrait either way or at any angle on the desk
+is read turned upright (``turns`` of each record says how); one whose signs disagree (one
+line's pips up, the other's down, or the time-mark line above the TDC line with its pips
+up: a layout the reader does not know) is refused ("rotate the photograph"). A sheet with no
+mark line at all is read as its edges lay it out (nothing on it tells up from
 down). A mirror image cannot be told from a turned one: the time marks are evenly spaced
 rectangles, the same read forwards or backwards, so a sheet flipped top to bottom looks
 exactly like one turned half round and read backwards in time, and one flipped left to right
@@ -374,7 +376,7 @@ def read_paper_records(source, *, traces: int | None = None, mark_period=None,
     ------
     InputError
         A missing file, not an image, or one whose header states more than
-        :data:`~.paper.MAX_PIXELS`; marks that point down however the sheet is turned; no
+        :data:`~.paper.MAX_PIXELS`; signs of the sheet's orientation that disagree; no
         trace found; no time base (no mark period, or
         fewer than three time marks without a paper speed); a paper speed or a length scale
         that contradicts the marks or another scale; an option out of range.
