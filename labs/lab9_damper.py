@@ -38,7 +38,7 @@ from processing.loops import branch_work, loop_area
 from processing.measurement import Field, Inputs, LabSpec, Section, bi, image_section
 from processing.regression import LineFit, fit_line
 from processing.result import LabResult, compare, flag_estimates, result_values
-from processing.signals import image_options, open_channel, read_figures
+from processing.signals import image_options, is_image, open_channel, read_figures
 from processing.uncertainty import Measured, propagate
 
 from . import lab9_damper_report as report
@@ -468,7 +468,9 @@ def _record_decay(inputs: Inputs, scale) -> Decay:
                      "release lifts it out of the noise)") from None
     except RuntimeError as exc:
         raise refuse(str(exc), "check that the record holds a free decay after a sudden "
-                     "release") from None
+                     "release" + ("; a mirror image of the paper (a front camera's mirror "
+                                  "mode) reads backwards in time, the decay growing: flip it "
+                                  "left to right" if is_image(path) else "")) from None
     return Decay(record.trace.measured("delta"), record.measured_period(), record.peaks,
                  record, t, x, scale, channel)
 

@@ -11,6 +11,11 @@ decide). :func:`flatten` turns grey levels into optical density above the local 
 level, D = ln(paper / grey), which removes uneven light and adds where inks overlap.
 
 The darkness of a pixel is its darkest colour channel, so dark traces of any hue count.
+:func:`load_image` reads the file's header first (:mod:`processing.vision.header`) and
+refuses a picture larger than :data:`MAX_PIXELS` before decoding a byte of it; a picture
+larger than :data:`WORK_PIXELS` is read reduced to that size (the reader needs no more).
+:func:`square_up` also turns the sheet by quarter turns: how the record is turned upright is
+decided by what is drawn on it (:func:`processing.vision.record.read_paper_records`).
 
 References
 ----------
@@ -23,6 +28,7 @@ References
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -30,9 +36,31 @@ import cv2
 import numpy as np
 
 from ..diagnostics import InputError
+from .header import HeaderError, image_header
 
 MIN_SIDE = 64
 """Smallest image side read. [px]"""
+
+MAX_PIXELS = 100_000_000
+"""Largest picture read, by its header. [px] A phone photographs at 12–50 Mpx (108 and 200 Mpx
+in a high-resolution mode), a flatbed scans the manual's 250 × 120 mm strip at 17 Mpx at
+600 dpi and 67 Mpx at 1200 dpi, a whole A4 page at 35 Mpx at 600 dpi. OpenCV's PNG, TIFF and
+BMP decoders peak at about six bytes a pixel (the picture and a buffer beside it); a JPEG
+this large is decoded at half size. Measured, ``dynlab run`` of lab 9 with its photograph
+enlarged to 96 Mpx: 0.76 GB peak as PNG, TIFF or BMP, 0.35 GB as JPEG."""
+
+WORK_PIXELS = 16_000_000
+"""Largest picture the reader works on: a larger one is reduced to this first. [px] The
+reader needs a trace's stroke a few pixels wide. Measured on a 24 Mpx photograph of a decay
+(6000 × 4000, blur σ 2.5 px, JPEG) read at several sizes: the trace's RMS error was 0.09 %
+of the signal's at full size and at 16 Mpx, 0.11 % at 8, 0.14 % at 4 and 0.24 % at 1 Mpx,
+in 7.4 s at full size and 3.7 s at 16 Mpx; the labs' synthetic photographs (2.9–8 Mpx) are
+read whole. The reader takes about 8 bytes a pixel (the density, the traces' runs): 130 MB
+at this size."""
+
+_DECODE = {1: cv2.IMREAD_COLOR, 2: cv2.IMREAD_REDUCED_COLOR_2, 4: cv2.IMREAD_REDUCED_COLOR_4,
+           8: cv2.IMREAD_REDUCED_COLOR_8}
+"""OpenCV's decoding flag for each reduction of a JPEG (decoded at 1/2, 1/4, 1/8 size)."""
 
 WORK_SIDE = 1024
 """Long side of the reduced copy the sheet and the skew are found on. [px]"""
@@ -60,36 +88,83 @@ lifted off. [px]"""
 _LOG = np.log(np.maximum(np.arange(256, dtype=np.float64), 0.5)).astype(np.float32)
 
 
-def load_image(path, *, field: str | None = None) -> np.ndarray:
-    """Read a photograph or scan as its darkness channel.
+def load_image(path, *, field: str | None = None) -> tuple[np.ndarray, float]:
+    """Read a photograph or scan as its darkness channel, at most :data:`WORK_PIXELS` large.
+
+    The header is read first (:func:`~.header.image_header`): a picture larger than
+    :data:`MAX_PIXELS` is refused before a byte of it is decoded. A JPEG larger than twice
+    the working size is decoded at a half, a quarter or an eighth of its size (the JPEG
+    decoder's own scaling of its blocks); whatever is still larger than the working size is
+    reduced to it (:func:`working_copy`).
 
     Parameters
     ----------
     path : str or Path
-        A PNG, JPEG, TIFF, BMP or WebP file.
+        A PNG, JPEG, TIFF or BMP file.
     field : str, optional
         The measurement-file field that named it, for errors.
 
     Returns
     -------
-    numpy.ndarray
+    grey : numpy.ndarray
         uint8 image, rows × columns: the darkest colour channel of each pixel.
+    scale : float
+        The file's pixels per pixel of ``grey`` (1 unless reduced).
 
     Raises
     ------
     InputError
-        The file is missing, empty, not an image OpenCV decodes, or too small.
+        The file is missing, not a PNG, JPEG, TIFF or BMP image by its first bytes, a header
+        that states more than :data:`MAX_PIXELS`, not an image OpenCV decodes, or too small.
     """
     p = Path(path)
     if not p.is_file():
         raise InputError("the image file does not exist", "check the file's name and that it "
                          "lies in the measurement file's folder", file=str(p), field=field)
-    data = np.fromfile(p, np.uint8)
-    image = cv2.imdecode(data, cv2.IMREAD_COLOR) if data.size else None
+    try:
+        header = image_header(p)
+    except HeaderError as exc:
+        raise InputError(f"not an image: {exc}", "give a photograph or scan of the "
+                         "record as PNG, JPEG or TIFF", file=str(p), field=field) from None
+    if header.pixels > MAX_PIXELS:
+        raise InputError(f"{header.says()}, more than the {MAX_PIXELS / 1e6:.0f} Mpx a "
+                         "photograph or scan is read at", "photograph the record at up to "
+                         "50 Mpx (a phone's usual 12 Mpx is plenty) or scan it at 600 dpi, or "
+                         f"scale the image down below {MAX_PIXELS / 1e6:.0f} Mpx",
+                         file=str(p), field=field)
+    reduction = 1
+    while header.format == "JPEG" and reduction < 8 \
+            and header.pixels / (2 * reduction) ** 2 >= WORK_PIXELS:
+        reduction *= 2
+    image = _decode(p, _DECODE[reduction])
     if image is None:
         raise InputError("not an image (OpenCV cannot decode it)", "give a photograph or scan "
                          "of the record as PNG, JPEG or TIFF", file=str(p), field=field)
-    return darkness(image, name=str(p), field=field)
+    decoded = image.shape[0] * image.shape[1]
+    grey = darkness(image, name=str(p), field=field)
+    del image
+    grey, scale = working_copy(grey)
+    return grey, scale * math.sqrt(header.pixels / decoded)
+
+
+def _decode(path: Path, flags: int) -> np.ndarray | None:
+    """The image decoded by OpenCV straight from the file (its bytes never all in memory
+    beside the picture), or from the bytes read where OpenCV cannot open the file by its
+    name (a name outside the ANSI code page on Windows)."""
+    if os.name != "nt" or str(path).isascii():
+        return cv2.imread(str(path), flags)
+    data = np.fromfile(path, np.uint8)
+    return cv2.imdecode(data, flags) if data.size else None
+
+
+def working_copy(grey: np.ndarray) -> tuple[np.ndarray, float]:
+    """The darkness image reduced (pixel areas averaged) to at most :data:`WORK_PIXELS`, and
+    the pixels of ``grey`` per pixel of the copy (1 if it was small enough)."""
+    if grey.size <= WORK_PIXELS:
+        return grey, 1.0
+    f = math.sqrt(WORK_PIXELS / grey.size)
+    size = (max(int(grey.shape[1] * f), 1), max(int(grey.shape[0] * f), 1))
+    return cv2.resize(grey, size, interpolation=cv2.INTER_AREA), grey.shape[1] / size[0]
 
 
 def darkness(image: np.ndarray, *, name: str = "<array>", field: str | None = None) -> np.ndarray:
@@ -104,8 +179,10 @@ def darkness(image: np.ndarray, *, name: str = "<array>", field: str | None = No
     if image.dtype != np.uint8:
         image = np.clip(image, 0, 255).astype(np.uint8)
     if image.ndim == 3:
-        image = image[..., 0] if image.shape[2] == 1 else cv2.min(
-            cv2.min(image[..., 0], image[..., 1]), image[..., 2])
+        darkest = image[..., 0].copy()
+        for c in range(1, min(image.shape[2], 3)):
+            np.minimum(darkest, image[..., c], out=darkest)
+        image = darkest
     if image.ndim != 2 or min(image.shape) < MIN_SIDE:
         raise InputError(f"the image is {image.shape[1] if image.ndim > 1 else 0} × "
                          f"{image.shape[0]} px, too small to read a trace off",
@@ -135,6 +212,8 @@ class Sheet:
     paper_size : tuple of float or None
         The whole sheet's length and width between its edges, in sheet pixels (None when
         the edges are not in the picture). [px]
+    turns : int
+        Quarter turns, counter-clockwise, the sheet was given (see :func:`square_up`).
     """
 
     grey: np.ndarray
@@ -143,6 +222,7 @@ class Sheet:
     skew: float
     source_scale: float
     paper_size: tuple[float, float] | None
+    turns: int = 0
 
 
 def find_sheet(grey: np.ndarray) -> np.ndarray | None:
@@ -284,7 +364,7 @@ def _order(corners: np.ndarray) -> np.ndarray:
     return np.roll(c, -start, axis=0)
 
 
-def square_up(grey: np.ndarray, corners: np.ndarray | None) -> Sheet:
+def square_up(grey: np.ndarray, corners: np.ndarray | None, *, turns: int = 0) -> Sheet:
     """Map the sheet onto an upright rectangle and take out the residual skew.
 
     Parameters
@@ -293,6 +373,10 @@ def square_up(grey: np.ndarray, corners: np.ndarray | None) -> Sheet:
         Darkness image.
     corners : numpy.ndarray or None
         The sheet's corners (:func:`find_sheet`), or None to take the frame for the sheet.
+    turns : int
+        Quarter turns, counter-clockwise, given to the sheet as the corners (or the frame)
+        lay it out, before its skew is found: how the record is turned upright (2: a sheet
+        photographed upside down; 1 or 3: one whose time runs along its short side).
 
     Returns
     -------
@@ -314,6 +398,10 @@ def square_up(grey: np.ndarray, corners: np.ndarray | None) -> Sheet:
         target = np.array([[0, 0], [width - 1, 0], [width - 1, height - 1], [0, height - 1]])
         base = cv2.getPerspectiveTransform(target.astype(np.float32), corners.astype(np.float32))
         margin = max(3, int(round(0.012 * min(size))))
+    for _ in range(turns % 4):
+        base = base @ _quarter_turn(size)
+        size = size[::-1]
+        paper = paper[::-1] if paper is not None else None
     # the skew, found on a reduced copy of the squared-up sheet
     f = min(1.0, WORK_SIDE / max(size))
     reduced = cv2.resize(grey, None, fx=f, fy=f, interpolation=cv2.INTER_AREA) if f < 1 else grey
@@ -339,7 +427,14 @@ def square_up(grey: np.ndarray, corners: np.ndarray | None) -> Sheet:
                                   flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
                                   borderMode=cv2.BORDER_REPLICATE)
     return Sheet(upright, homography, corners is not None, angle, _mean_scale(homography, out),
-                 paper)
+                 paper, turns % 4)
+
+
+def _quarter_turn(size) -> np.ndarray:
+    """Map from the pixels of an image of ``size`` (width, height) turned a quarter
+    counter-clockwise to the pixels of the image (centres at whole numbers): the turned
+    image's pixel (x′, y′) is the image's (w − 1 − y′, x′)."""
+    return np.array([[0, -1, size[0] - 1], [1, 0, 0], [0, 0, 1.0]])
 
 
 def _mean_scale(homography: np.ndarray, size) -> float:

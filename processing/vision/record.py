@@ -17,6 +17,21 @@ traces followed (:func:`~.traces.find_runs`, :func:`~.traces.follow`), then the 
   times ``scale`` (a calibration: value units per m of deflection) if given; in pixels
   when no length scale is known.
 
+The sheet is turned upright by what the oscillograph draws on it: the time runs along the
+mark lines, a marker lifts its line (a pip points up), and the time-mark line runs below the
+TDC line. A photograph taken upside down, in portrait either way or at any angle on the desk
+is read turned upright (``turns`` of each record says how); one whose signs disagree (one
+line's pips up, the other's down, or the time-mark line above the TDC line with its pips
+up: a layout the reader does not know) is refused ("rotate the photograph"). A sheet with no
+mark line at all is read as its edges lay it out (nothing on it tells up from
+down). A mirror image cannot be told from a turned one: the time marks are evenly spaced
+rectangles, the same read forwards or backwards, so a sheet flipped top to bottom looks
+exactly like one turned half round and read backwards in time, and one flipped left to right
+like the sheet read backwards; the traces' shapes are the experiment's, not the reader's to
+judge. So a photograph is taken as unmirrored — as a camera or a scanner sees the face of an
+opaque sheet — and a mirrored one (a phone's front camera set to mirror) reads backwards in
+time.
+
 Every sample of a :class:`PaperRecord` lies on a uniform time grid from t = 0, so a lab reads
 it like a recorded channel (``sample_rate``, ``read()``, ``chunks()``); in a gap (the trace
 lost or crossing another) the value is NaN and ``read()`` refuses, unless the record was read
@@ -52,7 +67,7 @@ from ..uncertainty import Measured
 from .lines import Line, grid_spacing, remove_lines
 from .marks import Pips, TimeBase, TimeMarkError, find_pips, time_base
 from .overlay import Overlay, plot_values
-from .paper import darkness, find_sheet, flatten, load_image, square_up
+from .paper import Sheet, darkness, find_sheet, flatten, load_image, square_up, working_copy
 from .traces import LOW_CONFIDENCE, NoTraceError, Traces, find_runs, follow
 
 LOW_SHARE = 0.05
@@ -115,6 +130,9 @@ class PaperRecord:
         (:attr:`stroke_time`, :attr:`stroke_value`).
     overlay : Overlay
         What was read, to draw over the sheet.
+    turns : int
+        Quarter turns, counter-clockwise, that brought the sheet upright (the photograph
+        turned: 2 upside down, 1 or 3 in portrait).
     """
 
     path: str
@@ -133,6 +151,7 @@ class PaperRecord:
     bridged: np.ndarray
     stroke: float
     overlay: Overlay = field(repr=False)
+    turns: int = 0
 
     @property
     def stroke_time(self) -> float:
@@ -311,9 +330,10 @@ def read_paper_records(source, *, traces: int | None = None, mark_period=None,
                        field: str | None = None, options: str = "image") -> list[PaperRecord]:
     """Read every trace of a photographed or scanned paper record.
 
-    The time runs left to right along the sheet's long side (a portrait photograph is
-    turned a quarter clockwise); the time-mark line and the TDC line are straight lines with
-    rectangular pips (the denser regular set of pips is the time marks).
+    The time runs along the mark lines, left to right with the marks lifting their lines
+    (the sheet is turned so, see the module's notes); the time-mark line and the TDC line are
+    straight lines with rectangular pips (the denser regular set of pips is the time
+    marks). A picture larger than :data:`~.paper.WORK_PIXELS` is read reduced to it.
 
     Parameters
     ----------
@@ -355,7 +375,9 @@ def read_paper_records(source, *, traces: int | None = None, mark_period=None,
     Raises
     ------
     InputError
-        A missing file or not an image; no trace found; no time base (no mark period, or
+        A missing file, not an image, or one whose header states more than
+        :data:`~.paper.MAX_PIXELS`; signs of the sheet's orientation that disagree; no
+        trace found; no time base (no mark period, or
         fewer than three time marks without a paper speed); a paper speed or a length scale
         that contradicts the marks or another scale; an option out of range.
 
@@ -377,17 +399,15 @@ def read_paper_records(source, *, traces: int | None = None, mark_period=None,
     if not (bridge >= 0 and math.isfinite(bridge)):
         raise where.error(f"bridge = {bridge!r}", "give the longest gap to interpolate, ≥ 0 s",
                           "bridge")
-    grey = (load_image(source, field=field) if isinstance(source, (str, Path))
-            else darkness(source, name=where.path, field=field))
-    sheet = square_up(grey, find_sheet(grey))
-    density, noise = flatten(sheet.grey)
-    lines = remove_lines(density, noise)
-    remove_lines(density.T, noise)
-    time_pips, tdc_pips, plain = _mark_lines(density, lines, noise)
+    grey, reduction = (load_image(source, field=field) if isinstance(source, (str, Path))
+                       else working_copy(darkness(source, name=where.path, field=field)))
+    laid = _upright(where, grey)
+    sheet, density, noise = laid.sheet, laid.density, laid.noise
+    lines, time_pips, tdc_pips, plain = laid.lines, laid.time_pips, laid.tdc_pips, laid.plain
     for pips in (time_pips, tdc_pips):
         if pips is not None:
             density[pips.band[0]:pips.band[1]] = 0.0
-    metres = _length_scale(where, given, sheet, plain)
+    metres = _length_scale(where, given, sheet, plain, reduction)
     seconds = _time_scale(where, given, metres, time_pips)
     try:
         found = follow(find_runs(density, noise, plain), density.shape[1], traces)
@@ -406,8 +426,93 @@ def read_paper_records(source, *, traces: int | None = None, mark_period=None,
         overlay = Overlay.of(sheet.grey, found.row, found.confidence, j, overlay_marks,
                              [line.position for line in zero_lines])
         records.append(_record(where, found, j, seconds, value_scale, unit, zero, zero_lines,
-                               lines, found_pips, bridge, overlay))
+                               lines, found_pips, bridge, overlay, sheet.turns))
     return records
+
+
+@dataclass(frozen=True)
+class _Laid:
+    """The sheet squared up one way, with what lies on it."""
+
+    sheet: Sheet
+    density: np.ndarray
+    noise: float
+    lines: list[Line]
+    time_pips: Pips | None
+    tdc_pips: Pips | None
+    plain: list[Line]
+
+    @property
+    def marks(self) -> Pips | None:
+        """The pips the orientation is told by: the time marks', else the TDC marks'."""
+        return self.time_pips if self.time_pips is not None else self.tdc_pips
+
+    def upright(self) -> bool | None:
+        """Whether the sheet lies upright, by every sign it shows: each mark line's pips
+        point up, and the time-mark line runs below the TDC line; None when they disagree."""
+        signs = [p.side < 0 for p in (self.time_pips, self.tdc_pips) if p is not None]
+        if self.time_pips is not None and self.tdc_pips is not None:
+            signs.append(self.time_pips.line.position > self.tdc_pips.line.position)
+        return signs[0] if len(set(signs)) == 1 else None
+
+
+def _laid_out(grey: np.ndarray, corners, turns: int) -> _Laid:
+    """The sheet squared up and turned ``turns`` quarters counter-clockwise: its density,
+    its straight lines lifted off, the pips beside them."""
+    sheet = square_up(grey, corners, turns=turns)
+    density, noise = flatten(sheet.grey)
+    lines = remove_lines(density, noise)
+    remove_lines(density.T, noise)
+    return _Laid(sheet, density, noise, lines, *_mark_lines(density, lines, noise))
+
+
+def _upright(where: _Where, grey: np.ndarray) -> _Laid:
+    """The sheet turned upright by what is drawn on it (:meth:`_Laid.upright`): time along
+    the mark lines, the marks lifting their lines (the pips point up), the time-mark line
+    below the TDC line.
+
+    The sheet is read as its edges (or the frame) lay it out, its long side along the rows;
+    if it has no mark line along the rows, it is read turned a quarter. Lying upside down,
+    it is turned half round. A sheet without any mark line is read as laid out (nothing on
+    it tells which way is up).
+
+    Raises
+    ------
+    InputError
+        The signs disagree (a layout the reader does not know: one line's marks pointing up,
+        the other's down, or the time-mark line above the TDC line with the marks up), or
+        they do once the sheet is turned half round.
+    """
+    corners = find_sheet(grey)
+    laid = _laid_out(grey, corners, 0)
+    if laid.marks is None:
+        across = _laid_out(grey, corners, 1)
+        if across.marks is None:
+            return laid
+        laid = across
+    up = laid.upright()
+    if up is None:
+        raise _orientation_unknown(where, laid)
+    if up:
+        return laid
+    turned = _laid_out(grey, corners, laid.sheet.turns + 2)
+    if turned.marks is None or not turned.upright():
+        raise _orientation_unknown(where, laid)
+    return turned
+
+
+def _orientation_unknown(where: _Where, laid: _Laid) -> InputError:
+    time, tdc = laid.time_pips, laid.tdc_pips
+    told = [f"the {kind} marks point {'up' if p.side < 0 else 'down'}"
+            for kind, p in (("time", time), ("TDC", tdc)) if p is not None]
+    if time is not None and tdc is not None:
+        below = time.line.position > tdc.line.position
+        told.append(f"the time-mark line runs {'below' if below else 'above'} the TDC line")
+    return where.error(
+        f"which way is up cannot be told from the sheet: {', '.join(told)}",
+        "rotate the photograph so that the time runs left to right along the sheet, with the "
+        "time-mark line at the bottom below the TDC line and the marks pointing up (a marker "
+        "lifts its line)")
 
 
 def _where(source, field, options) -> _Where:
@@ -490,9 +595,11 @@ def _regular_marks(pips: Pips) -> int:
         return 0
 
 
-def _length_scale(where: _Where, given: dict, sheet, plain: list[Line]) -> Measured | None:
-    """Metres of paper per sheet pixel from the grid, the paper width or the dpi; several
-    must agree."""
+def _length_scale(where: _Where, given: dict, sheet, plain: list[Line],
+                  reduction: float) -> Measured | None:
+    """Metres of paper per sheet pixel from the grid, the paper width or the dpi (of the
+    file's pixels, ``reduction`` to each pixel the sheet was read off); several must
+    agree."""
     scales = {}
     if "grid" in given:
         g = grid_spacing(plain)
@@ -513,7 +620,7 @@ def _length_scale(where: _Where, given: dict, sheet, plain: list[Line]) -> Measu
                                                                        m.value / px ** 2))
     if "dpi" in given:
         m = given["dpi"]
-        per_px = 0.0254 / m.value * sheet.source_scale
+        per_px = 0.0254 / m.value * sheet.source_scale * reduction
         scales["dpi"] = Measured(per_px, u_b=per_px * m.u / m.value)
     if not scales:
         return None
@@ -592,7 +699,7 @@ def _value_scale(where: _Where, given: dict, metres: Measured | None,
 
 def _record(where: _Where, found: Traces, j: int, seconds, value_scale: Measured, unit: str,
             zero: str, zero_lines: list[Line], lines: list[Line], pips: dict,
-            bridge: float, overlay: Overlay) -> PaperRecord:
+            bridge: float, overlay: Overlay, turns: int) -> PaperRecord:
     tb, per_px = seconds
     row = found.row[j]
     valid = np.flatnonzero(np.isfinite(row))
@@ -628,7 +735,7 @@ def _record(where: _Where, found: Traces, j: int, seconds, value_scale: Measured
     marks_u = {k: p.edge_u * per_px.value for k, p in pips.items()}
     record = PaperRecord(where.path, name, where.field, time, value, conf, u_value, unit,
                          marks, marks_u, per_px, value_scale, tb, bridged,
-                         float(found.width[j]), overlay)
+                         float(found.width[j]), overlay, turns)
     _warn(record, tb, {k: p.edge_u for k, p in pips.items()})
     return record
 

@@ -10,6 +10,13 @@ so an even change of lighting does not matter), then aligned to a small fraction
 by ECC (:func:`_refine`). The peak's height is the frame's confidence; frames below
 :data:`MIN_CONFIDENCE` (blurred, occluded) are left out, not guessed.
 
+Memory stays bounded whatever the film: the frame size is read off the stream's header
+before a frame is decoded (over :data:`MAX_FRAME_PIXELS` is refused), a film larger than
+:data:`WORK_SIDE` is tracked on its frames reduced to it (a phone's 4K film as a 1080p one),
+and the background's frames are kept as bytes, their median taken a band of rows at a time:
+a 4K film is tracked in about 0.4 GB (5.2 GB before, its first 64 frames stacked whole as
+float32).
+
 :func:`swing_of` turns the track into the marker's way along its arc (:meth:`Track.
 displacement`) and fits a damped sinusoid on a line over every frame kept
 (:func:`processing.decay.fit_damped_sine`): the period with its u (:func:`period_of`), the
@@ -38,6 +45,22 @@ itself matches at 0.9–0.97 through blur, noise and flicker; a hand half over i
 
 BACKGROUND_FRAMES = 64
 """Frames at the start whose median is the still background (they must span a swing)."""
+
+MAX_FRAME_PIXELS = 4096 * 2304
+"""Largest frame read, by the film's stream header (before a frame is decoded). [px] Phones
+film 1080p (2.1 Mpx) or 4K (3840 × 2160, 8.3 Mpx; DCI 4096 × 2160) by default; the limit
+holds both with room for a 16:9 4096 px frame, and keeps a decoded frame, its decoder's
+buffers and the background's frames within bounded memory."""
+
+MEDIAN_ROWS = 64
+"""Rows of the frames the background's median is taken over at a time."""
+
+WORK_SIDE = 1920
+"""Longest side of the frames tracked: a larger film is tracked on each frame reduced to it
+(pixel areas averaged). [px] A 4K film so tracked is a 1080p one: the marker swings over ~1000
+px of it where the film bench's 640 × 480 films (the targets: the period to 0.02 %, the
+amplitude to 0.2°) swing it over a few hundred, and the marker's template stays within the
+11–81 px the tracker sizes it to."""
 
 SEARCH = 4.0
 """Half-width of the search window where the marker is not found near its predicted place
@@ -85,6 +108,9 @@ through its this-many neighbouring frames (a moment's false match: one frame of 
 bench's 3° film from above sat 15 px off a path its others follow within 0.07 px, and bent
 that short arc's circle to a 355 000 px radius)."""
 
+NOTCH_BEYOND = 3
+"""Frequency spacings past the notch the residual's density is taken over at least."""
+
 IRREGULAR = 0.02
 """Relative spread of the frame intervals above which the timestamps are called irregular."""
 
@@ -108,6 +134,9 @@ class Track:
         Standard deviation of the frame intervals over their median.
     frames : list
         A few (index, grey frame) pairs kept for the report.
+    scale : float
+        The film's pixels per pixel of the frames tracked (1 unless the film is larger than
+        :data:`WORK_SIDE`): every position and size here is in the frames tracked.
     """
 
     path: str
@@ -118,6 +147,7 @@ class Track:
     size: int
     interval_spread: float
     frames: list = field(default_factory=list, repr=False)
+    scale: float = 1.0
 
     @property
     def kept(self) -> np.ndarray:
@@ -198,29 +228,58 @@ def _refuse(path, field_name, problem: str, fix: str) -> InputError:
     return InputError(problem, fix, file=str(path), field=field_name)
 
 
-def _grey(frame: np.ndarray) -> np.ndarray:
-    return cv2.cvtColor(frame, cv2.COLOR_BGR2GRAY) if frame.ndim == 3 else frame
+def _grey(frame: np.ndarray, scale: float = 1.0) -> np.ndarray:
+    """The frame in grey, reduced to ``scale`` of its size (pixel areas averaged)."""
+    grey = cv2.cvtColor(frame, cv2.COLOR_BGR2GRAY) if frame.ndim == 3 else frame
+    if scale < 1:
+        size = (max(int(round(grey.shape[1] * scale)), 1),
+                max(int(round(grey.shape[0] * scale)), 1))
+        grey = cv2.resize(grey, size, interpolation=cv2.INTER_AREA)
+    return grey
 
 
 def _open(path, field_name):
+    """The capture, its first frame and the scale it is tracked at (:data:`WORK_SIDE`).
+
+    The frame size is read off the stream's header before the first frame is decoded, and
+    a frame over :data:`MAX_FRAME_PIXELS` is refused."""
     if not Path(path).is_file():
         raise _refuse(path, field_name, "the film is not found", "check the file's name and "
                       "that it lies beside the measurement file")
     capture = cv2.VideoCapture(str(path))
-    ok, first = capture.read() if capture.isOpened() else (False, None)
+    if not capture.isOpened():
+        raise _refuse(path, field_name, "not a film OpenCV can read", "give an MP4, MOV or "
+                      "AVI file as the phone recorded it")
+    w = int(capture.get(cv2.CAP_PROP_FRAME_WIDTH))
+    h = int(capture.get(cv2.CAP_PROP_FRAME_HEIGHT))
+    if w * h > MAX_FRAME_PIXELS:
+        capture.release()
+        raise _refuse(path, field_name, f"its video stream's header says {w} × {h} px a frame "
+                      f"({w * h / 1e6:.3g} Mpx), more than the {MAX_FRAME_PIXELS / 1e6:.3g} "
+                      "Mpx of a 4K frame a film is read at", "film at 1080p or 4K (the "
+                      "phone's camera settings), or export the film at that size")
+    ok, first = capture.read()
     if not ok:
         raise _refuse(path, field_name, "not a film OpenCV can read", "give an MP4, MOV or "
                       "AVI file as the phone recorded it")
-    return capture, first
+    return capture, first, min(1.0, WORK_SIDE / max(first.shape[:2]))
 
 
-def _marker(frames: list[np.ndarray], roi) -> tuple[float, float, int, float]:
+def _background(frames: np.ndarray) -> np.ndarray:
+    """The median of a stack of grey frames (frames × rows × columns, uint8), float32, taken
+    over :data:`MEDIAN_ROWS` rows at a time: the stack itself is all the memory it takes."""
+    out = np.empty(frames.shape[1:], np.float32)
+    for r in range(0, frames.shape[1], MEDIAN_ROWS):
+        out[r:r + MEDIAN_ROWS] = np.median(frames[:, r:r + MEDIAN_ROWS], axis=0)
+    return out
+
+
+def _marker(frames: np.ndarray, roi) -> tuple[float, float, int, float]:
     """Centre, template side and contrast of the marker in the first frame: the compact
     patch that differs most from the still background (within ``roi`` = (x, y, w, h) if
     given)."""
-    stack = np.stack(frames).astype(np.float32)
-    background = np.median(stack, axis=0)
-    diff = cv2.GaussianBlur(np.abs(stack[0] - background), (0, 0), 2.0)
+    diff = cv2.GaussianBlur(np.abs(frames[0].astype(np.float32) - _background(frames)),
+                            (0, 0), 2.0)
     if roi is not None:
         x0, y0, w, h = (int(v) for v in roi)
         mask = np.zeros_like(diff)
@@ -316,7 +375,7 @@ def track_marker(path, *, roi=None, field: str | None = None,
     path : str or Path
         The film (MP4, MOV, AVI).
     roi : (x, y, w, h), optional
-        Where the marker is in the first frame. [px]
+        Where the marker is in the first frame, in the film's pixels. [px]
     field : str, optional
         The measurement-file field that named the film, for errors.
     min_confidence : float
@@ -331,21 +390,28 @@ def track_marker(path, *, roi=None, field: str | None = None,
     Raises
     ------
     InputError
-        Not a film; too short; nothing moves; the marker lost in most frames.
+        Not a film; frames larger than :data:`MAX_FRAME_PIXELS`; too short; nothing moves;
+        the marker lost in most frames.
     """
-    capture, first = _open(path, field)
-    buffered, stamps = [_grey(first)], [capture.get(cv2.CAP_PROP_POS_MSEC) / 1e3]
+    capture, first, scale = _open(path, field)
+    grey = _grey(first, scale)
+    del first
+    buffered = np.empty((BACKGROUND_FRAMES, *grey.shape), np.uint8)
+    buffered[0] = grey
+    stamps = [capture.get(cv2.CAP_PROP_POS_MSEC) / 1e3]
     total = int(capture.get(cv2.CAP_PROP_FRAME_COUNT)) or 0
-    while len(buffered) < BACKGROUND_FRAMES:
+    while len(stamps) < BACKGROUND_FRAMES:
         ok, frame = capture.read()
         if not ok:
             break
-        buffered.append(_grey(frame))
+        buffered[len(stamps)] = _grey(frame, scale)
         stamps.append(capture.get(cv2.CAP_PROP_POS_MSEC) / 1e3)
+    buffered = buffered[:len(stamps)]
     if len(buffered) < 16:
         raise _refuse(path, field, f"the film holds {len(buffered)} frames",
                       "film the whole swing: 20 oscillations or more")
-    cx, cy, side, contrast = _marker(buffered, roi)
+    cx, cy, side, contrast = _marker(buffered, None if roi is None
+                                     else tuple(scale * float(v) for v in roi))
     noise = float(np.std(buffered[0].astype(np.float32) - buffered[1]))
     if contrast < max(3.0 * noise, 8.0):
         raise _refuse(path, field, "nothing moves in the film's first frames",
@@ -364,6 +430,7 @@ def track_marker(path, *, roi=None, field: str | None = None,
         if total and keep_frames else set()
     index = 0
     pending = list(zip(buffered, stamps))
+    del buffered                       # its frames go as they are tracked
     while True:
         if pending:
             grey, stamp = pending.pop(0)
@@ -371,7 +438,7 @@ def track_marker(path, *, roi=None, field: str | None = None,
             ok, frame = capture.read()
             if not ok:
                 break
-            grey, stamp = _grey(frame), capture.get(cv2.CAP_PROP_POS_MSEC) / 1e3
+            grey, stamp = _grey(frame, scale), capture.get(cv2.CAP_PROP_POS_MSEC) / 1e3
         x = y = math.nan
         c = 0.0
         for reach, (ex, ey) in ((near, (px + vx, py + vy)), (far, (px, py))):
@@ -410,7 +477,7 @@ def track_marker(path, *, roi=None, field: str | None = None,
             "частота кадров): используется метка времени каждого кадра; снимайте с "
             "постоянной частотой кадров, если телефон позволяет"))
     track = Track(str(path), time, np.asarray(xs), np.asarray(ys), np.asarray(conf), side,
-                  spread, snapshots)
+                  spread, snapshots, 1.0 / scale)
     if track.kept.mean() < 0.5:
         raise _refuse(path, field, f"the marker was found in {100 * track.kept.mean():.0f} % "
                       "of the frames", "stick a high-contrast marker on the part, light it "
@@ -456,10 +523,15 @@ def _density_near(t: np.ndarray, r: np.ndarray, f0: float) -> tuple[float, int]:
 
     Periodogram |Σ r e^{−2πift}|²/n at each frequency 1/duration apart in f₀/2 … 3f₀/2 (the
     frames' own times, so a variable frame rate is no matter), less those within
-    :data:`NOTCH` spacings of f₀ that the fit itself empties."""
+    :data:`NOTCH` spacings of f₀ that the fit itself empties; where that leaves none (a film
+    of under five oscillations), the band reaches :data:`NOTCH_BEYOND` spacings past the
+    notch instead."""
     duration = float(t[-1] - t[0])
-    f = f0 + np.arange(-0.5 * f0 * duration, 0.5 * f0 * duration + 1) / duration
-    f = f[(np.abs(f - f0) * duration > NOTCH) & (f > 0)]
+    for half in (0.5 * f0 * duration, NOTCH + NOTCH_BEYOND):
+        f = f0 + np.arange(-half, half + 1) / duration
+        f = f[(np.abs(f - f0) * duration > NOTCH) & (f > 0)]
+        if f.size:
+            break
     power = np.abs(np.exp(-2j * np.pi * np.outer(f, t - t[0])) @ r) ** 2 / r.size
     return float(power.mean()), int(f.size)
 
