@@ -30,6 +30,7 @@ import cv2
 import numpy as np
 
 from ..diagnostics import InputError
+from ..files import IMAGE, read_bytes
 
 MIN_SIDE = 64
 """Smallest image side read. [px]"""
@@ -84,7 +85,7 @@ def load_image(path, *, field: str | None = None) -> np.ndarray:
     if not p.is_file():
         raise InputError("the image file does not exist", "check the file's name and that it "
                          "lies in the measurement file's folder", file=str(p), field=field)
-    data = np.fromfile(p, np.uint8)
+    data = np.frombuffer(read_bytes(p, IMAGE, field=field), np.uint8)
     image = cv2.imdecode(data, cv2.IMREAD_COLOR) if data.size else None
     if image is None:
         raise InputError("not an image (OpenCV cannot decode it)", "give a photograph or scan "

@@ -29,6 +29,7 @@ import numpy as np
 from ..decay import DampedSineFit, fit_damped_sine
 from ..diagnostics import (FilmAmplitudeWarning, InconsistentInputWarning,
                            InputError, IrregularFrameRateWarning)
+from ..files import FILM, regular
 from ..savgol import savgol
 from ..uncertainty import Measured
 
@@ -203,9 +204,7 @@ def _grey(frame: np.ndarray) -> np.ndarray:
 
 
 def _open(path, field_name):
-    if not Path(path).is_file():
-        raise _refuse(path, field_name, "the film is not found", "check the file's name and "
-                      "that it lies beside the measurement file")
+    regular(path, FILM, field=field_name)
     capture = cv2.VideoCapture(str(path))
     ok, first = capture.read() if capture.isOpened() else (False, None)
     if not ok:
