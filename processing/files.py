@@ -16,6 +16,7 @@ it reads whole (None for the readers that stream: WAV and HDF5 recordings, films
 """
 from __future__ import annotations
 
+import codecs
 import errno
 import os
 import re
@@ -44,11 +45,19 @@ class Kind:
         Largest file read [bytes]; None: any size (the reader streams it).
     fix : str
         What to do with a larger file.
+    streamed : bool
+        The reader streams the file (its limit is a sanity bound, not a memory one).
     """
 
     what: str
     limit: int | None = None
     fix: str = ""
+    streamed: bool = False
+
+    @property
+    def a(self) -> str:
+        """The name with its article: 'a film', 'an image'."""
+        return f"{'an' if self.what[0] in 'aeiou' else 'a'} {self.what}"
 
 
 MEASUREMENT = Kind("measurement file", MiB,
@@ -60,7 +69,7 @@ TABLE = Kind("CSV table", 64 * MiB, "save long recordings as WAV or HDF5, which 
 """A recording or a counter's edge times as text, parsed whole: 64 MiB is about 5 million
 samples of two columns (8 minutes at 10 kHz) and peaks near 0.6 GB while it is parsed."""
 
-STREAMED = Kind("recording")
+STREAMED = Kind("recording", streamed=True)
 """A WAV or HDF5 recording: read block by block, any size."""
 
 IMAGE = Kind("image", 256 * MiB,
@@ -68,7 +77,7 @@ IMAGE = Kind("image", 256 * MiB,
 """A photograph or scan of a paper record: a phone's photo is 3–15 MB, a 600 dpi A3 colour
 scan saved uncompressed 209 MB."""
 
-FILM = Kind("film", 16 * GiB, "cut the film to the swings you measure")
+FILM = Kind("film", 16 * GiB, "cut the film to the swings you measure", streamed=True)
 """A phone's film, decoded frame by frame: 16 GiB is over half an hour of 4K at 60 frames per
 second (a phone writes about 0.4 GB a minute)."""
 
@@ -196,10 +205,12 @@ def read_bytes(path, kind: Kind, *, field: str | None = None) -> bytes:
 
 
 def read_text(path, kind: Kind, *, field: str | None = None, legacy: str | None = None,
-              fix: str | None = None) -> str:
-    """:func:`read_bytes` decoded: UTF-8 (a byte-order mark dropped), else ``legacy`` (the
-    code page a spreadsheet of the region writes, ``"cp1251"`` for Russian Excel); binary
-    data refused.
+              fix: str | None = None, binary: bool = False) -> str:
+    """:func:`read_bytes` decoded: UTF-8 (a byte-order mark dropped), UTF-16 with its
+    byte-order mark (a spreadsheet's "Unicode text"), else ``legacy`` (the code page a
+    spreadsheet of the region writes, ``"cp1251"`` for Russian Excel); binary data refused
+    unless ``binary`` (the caller then judges :func:`looks_binary` itself, to name a stray
+    control character's line).
 
     Parameters
     ----------
@@ -210,27 +221,36 @@ def read_text(path, kind: Kind, *, field: str | None = None, legacy: str | None 
     Raises
     ------
     InputError
-        As :func:`read_bytes`; also binary data (NUL bytes, or control characters in more
-        than 1 % of the first 64 kiB) and, without ``legacy``, text that is not UTF-8.
+        As :func:`read_bytes`; also binary data and, without ``legacy``, text that is not
+        UTF-8.
     """
     raw = read_bytes(path, kind, field=field)
     fix = fix or f"save the {kind.what} as UTF-8 text"
     try:
-        text = raw.decode("utf-8-sig")
+        if raw.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+            text = raw.decode("utf-16")
+        else:
+            text = raw.decode("utf-8-sig")
     except UnicodeDecodeError:
         if legacy is None:
-            raise InputError(f"not a text file in UTF-8 (a {kind.what} is text)", fix,
+            raise InputError(f"not a text file in UTF-8 ({kind.a} is text)", fix,
                              file=str(path), field=field) from None
         text = raw.decode(legacy, errors="replace")
-    head = text[:1 << 16]
-    if "\x00" in head or len(_CONTROLS.findall(head)) > 0.01 * len(head):
-        raise InputError(f"not a text file (binary data), so not a {kind.what}", fix,
+    if not binary and looks_binary(text):
+        raise InputError(f"not a text file (binary data), so not {kind.a}", fix,
                          file=str(path), field=field)
     return text
 
 
 _CONTROLS = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f]")
 """Control characters other than tab, CR and LF: a text file holds almost none."""
+
+
+def looks_binary(text: str) -> bool:
+    """Whether a decoded file is binary data: a NUL, or control characters (other than tab,
+    CR and LF) in more than 1 % of its first 64 kiB."""
+    head = text[:1 << 16]
+    return "\x00" in head or len(_CONTROLS.findall(head)) > 0.01 * len(head)
 
 
 def resolved(path) -> Path:
@@ -242,13 +262,13 @@ def resolved(path) -> Path:
 def _judge(path: Path, kind: Kind, field: str | None, info: os.stat_result) -> None:
     """Refuse what is not a regular file of at most ``kind.limit`` bytes."""
     if stat.S_ISDIR(info.st_mode):
-        raise InputError(f"is a directory (a folder), not a {kind.what}",
+        raise InputError(f"is a directory (a folder), not {kind.a}",
                          f"give the path of the {kind.what} itself", file=str(path),
                          field=field)
     if not stat.S_ISREG(info.st_mode):
         what, why = next(((w, y) for test, w, y in _TYPES if test(info.st_mode)),
                          ("not a regular file", "it is no file"))
-        raise InputError(f"{_through_link(path)}{what}, not a {kind.what} saved on disk: "
+        raise InputError(f"{_through_link(path)}{what}, not {kind.a} saved on disk: "
                          f"{why}", f"give the {kind.what} itself, a regular file",
                          file=str(path), field=field)
     if kind.limit is not None and info.st_size > kind.limit:
@@ -266,9 +286,9 @@ def _through_link(path: Path) -> str:
 
 
 def _too_large(path: Path, kind: Kind, field: str | None, size: str) -> InputError:
-    return InputError(f"the file is {size}; a {kind.what} is read whole and may be at most "
-                      f"{_size(kind.limit)}", kind.fix or f"give a smaller {kind.what}",
-                      file=str(path), field=field)
+    how = "" if kind.streamed else "is read whole and "
+    return InputError(f"the file is {size}; {kind.a} {how}may be at most {_size(kind.limit)}",
+                      kind.fix or f"give a smaller {kind.what}", file=str(path), field=field)
 
 
 def _unreachable(path: Path, kind: Kind, field: str | None, exc: OSError) -> InputError:

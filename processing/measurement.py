@@ -32,7 +32,7 @@ from typing import Any
 
 from .diagnostics import (ImplausibleValueWarning, InputError, SingleReadingWarning,
                           TextTruncatedWarning)
-from .files import MEASUREMENT, read_bytes
+from .files import MEASUREMENT, read_bytes, resolved
 from .uncertainty import Measured
 from .units import magnitude_verdict, parse_quantity, si_factor, si_unit, to_si
 
@@ -441,7 +441,7 @@ def _file(f: Field, raw, src: _Where, fail) -> Path:
         raise fail(f"'{f.name}' must be a file name in quotes, got {raw!r}",
                    f"write e.g. {f.name} = \"record.csv\" (relative to this file's folder)")
     target = src.folder / Path(raw).expanduser()
-    if src.root is not None and not target.resolve().is_relative_to(src.root):
+    if src.root is not None and not resolved(target).is_relative_to(src.root):
         raise fail(f"'{raw}' lies outside the submission's folder {src.root}",
                    "copy the file into the folder of the measurement file and name it "
                    "relative to it (files outside are not read in confined mode)")
