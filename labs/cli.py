@@ -16,7 +16,7 @@ from pathlib import Path
 
 from processing import __version__
 from processing.diagnostics import InputError
-from processing.files import resolved
+from processing.files import MEASUREMENT, regular, resolved
 from processing.reporting.i18n import LANGS
 
 from .catalogue import CATALOGUE
@@ -109,15 +109,19 @@ def _internal(exc: Exception, where: str | None = None) -> str:
 
 def _run_files(files, out: Path | None, formats, lang: str, as_json: bool,
                confine: bool = False, debug: bool = False) -> int:
-    """Reduce each file; write its reports to ``out`` (None: write nothing). A bad file, or
-    one the toolkit fails on, is reported and the others are reduced."""
-    from processing.reporting.render import to_json, to_terminal
-
+    """Reduce each file; write its reports to ``out`` (None: write nothing) in ``formats``
+    (None: every format). A bad file, or one the toolkit fails on, is reported and the others
+    are reduced; a path that is no measurement file is refused before the reduction's and the
+    reports' libraries are loaded."""
     failures, crashes, documents = 0, 0, []
     files = _unique(files)
     for path, stem in _progress(list(zip(files, _stems(files))), "reducing"):
         try:
+            regular(path, MEASUREMENT)
             result = evaluate(path, confine=confine)
+            from processing.reporting.render import FORMATS, to_json, to_terminal
+
+            formats = formats or FORMATS
             replaced = [p for p in (out / f"{stem}.{f}" for f in formats) if p.exists()] \
                 if out is not None else []
             written = _write(result, out, stem, formats, lang) if out is not None else []
@@ -143,14 +147,12 @@ def _run_files(files, out: Path | None, formats, lang: str, as_json: bool,
 
 
 def _run(args) -> int:
-    from processing.reporting.render import FORMATS
-
     writes = not args.json or args.out is not None or args.format is not None
     out = Path(args.out or "reports") if writes else None
     if out is not None:
         _writable_folder(out, "--out", "the reports")
-    return _run_files(args.files, out, args.format or FORMATS, args.lang, args.json,
-                      args.confine, args.debug)
+    return _run_files(args.files, out, args.format, args.lang, args.json, args.confine,
+                      args.debug)
 
 
 def _demo(args) -> int:
@@ -348,13 +350,6 @@ def _synth(args) -> int:
 
     from .synth_options import check_options
 
-    module = LABS[args.lab]
-    write = getattr(module, "write_synthetic", None)
-    if write is None:
-        scenes = [k for k, m in LABS.items() if hasattr(m, "write_synthetic")]
-        raise InputError(f"{args.lab} has no synthetic scene yet",
-                         f"use one of {', '.join(scenes)}")
-    takes = inspect.signature(write).parameters
     given = {name: value for name, value in
              (("fmt", args.format), ("snr_db", args.snr), ("pitch_error_deg", args.pitch_error),
               ("sample_rate", args.sample_rate), ("runs", args.runs),
@@ -364,17 +359,24 @@ def _synth(args) -> int:
               ("film", args.film or None),
               ("recording", False if args.no_recording else None), ("part", args.part))
              if value is not None}
+    check_options(args.lab, given)
+    out = Path(args.out)
+    _writable_folder(out, "--out", "the synthetic measurement")
+    module = LABS[args.lab]
+    write = getattr(module, "write_synthetic", None)
+    if write is None:
+        scenes = [k for k, m in LABS.items() if hasattr(m, "write_synthetic")]
+        raise InputError(f"{args.lab} has no synthetic scene yet",
+                         f"use one of {', '.join(scenes)}")
+    takes = inspect.signature(write).parameters
     foreign = [name for name in given if name not in takes]
     if foreign:
         raise InputError(f"dynlab synth {args.lab} takes no {', '.join(foreign)}",
                          f"leave those options out for {args.lab}")
-    check_options(args.lab, given)
     fmt = given.get("fmt", takes["fmt"].default if "fmt" in takes else None)
     _check_format(module, args.lab, fmt, given.get("sample_rate"))
     given.update({k: round(given[k] * 1e3, 6) for k in ("sample_rate",) if k in given})
     given.update({k: given[k] * 1e-6 for k in ("contact", "lash") if k in given})
-    out = Path(args.out)
-    _writable_folder(out, "--out", "the synthetic measurement")
     try:
         if args.students is not None:
             from .variants import write_variants
