@@ -255,8 +255,12 @@ def looks_binary(text: str) -> bool:
 
 def resolved(path) -> Path:
     """The absolute path with every symbolic link followed as far as it goes; never raises
-    (a loop of links, a missing or too long path stay as they are written)."""
-    return Path(os.path.realpath(os.path.abspath(path)))
+    (a loop of links, a missing or too long path, a NUL character stay as they are
+    written)."""
+    try:
+        return Path(os.path.realpath(os.path.abspath(path)))
+    except ValueError:
+        return Path(os.path.abspath(path))
 
 
 def _judge(path: Path, kind: Kind, field: str | None, info: os.stat_result) -> None:

@@ -440,7 +440,7 @@ def _file(f: Field, raw, src: _Where, fail) -> Path:
     if not isinstance(raw, str):
         raise fail(f"'{f.name}' must be a file name in quotes, got {raw!r}",
                    f"write e.g. {f.name} = \"record.csv\" (relative to this file's folder)")
-    target = src.folder / Path(raw).expanduser()
+    target = src.folder / os.path.expanduser(raw)
     if src.root is not None and not resolved(target).is_relative_to(src.root):
         raise fail(f"'{raw}' lies outside the submission's folder {src.root}",
                    "copy the file into the folder of the measurement file and name it "

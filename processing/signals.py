@@ -65,6 +65,10 @@ CHUNK = 2**22
 HDF5_CHUNK = 2**18
 """Storage chunk of the datasets :func:`write_hdf5` streams [samples]."""
 
+HDF5_MAX_CHUNK = 64 << 20
+"""Largest storage chunk of a dataset read [bytes]: HDF5 decompresses a chunk whole, so a
+chunk of gigabytes compressed to a few bytes would fill the memory for one sample."""
+
 RATE_TOLERANCE = 1e-3
 """Relative disagreement allowed between a given sample rate and the file's, and the allowed
 relative deviation of a CSV time step from the usual (median) step."""
@@ -953,6 +957,7 @@ def _hdf5_channel(src: _Source, f: h5py.File, name: str, given: float | None) ->
                         "store each channel as a 1-D dataset of numbers")
     if ds.shape[0] == 0:
         raise src.error(f"dataset '{name}' holds no samples", "record again")
+    _check_storage(src, name, ds)
     missing = (f"no sample rate for dataset '{name}'",
                "add the attribute sample_rate [Hz] to the dataset or the file, or give sample_rate")
     rate = _rate(src, _attr(src, name, (ds, f), ("sample_rate", "fs")), given, missing)
@@ -960,6 +965,22 @@ def _hdf5_channel(src: _Source, f: h5py.File, name: str, given: float | None) ->
     return src.channel(name, rate, ds.shape[0], ds.dtype,
                        functools.partial(_hdf5_reader, src.path, name),
                        1.0 if volts is None else volts)
+
+
+def _check_storage(src: _Source, name: str, ds: h5py.Dataset) -> None:
+    """Refuse samples stored outside the file (external or virtual storage names other
+    files, which the reader would open unjudged: a FIFO, a device) and chunks larger than
+    :data:`HDF5_MAX_CHUNK` (each is decompressed whole, however few samples are asked)."""
+    if ds.external or ds.is_virtual:
+        raise src.error(f"dataset '{name}' keeps its samples in other files "
+                        f"({'virtual' if ds.is_virtual else 'external'} storage)",
+                        "store the samples in the file itself (h5repack copies them in)")
+    chunk = math.prod(ds.chunks) * ds.dtype.itemsize if ds.chunks else 0
+    if chunk > HDF5_MAX_CHUNK:
+        raise src.error(f"dataset '{name}' is stored in chunks of {chunk / 2**20:.0f} MiB, "
+                        f"each read whole (at most {HDF5_MAX_CHUNK >> 20} MiB)",
+                        "write it with smaller chunks (h5repack -l CHUNK=262144), as "
+                        "recorders do")
 
 
 def _attr(src: _Source, name: str, holders, keys: tuple[str, ...]) -> float | None:

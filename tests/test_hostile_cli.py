@@ -162,6 +162,43 @@ def test_hostile_file_at_every_reader(tmp_path, capsys, sample, field, name, hug
     assert_one_clear_error(code, out, err, tmp_path / written, field, problem, out_dir)
 
 
+def _hostile_hdf5(folder: Path, kind: str) -> str:
+    """An HDF5 recording whose samples lie in a FIFO (external or virtual storage), or in one
+    chunk of 1 GiB (HDF5 decompresses a chunk whole; left unwritten, it costs nothing)."""
+    import h5py
+
+    os.mkfifo(folder / "samples.bin")
+    with h5py.File(folder / "rec.h5", "w") as f:
+        if kind == "external":
+            ds = f.create_dataset("tooth", shape=(1000,), dtype="f8",
+                                  external=[("samples.bin", 0, 8000)])
+        elif kind == "virtual":
+            layout = h5py.VirtualLayout(shape=(1000,), dtype="f8")
+            layout[:] = h5py.VirtualSource("samples.bin", "tooth", shape=(1000,))
+            ds = f.create_virtual_dataset("tooth", layout)
+        else:
+            ds = f.create_dataset("tooth", shape=(2**27,), dtype="f8", chunks=(2**27,),
+                                  compression="gzip")
+        ds.attrs["sample_rate"] = 1e5
+    return "rec.h5"
+
+
+@pytest.mark.parametrize("kind, problem", [
+    ("external", r"keeps its samples in other files \(external storage\)"),
+    ("virtual", r"keeps its samples in other files \(virtual storage\)"),
+    ("huge-chunk", r"chunks of 1024 MiB, each read whole"),
+])
+def test_hdf5_that_reads_elsewhere_or_decompresses_gigabytes(tmp_path, capsys, kind, problem):
+    """A recording whose samples HDF5 would fetch from a FIFO (a hang), or decompress a
+    gigabyte at a time (a 1 MB file read for minutes), is refused before a sample is read."""
+    name = _hostile_hdf5(tmp_path, kind)
+    path = _with(LAB3, tmp_path, _set("regime[0].signal", name))
+    out_dir = tmp_path / "out"
+    code, out, err = run(capsys, "run", path, "--out", out_dir)
+    assert_one_clear_error(code, out, err, tmp_path / name, "regime[0].signal", problem,
+                           out_dir)
+
+
 def test_a_symbolic_link_to_a_regular_file_is_read(tmp_path, capsys):
     """A link is followed: its target, a good measurement file, is reduced."""
     os.symlink(LAB2, tmp_path / "mine.toml")
