@@ -548,8 +548,8 @@ def check_tables(path: str | Path, entries, inputs: Inputs, policy: Policy = Pol
         if not isinstance(file, str):
             raise InputError(f"{file!r} is not a file name", f"write {name} = \"{name}.csv\"",
                              file=str(path), field=where)
-        csv_path = resolved(path.parent / file)
-        if confine and resolved(path.parent) not in csv_path.parents:
+        csv_path = path.parent / file
+        if confine and resolved(path.parent) not in resolved(csv_path).parents:
             raise InputError(f"'{file}' lies outside the submission's folder",
                              "put the table beside the submission", file=str(path), field=where)
         table = read_table(csv_path, name, cylinders=args["cylinders"],

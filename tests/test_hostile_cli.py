@@ -355,6 +355,18 @@ def test_bad_reported_values(tmp_path, capsys, reported, field, problem):
     assert_one_clear_error(code, out, err, path, field, problem, tmp_path / "out")
 
 
+@pytest.mark.parametrize("kind", ["fifo", "dev-zero", "huge", "loop", "through-file"])
+def test_hostile_reported_table_of_the_coursework(tmp_path, capsys, kind):
+    name = hostile(tmp_path, kind, "forces.csv")
+    path = tmp_path / "mine.toml"
+    path.write_text((ROOT / "sample_data" / "dyncalc" / "car_petrol.toml").read_text("utf-8")
+                    + f'\n[reported]\nM_mean = "10 N*m"\n[reported.tables]\nforces = "{name}"\n',
+                    encoding="utf-8")
+    code, out, err = run(capsys, "check", path)
+    assert_one_clear_error(code, out, err, tmp_path / name, "reported.tables.forces",
+                           HOSTILE[kind], tmp_path / "out")
+
+
 def test_reported_that_is_not_a_table(tmp_path, capsys):
     path = tmp_path / "mine.toml"
     path.write_text('reported = 5\n' + LAB2.read_text("utf-8"), encoding="utf-8")
