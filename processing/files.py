@@ -11,7 +11,8 @@ A path the system cannot follow (a name too long, a file where a folder should b
 links, no permission) is refused the same way, naming the cause.
 
 Each reader declares a :class:`Kind`: what the file is, for messages, and the largest file
-it reads whole (None for the readers that stream: WAV and HDF5 recordings, films).
+it takes (None for WAV and HDF5 recordings, which stream; a film streams too, under a bound
+no phone's film reaches).
 :func:`read_bytes` reads at most that many bytes plus one, however the file grows meanwhile.
 """
 from __future__ import annotations
@@ -67,7 +68,7 @@ MEASUREMENT = Kind("measurement file", MiB,
 
 TABLE = Kind("CSV table", 64 * MiB, "save long recordings as WAV or HDF5, which are streamed")
 """A recording or a counter's edge times as text, parsed whole: 64 MiB is about 5 million
-samples of two columns (8 minutes at 10 kHz) and peaks near 0.6 GB while it is parsed."""
+samples of two columns (8 minutes at 10 kHz); reading 63 MB peaked at 405 MB."""
 
 STREAMED = Kind("recording", streamed=True)
 """A WAV or HDF5 recording: read block by block, any size."""
@@ -108,7 +109,7 @@ def _size(n: int, than: int | None = None) -> str:
     >>> _size(3 << 30), _size(1536 << 10), _size(900), _size(MiB + 20, than=MiB)
     ('3 GiB', '1.5 MiB', '900 bytes', '1.00002 MiB')
     """
-    for unit, scale in (("GiB", GiB), ("MiB", MiB), ("kiB", 1 << 10)):
+    for unit, scale in (("GiB", GiB), ("MiB", MiB), ("KiB", 1 << 10)):
         if n >= scale:
             digits = 3
             while than is not None and digits < 16 and \
@@ -123,7 +124,8 @@ def _short(name: str, most: int = 40) -> str:
 
 
 def regular(path, kind: Kind, *, field: str | None = None) -> os.stat_result:
-    """Judge the file ``path`` names, without opening it.
+    """Judge the file ``path`` names before a reader opens it: a regular file it may
+    read, of at most the size it takes.
 
     Parameters
     ----------
@@ -156,7 +158,20 @@ def regular(path, kind: Kind, *, field: str | None = None) -> os.stat_result:
     except OSError as exc:
         raise _unreachable(path, kind, field, exc) from None
     _judge(path, kind, field, info)
+    os.close(_open(path, kind, field))  # no permission: named here, not by a library
     return info
+
+
+_FLAGS = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0) \
+    | getattr(os, "O_BINARY", 0)
+"""Open for reading without blocking (were it a FIFO after all) or taking a terminal."""
+
+
+def _open(path: Path, kind: Kind, field: str | None) -> int:
+    try:
+        return os.open(path, _FLAGS)
+    except OSError as exc:
+        raise _unreachable(path, kind, field, exc) from None
 
 
 def read_bytes(path, kind: Kind, *, field: str | None = None) -> bytes:
@@ -186,13 +201,7 @@ def read_bytes(path, kind: Kind, *, field: str | None = None) -> bytes:
         raise ValueError(f"read_bytes: a {kind.what} is streamed, not read whole")
     path = Path(path)
     regular(path, kind, field=field)
-    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0) \
-        | getattr(os, "O_BINARY", 0)
-    try:
-        fd = os.open(path, flags)
-    except OSError as exc:
-        raise _unreachable(path, kind, field, exc) from None
-    with os.fdopen(fd, "rb") as f:
+    with os.fdopen(_open(path, kind, field), "rb") as f:
         _judge(path, kind, field, os.fstat(f.fileno()))
         try:
             data = f.read(kind.limit + 1)
@@ -248,7 +257,7 @@ _CONTROLS = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f]")
 
 def looks_binary(text: str) -> bool:
     """Whether a decoded file is binary data: a NUL, or control characters (other than tab,
-    CR and LF) in more than 1 % of its first 64 kiB."""
+    CR and LF) in more than 1 % of its first 64 KiB."""
     head = text[:1 << 16]
     return "\x00" in head or len(_CONTROLS.findall(head)) > 0.01 * len(head)
 

@@ -233,6 +233,23 @@ def test_permission_denied_is_named(tmp_path, monkeypatch):
     assert exc.value.file == str(path) and "chmod" in exc.value.fix
 
 
+def test_permission_denied_to_a_streamed_reader_is_named(tmp_path, monkeypatch):
+    """A recording a library opens by its name (WAV, HDF5, film) is opened here first."""
+    path = tmp_path / "r.wav"
+    path.write_bytes(b"RIFF")
+    real = os.open
+
+    def denied(p, *args, **kw):
+        if str(p) == str(path):
+            raise PermissionError(13, "Permission denied", str(p))
+        return real(p, *args, **kw)
+
+    monkeypatch.setattr(files.os, "open", denied)
+    with pytest.raises(InputError, match="permission denied") as exc:
+        files.regular(path, files.STREAMED, field="regime[0].signal")
+    assert exc.value.field == "regime[0].signal"
+
+
 def test_a_file_that_grows_while_it_is_read_is_read_no_further(tmp_path, monkeypatch):
     """Judged small, grown since: at most limit + 1 bytes are read, then it is refused."""
     path = tmp_path / "student.toml"
