@@ -24,6 +24,7 @@ import importlib
 import math
 import re
 import tomllib
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -31,7 +32,7 @@ from processing.diagnostics import InputError
 from processing.grading import FACTOR_SLIPS, Policy, Reported, Slip, Verdict, judge, \
     written_digits
 
-from .registry import evaluate, lab_module
+from .registry import LABS, evaluate, lab_module
 
 CHECK_SAMPLES = 0
 """Monte Carlo draws of a checking reduction: none, the verdicts use the value and the linear
@@ -55,6 +56,8 @@ class Check:
     """Every number the file's measurements hold, in order (for telling copied readings)."""
     tables: list = field(default_factory=list)
     """The reported tables judged (:class:`labs.dyncalc_check.TableVerdict`)."""
+    results: tuple[str, ...] = ()
+    """The names of the results our reduction of the submission gives."""
 
     def to_dict(self) -> dict:
         out = {"file": self.file, "lab": self.lab, "student": self.student,
@@ -76,35 +79,182 @@ def _verdict_dict(v: Verdict) -> dict:
             "slip_text": None if v.slip is None else v.slip.text}
 
 
-def read_policy(path: str | Path | None, lab: str) -> Policy:
-    """The teacher's policy for ``lab`` from a TOML file: top-level ``rel_tol``, ``sig_figs``,
+POLICY_RULES = ("rel_tol", "sig_figs", "expected")
+"""The keys of a policy, at its top and in a lab's table."""
+
+MOST_SIG_FIGS = 15
+"""Most significant figures a policy may ask for: what a double holds."""
+
+
+@dataclass(frozen=True)
+class PolicyFile:
+    """A teacher's policy, validated (:func:`read_policy`): the rules at the file's top and
+    each lab's table of rules, which override them for that lab."""
+
+    file: str | None = None
+    top: dict = field(default_factory=dict)
+    labs: dict = field(default_factory=dict)
+
+    def for_lab(self, lab: str, knows=lambda name: True) -> Policy:
+        """The :class:`Policy` of ``lab``. The top's ``expected`` holds for every lab that
+        ``knows`` a name (a class may mix labs); a lab's own ``expected`` replaces it."""
+        rules = {**self.top, **self.labs.get(lab, {})}
+        expected = self.labs.get(lab, {}).get("expected")
+        if expected is None:
+            expected = tuple(n for n in self.top.get("expected", ()) if knows(n))
+        return Policy(rules.get("rel_tol", Policy.rel_tol), rules.get("sig_figs", Policy.sig_figs),
+                      expected)
+
+
+def read_policy(path: str | Path | None) -> PolicyFile:
+    """The teacher's policy from a TOML file: top-level ``rel_tol``, ``sig_figs``,
     ``expected``, overridden by a ``[labN]`` table; the defaults of :class:`Policy` without
-    a file."""
+    a file.
+
+    Raises
+    ------
+    InputError
+        A file that is not a policy (:mod:`processing.files`, TOML syntax); an unknown key or
+        lab (with a did-you-mean); ``rel_tol`` not a fraction in [0, 1), ``sig_figs`` not a
+        whole number from 1 to :data:`MOST_SIG_FIGS`, ``expected`` not a list of names.
+    """
+    from processing.files import POLICY, read_text
+
     if path is None:
-        return Policy()
+        return PolicyFile()
+    file = str(path)
     try:
-        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        raise InputError(f"cannot read the policy ({exc})", "give a TOML file with rel_tol, "
-                         "sig_figs and expected", file=str(path)) from None
-    merged = {k: v for k, v in data.items() if not isinstance(v, dict)}
-    merged.update(data.get(lab, {}))
-    unknown = set(merged) - {"rel_tol", "sig_figs", "expected"}
-    if unknown:
-        raise InputError(f"unknown policy key '{sorted(unknown)[0]}'",
-                         "use rel_tol, sig_figs, expected", file=str(path),
-                         field=sorted(unknown)[0])
+        data = tomllib.loads(read_text(path, POLICY, fix="give a TOML file with rel_tol, "
+                                                        "sig_figs and expected"))
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"not a valid TOML file ({exc})", "give a TOML file with rel_tol, "
+                         "sig_figs and expected", file=file) from None
+    top, labs = {}, {}
+    for key, value in data.items():
+        if key in LABS:
+            if not isinstance(value, dict):
+                raise InputError(f"'{key}' must be a table [{key}] of rules",
+                                 f"write the rules of {key} under a line [{key}]", file=file,
+                                 field=key)
+            labs[key] = {k: _rule(file, f"{key}.{k}", k, v) for k, v in value.items()}
+        else:
+            top[key] = _rule(file, key, key, value)
+    return PolicyFile(file, top, labs)
+
+
+def _rule(file: str, where: str, key: str, value):
+    """One rule of a policy, checked."""
+    def bad(problem, fix):
+        return InputError(problem, fix, file=file, field=where)
+
+    if key not in POLICY_RULES:
+        if "." in where:
+            raise bad(f"unknown policy key '{key}' in [{where.split('.')[0]}]",
+                      _close(key, list(POLICY_RULES), "a lab's rules are"))
+        if isinstance(value, dict):
+            raise bad(f"'{key}' is not a lab", _close(key, list(LABS), "the labs are"))
+        raise bad(f"unknown policy key '{key}'", _close(key, [*POLICY_RULES, *LABS],
+                                                        "use rel_tol, sig_figs, expected or a "
+                                                        "[labN] table of them; the keys are"))
+    if key == "rel_tol":
+        if isinstance(value, bool) or not isinstance(value, (int, float)) \
+                or not math.isfinite(value):
+            raise bad(f"rel_tol = {value!r} is not a number", "write the relative tolerance "
+                      "as a fraction: rel_tol = 0.01 for 1 %")
+        if not 0 <= value < 1:
+            raise bad(f"rel_tol = {value!r} is {'negative' if value < 0 else 'not below 1'}: "
+                      "it is a fraction of the value, from 0 up to (not including) 1",
+                      "write e.g. rel_tol = 0.01 for 1 %" + (
+                          f", rel_tol = {value / 100:g} for {value:g} %" if value >= 1 else ""))
+        return float(value)
+    if key == "sig_figs":
+        if isinstance(value, bool) or not isinstance(value, int) \
+                or not 1 <= value <= MOST_SIG_FIGS:
+            raise bad(f"sig_figs = {value!r} is not a whole number from 1 to {MOST_SIG_FIGS}",
+                      "write how many significant figures a value must have, e.g. "
+                      "sig_figs = 3")
+        return value
+    if not isinstance(value, list) or not all(isinstance(n, str) and n.strip()
+                                              for n in value):
+        raise bad(f"expected = {value!r} is not a list of result names",
+                  "write expected = [\"J_trifilar\", \"J_pendulum_cm\"] (the names of the "
+                  "result JSON)")
+    return tuple(dict.fromkeys(n.strip() for n in value))
+
+
+def _close(word: str, options: list[str], listing: str) -> str:
+    close = difflib.get_close_matches(word, options, n=1, cutoff=0.6)
+    return f"did you mean '{close[0]}'?" if close else f"{listing}: {', '.join(options)}"
+
+
+def lab_knows(lab: str, names) -> Callable[[str], bool]:
+    """Whether a name is a result of ``lab``: one of ``names`` (the results of its
+    submissions), of the lab's declared ``RESULTS`` (its module's or its report's), or a
+    numbered result (``delta_3``) of a kind one of those holds (``delta_1``)."""
+    known = set(names) | _declared(lab)
+    stems = {_stem(n) for n in known}
+    return lambda name: name in known or _stem(name) in stems
+
+
+def _stem(name: str) -> str:
+    """A result's name without its number: ``delta_2`` → ``delta_#``."""
+    return re.sub(r"_\d+$", "_#", name)
+
+
+def _declared(lab: str) -> set[str]:
+    """The results a lab declares whatever its data (``RESULTS`` of its module and of its
+    report module, where it has them)."""
+    module = lab_module(lab)
+    names = set(getattr(module, "RESULTS", {}) or {})
     try:
-        return Policy(float(merged.get("rel_tol", 0.01)), int(merged.get("sig_figs", 3)),
-                      tuple(str(x) for x in merged.get("expected", ())))
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"a policy value is not a number ({exc})", "write rel_tol = 0.01, "
-                         "sig_figs = 3", file=str(path)) from None
+        report = importlib.import_module(f"{module.__name__}_report")
+    except ModuleNotFoundError:
+        return names
+    return names | set(getattr(report, "RESULTS", {}) or {})
+
+
+def unknown_expected(checks: list[Check], policy: PolicyFile) -> None:
+    """Refuse a policy that expects a result no submission checked can give: a name of a
+    lab's table unknown to that lab, a name at the top unknown to every lab checked.
+
+    Raises
+    ------
+    InputError
+        Naming the policy, the rule and the name, with the closest result as the fix.
+    """
+    by_lab: dict[str, set[str]] = {}
+    for c in checks:
+        by_lab.setdefault(c.lab, set()).update(c.results)
+    knows = {lab: lab_knows(lab, names) for lab, names in by_lab.items()}
+    asked = [(f"{lab}.expected", [lab], policy.labs[lab]["expected"]) for lab in by_lab
+             if "expected" in policy.labs.get(lab, {})]
+    if "expected" in policy.top:
+        asked.append(("expected", list(by_lab), policy.top["expected"]))
+    for where, labs, names in asked:
+        for name in names:
+            if any(knows[lab](name) for lab in labs):
+                continue
+            results = sorted(set().union(*(by_lab[lab] | _declared(lab) for lab in labs)))
+            count = sum(c.lab in labs for c in checks)
+            raise InputError(
+                f"'{name}' is not a result of {' or '.join(labs)} (none of the {count} "
+                f"submission(s) checked gives it)",
+                _close(name, results, "correct the name in expected; the results are"),
+                file=policy.file, field=where)
+
+
+REPORTED_KEYS = ("value", "u")
+"""The keys of a reported value written as a table."""
 
 
 def _reported(path: str, table, results) -> dict[str, Reported]:
     """The ``[reported]`` table in SI, each value's unit checked against the result's."""
-    if not isinstance(table, dict) or not table:
+    if table is not None and not isinstance(table, dict):
+        raise InputError(f"'reported' must be a table, got {table!r}",
+                         "write the values you got under a line [reported], named as in the "
+                         "result JSON (e.g. J_trifilar = \"0.1234 kg*m^2\")", file=path,
+                         field="reported")
+    if not table:
         raise InputError("the file has no [reported] table: nothing to check",
                          "add a [reported] table with the values you got, named as in the "
                          "result JSON (e.g. J_trifilar = \"0.1234 kg*m^2\")", file=path,
@@ -118,11 +268,26 @@ def _reported(path: str, table, results) -> dict[str, Reported]:
                 f"the results are: {', '.join(results)}"
             raise InputError(f"'{name}' is not a result of this lab", hint, file=path,
                              field=field)
-        result = results[name]
-        value, u = (entry.get("value"), entry.get("u")) if isinstance(entry, dict) \
-            else (entry, None)
-        out[name] = _quantity(path, field, value, u, result.unit)
+        value, u = _entry(path, field, entry)
+        out[name] = _quantity(path, field, value, u, results[name].unit)
     return out
+
+
+def _entry(path: str, field: str, entry) -> tuple:
+    """(value, u) of a reported value: a plain value, or a table ``{value = …, u = …}``."""
+    if not isinstance(entry, dict):
+        return entry, None
+    for key in entry:
+        if key not in REPORTED_KEYS:
+            close = difflib.get_close_matches(key, REPORTED_KEYS, n=1, cutoff=0.5)
+            raise InputError(f"unknown key '{key}' in the table of '{field.split('.', 1)[1]}'",
+                             (f"did you mean '{close[0]}'? " if close else "") + "a reported "
+                             "value's table holds value and, optionally, u (your standard "
+                             "uncertainty)", file=path, field=f"{field}.{key}")
+    if "value" not in entry:
+        raise InputError("the table gives no value", "write { value = \"0.1234 kg*m^2\", "
+                         "u = \"0.0004 kg*m^2\" }, or the value alone", file=path, field=field)
+    return entry["value"], entry.get("u")
 
 
 def _quantity(path: str, field: str, value, u, unit: str) -> Reported:
@@ -136,23 +301,49 @@ def _quantity(path: str, field: str, value, u, unit: str) -> Reported:
         raise InputError(f"{value!r} has no unit", f"write the value with its unit, as a "
                          f"string: \"{value} {unit}\" (or in the unit you used)", file=path,
                          field=field)
+    wanted = unit or "a pure number"
     try:
         si, limit = parse_quantity(text, unit or "")
-        u_si = 0.0
-        if u is not None:
-            u_text = u if isinstance(u, str) else repr(u)
-            if unit and not isinstance(u, str):
-                raise ValueError(f"the uncertainty {u!r} has no unit")
-            u_si = parse_quantity(u_text, unit or "")[0]
     except ValueError as exc:
-        wanted = unit or "a pure number"
         raise InputError(str(exc), f"write the value as a number and a unit of {wanted}",
                          file=path, field=field) from None
+    if not math.isfinite(si):
+        raise InputError(f"{text!r} is not a finite number", f"write the value you got, a "
+                         f"number and a unit of {wanted}", file=path, field=field)
+    u_si = limit or 0.0
+    if u is not None:
+        if limit is not None:
+            raise InputError(f"the uncertainty is given twice: ± in the value and u = {u!r}",
+                             "keep one of them", file=path, field=f"{field}.u")
+        u_si = _uncertainty(path, f"{field}.u", u, unit)
     digits, exponent = written_digits(text)
     scale = si / float(text.split()[0]) if _plain_number(text) and float(text.split()[0]) \
         else 1.0
-    return Reported(field.split(".", 1)[1], si, u_si or (limit or 0.0), digits,
-                    abs(scale) * 10.0 ** exponent)
+    return Reported(field.split(".", 1)[1], si, u_si, digits, abs(scale) * 10.0 ** exponent)
+
+
+def _uncertainty(path: str, field: str, u, unit: str) -> float:
+    """A reported standard uncertainty in SI: a number (a pure result) or a string with the
+    result's unit, finite and ≥ 0."""
+    from processing.units import parse_quantity
+
+    wanted = unit or "a pure number"
+    if isinstance(u, bool) or not isinstance(u, (int, float, str)):
+        raise InputError(f"u = {u!r} is not an uncertainty", f"write u as a number and a unit "
+                         f"of {wanted}", file=path, field=field)
+    if unit and not isinstance(u, str):
+        raise InputError(f"the uncertainty {u!r} has no unit", f"write it with its unit, as a "
+                         f"string: u = \"{u} {unit}\"", file=path, field=field)
+    try:
+        u_si, limit = parse_quantity(u if isinstance(u, str) else repr(u), unit or "")
+    except ValueError as exc:
+        raise InputError(str(exc), f"write u as a number and a unit of {wanted}", file=path,
+                         field=field) from None
+    if limit is not None or not math.isfinite(u_si) or u_si < 0:
+        raise InputError(f"u = {u!r} is not a standard uncertainty (a finite number ≥ 0)",
+                         "give your standard uncertainty, a positive number with its unit, or "
+                         "leave u out", file=path, field=field)
+    return u_si
 
 
 def _plain_number(text: str) -> bool:
@@ -214,19 +405,36 @@ def _lab_slips(module, results, inputs, options, wrong=None) -> list[Slip]:
 
 
 def read_key(path: str | Path) -> dict[str, float]:
-    """The ``"results"`` of an answer key (``dynlab synth``): result names to true values."""
+    """The ``"results"`` of an answer key (``dynlab synth``): result names to true values.
+
+    Raises
+    ------
+    InputError
+        No key there; not a JSON answer key (:mod:`processing.files`, syntax, no
+        ``"results"`` object); a result that is not a finite number.
+    """
     import json
 
-    if not Path(path).is_file():
+    from processing.files import ANSWER_KEY, read_text
+
+    if not Path(path).exists():
         raise InputError("no answer key for this submission", "name each submission's folder "
                          "by the student's id, as in the roster the variants were written for",
                          file=str(path))
+    fix = "give the answer_key.json that dynlab synth wrote"
     try:
-        results = json.loads(Path(path).read_text(encoding="utf-8"))["results"]
-    except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError) as exc:
-        raise InputError(f"not an answer key ({type(exc).__name__}: {exc})",
-                         "give the answer_key.json that dynlab synth wrote", file=str(path),
-                         field="results") from None
+        results = json.loads(read_text(path, ANSWER_KEY, fix=fix))["results"]
+    except (ValueError, KeyError, TypeError) as exc:
+        raise InputError(f"not an answer key ({type(exc).__name__}: {exc})", fix,
+                         file=str(path), field="results") from None
+    if not isinstance(results, dict):
+        raise InputError("\"results\" is not a table of result names and values", fix,
+                         file=str(path), field="results")
+    for name, value in results.items():
+        if isinstance(value, bool) or not isinstance(value, (int, float)) \
+                or not math.isfinite(value):
+            raise InputError(f"the true value of '{name}' is {value!r}, not a finite number",
+                             fix, file=str(path), field=f"results.{name}")
     return {str(k): float(v) for k, v in results.items()}
 
 
@@ -238,8 +446,8 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
     ----------
     path : str or Path
         The measurement file with its ``[reported]`` table.
-    policy : str or Path, optional
-        The teacher's policy file (:func:`read_policy`).
+    policy : str, Path or PolicyFile, optional
+        The teacher's policy (a file, or as :func:`read_policy` read it).
     confine : bool
         Read no file outside the submission's folder.
     key : dict, optional
@@ -266,7 +474,8 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
     tables = table.pop("tables", None) if isinstance(table, dict) else None
     result = evaluate(path, data=data, confine=confine, **options)
     reported = _reported(str(path), table, result.results) if table or tables is None else {}
-    rules = read_policy(policy, result.lab)
+    policy = policy if isinstance(policy, PolicyFile) else read_policy(policy)
+    rules = policy.for_lab(result.lab, lab_knows(result.lab, result.results))
     if key:
         rules = Policy(rules.rel_tol, rules.sig_figs, tuple(dict.fromkeys(
             [*rules.expected, *(k for k in key if k in result.results)])))
@@ -302,7 +511,7 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
         checker = importlib.import_module(TABLE_CHECKS[result.lab])
         judged_tables = checker.check_tables(path, tables, inputs(), rules, confine=confine)
     return Check(str(path), result.lab, result.meta.get("student", Path(path).stem), verdicts,
-                 _readings(data), judged_tables)
+                 _readings(data), judged_tables, tuple(result.results))
 
 
 def _readings(data: dict) -> tuple[float, ...]:

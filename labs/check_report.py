@@ -94,7 +94,7 @@ def summary_csv(checks: list[Check], refused: dict[str, str]) -> str:
             w.writerow([c.file, c.student, c.lab, _table_name(t), t.verdict, "", "", "", "",
                         slips, table_detail(t)])
     for file, message in refused.items():
-        w.writerow([file, "", "", "", "refused", "", "", "", "", message])
+        w.writerow([file, "", "", "", "refused", "", "", "", "", "", message])
     return buf.getvalue()
 
 

@@ -16,6 +16,7 @@ from pathlib import Path
 
 from processing import __version__
 from processing.diagnostics import InputError
+from processing.files import MEASUREMENT, regular, resolved
 from processing.reporting.i18n import LANGS
 
 from .catalogue import CATALOGUE
@@ -27,10 +28,15 @@ from .registry import LABS, evaluate, lab_module
 EXIT_INPUT = 2
 
 
+MAX_SEED = 2**63 - 1
+"""Largest seed: 19 digits, which the written files' names carry."""
+
+
 def _seed(text: str) -> int:
-    """A seed of the random generators: a whole number ≥ 0."""
-    if not text.isdigit():
-        raise argparse.ArgumentTypeError(f"a seed is a whole number ≥ 0, got {text!r}")
+    """A seed of the random generators: a whole number from 0 to :data:`MAX_SEED`."""
+    if not (text.isascii() and text.isdigit()) or int(text) > MAX_SEED:
+        raise argparse.ArgumentTypeError(f"a seed is a whole number from 0 to {MAX_SEED}, "
+                                         f"got {text[:40]!r}")
     return int(text)
 
 
@@ -70,7 +76,7 @@ def _stems(files) -> list[str]:
     >>> _stems(["a/x/rod.toml", "b/x/rod.toml", "flywheel.toml"])
     ['a-x-rod', 'b-x-rod', 'flywheel']
     """
-    paths = [Path(f).resolve() for f in files]
+    paths = [resolved(f) for f in files]
     stems = []
     for p in paths:
         rivals = [q for q in paths if q.stem == p.stem and q != p]
@@ -86,7 +92,7 @@ def _unique(files) -> list[str]:
     """The files, each once (a file given twice is reduced once, and the user told)."""
     seen, kept = set(), []
     for f in files:
-        key = Path(f).resolve()
+        key = resolved(f)
         if key in seen:
             print(f"note: {f} is given more than once; it is reduced once", file=sys.stderr)
             continue
@@ -95,22 +101,39 @@ def _unique(files) -> list[str]:
     return kept
 
 
-def _run_files(files, out: Path | None, formats, lang: str, as_json: bool,
-               confine: bool = False) -> int:
-    """Reduce each file; write its reports to ``out`` (None: write nothing)."""
-    from processing.reporting.render import to_json, to_terminal
+def _internal(exc: Exception, where: str | None = None) -> str:
+    """The line that reports an internal error (of one file, if ``where``)."""
+    return (f"internal error{f' in {where}' if where else ''}: {type(exc).__name__}: {exc} "
+            "(run with --debug for the traceback, and please report it)")
 
-    failures, documents = 0, []
+
+def _run_files(files, out: Path | None, formats, lang: str, as_json: bool,
+               confine: bool = False, debug: bool = False) -> int:
+    """Reduce each file; write its reports to ``out`` (None: write nothing) in ``formats``
+    (None: every format). A bad file, or one the toolkit fails on, is reported and the others
+    are reduced; a path that is no measurement file is refused before the reduction's and the
+    reports' libraries are loaded."""
+    failures, crashes, documents = 0, 0, []
     files = _unique(files)
     for path, stem in _progress(list(zip(files, _stems(files))), "reducing"):
         try:
+            regular(path, MEASUREMENT)
             result = evaluate(path, confine=confine)
+            from processing.reporting.render import FORMATS, to_json, to_terminal
+
+            formats = formats or FORMATS
             replaced = [p for p in (out / f"{stem}.{f}" for f in formats) if p.exists()] \
                 if out is not None else []
             written = _write(result, out, stem, formats, lang) if out is not None else []
         except InputError as exc:
             print(f"error: {exc}", file=sys.stderr)
             failures += 1
+            continue
+        except Exception as exc:
+            if debug or len(files) == 1:
+                raise
+            print(_internal(exc, str(path)), file=sys.stderr)
+            crashes += 1
             continue
         if as_json:
             documents.append(to_json(result))
@@ -120,16 +143,16 @@ def _run_files(files, out: Path | None, formats, lang: str, as_json: bool,
                                      for p in written))
     if documents:
         print(documents[0] if len(files) == 1 else "[\n" + ",\n".join(documents) + "\n]")
-    return EXIT_INPUT if failures else 0
+    return 1 if crashes else EXIT_INPUT if failures else 0
 
 
 def _run(args) -> int:
-    from processing.reporting.render import FORMATS
-
     writes = not args.json or args.out is not None or args.format is not None
     out = Path(args.out or "reports") if writes else None
-    return _run_files(args.files, out, args.format or FORMATS, args.lang, args.json,
-                      args.confine)
+    if out is not None:
+        _writable_folder(out, "--out", "the reports")
+    return _run_files(args.files, out, args.format, args.lang, args.json, args.confine,
+                      args.debug)
 
 
 def _demo(args) -> int:
@@ -158,11 +181,30 @@ def _template(args) -> int:
 
     text = template(module.SPEC, args.lang)
     if args.output:
-        Path(args.output).write_text(text, encoding="utf-8")
+        _write_file(Path(args.output), text, "-o")
         print(f"wrote {args.output}: fill it in, then run: dynlab run {args.output}")
     else:
         sys.stdout.write(text)
     return 0
+
+
+def _write_file(path: Path, text: str, option: str) -> None:
+    """Write ``text`` to a new or regular file (a FIFO would block the writer, a device
+    swallow the text), an unwritable path reported as bad input."""
+    import stat
+
+    try:
+        kind = path.stat().st_mode
+    except OSError:
+        kind = None
+    if kind is not None and not stat.S_ISREG(kind):
+        raise InputError("it exists and is not a regular file", f"give {option} the name of "
+                         "a new file, or of a file to replace", file=str(path))
+    try:
+        path.write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise InputError(f"cannot write it ({exc.strerror or exc})", f"give {option} a file "
+                         "in a folder you can write to", file=str(path)) from None
 
 
 def _kinematics(args) -> int:
@@ -190,16 +232,18 @@ def _kinematics(args) -> int:
 
 def _check(args) -> int:
     """Judge each submission's [reported] values; a folder is a class: every .toml in it,
-    a summary written, the pairs with the same readings named."""
+    a summary written, the pairs with the same readings named. In a class, a submission
+    that cannot be checked (bad input, or a failure of the toolkit) is listed as refused
+    with its reason and the others are checked."""
     import json
 
-    from .check import check, copied_pairs, read_key
+    from .check import check, copied_pairs, read_key, read_policy, unknown_expected
     from .check_report import terminal, write_summary
 
     files, folders = [], []
     for item in args.files:
         p = Path(item)
-        if p.is_dir():
+        if _is_folder(p):
             folders.append(p)
             files += sorted(p.rglob("*.toml"))
         else:
@@ -207,43 +251,85 @@ def _check(args) -> int:
     if folders and not files:
         raise InputError("no .toml submission in the folder", "give the folder holding the "
                          "students' measurement files", file=str(folders[0]))
-    if args.policy is not None and not Path(args.policy).is_file():
-        raise InputError("the policy file is not found", "check the path of --policy",
-                         file=args.policy)
+    policy = read_policy(args.policy)
     if args.keys is not None and not folders:
         raise InputError("--keys goes with a class folder", "give the folder of the students' "
                          "subfolders (as dynlab synth --students wrote them)", file=args.keys)
+    if args.keys is not None and not Path(args.keys).is_dir():
+        raise InputError("--keys is not a folder", "give the folder of the answer keys, "
+                         "KEYDIR/<id>/answer_key.json, as dynlab synth --students wrote it",
+                         file=args.keys)
+    out = Path(args.out)
+    if folders:
+        _writable_folder(out, "--out", "the class summary")
+    alone = len(files) == 1 and not folders
     checks, refused = [], {}
     for path in _progress(files, "check"):
         try:
             key = None if args.keys is None else read_key(_key_of(path, folders, args.keys))
-            checks.append(check(path, policy=args.policy, confine=bool(folders), key=key))
+            checks.append(check(path, policy=policy, confine=bool(folders), key=key))
         except InputError as exc:
-            if not folders:
+            if alone:
                 raise
             refused[str(path)] = str(exc)
+        except Exception as exc:
+            if alone or args.debug:
+                raise
+            refused[str(path)] = _internal(exc, str(path))
+    unknown_expected(checks, policy)
     pairs = copied_pairs(checks)
     if args.json:
-        print(json.dumps([c.to_dict() for c in checks] if len(files) > 1 or folders
-                         else checks[0].to_dict(), ensure_ascii=False, indent=1))
+        print(json.dumps([c.to_dict() for c in checks] if not alone else checks[0].to_dict(),
+                         ensure_ascii=False, indent=1))
     else:
         for c in checks:
             print(terminal(c, args.lang))
-        for file, message in refused.items():
-            print(f"error: {message}", file=sys.stderr)
         for a, b in pairs:
             print(f"same readings: {a} and {b}")
+    for file, message in refused.items():
+        print(message if message.startswith("internal error") else f"error: {message}",
+              file=sys.stderr)
     if folders:
-        written = write_summary(Path(args.out), checks, refused, pairs, args.lang)
+        try:
+            written = write_summary(out, checks, refused, pairs, args.lang)
+        except OSError as exc:
+            raise InputError(f"cannot write the summary there ({exc.strerror or exc})",
+                             "give --out a folder you can write to", file=str(out)) from None
         print(f"class summary: {', '.join(str(w) for w in written)}", file=sys.stderr)
     return EXIT_INPUT if refused else 0
+
+
+def _writable_folder(out: Path, option: str, what: str) -> None:
+    """Refuse an output folder that is a file, or lies under one, or that the system cannot
+    make (nothing is written yet)."""
+    problem = None
+    try:
+        for p in (out, *out.parents):
+            if p.exists():
+                if not p.is_dir():
+                    problem = f"{'it' if p == out else repr(str(p))} is a file, not a folder"
+                break
+    except OSError as exc:
+        problem = exc.strerror or str(exc)
+    if problem is not None:
+        raise InputError(f"cannot write {what} there: {problem}",
+                         f"give {option} a folder you can write to (a new one is made)",
+                         file=str(out))
+
+
+def _is_folder(path: Path) -> bool:
+    """Whether ``path`` is a folder (a path the system cannot follow is not)."""
+    try:
+        return path.is_dir()
+    except OSError:
+        return False
 
 
 def _key_of(path: Path, folders: list[Path], keys: str) -> Path:
     """KEYDIR/<id>/answer_key.json of a submission in <folder>/<id>/…"""
     for folder in folders:
         try:
-            sid = path.resolve().relative_to(folder.resolve()).parts[0]
+            sid = resolved(path).relative_to(resolved(folder)).parts[0]
         except ValueError:
             continue
         return Path(keys) / sid / "answer_key.json"
@@ -257,42 +343,71 @@ def _list(_args) -> int:
 
 
 def _synth(args) -> int:
-    """``write_synthetic`` of the lab, with the options it takes; an option it does not take
-    is bad input."""
+    """``write_synthetic`` of the lab, with the options it takes; an option it does not take,
+    a value its scene does not model (:mod:`labs.synth_options`) or an ``--out`` that is no
+    folder is bad input, refused before anything is written."""
     import inspect
 
-    write = getattr(LABS[args.lab], "write_synthetic", None)
-    if write is None:
-        scenes = [k for k, m in LABS.items() if hasattr(m, "write_synthetic")]
-        raise InputError(f"{args.lab} has no synthetic scene yet",
-                         f"use one of {', '.join(scenes)}")
-    takes = inspect.signature(write).parameters
+    from .synth_options import check_options
+
     given = {name: value for name, value in
              (("fmt", args.format), ("snr_db", args.snr), ("pitch_error_deg", args.pitch_error),
-              ("sample_rate", None if args.sample_rate is None else args.sample_rate * 1e3),
-              ("runs", args.runs), ("friction", args.friction),
-              ("contact", None if args.contact is None else args.contact * 1e-6),
-              ("lash", None if args.lash is None else args.lash * 1e-6),
+              ("sample_rate", args.sample_rate), ("runs", args.runs),
+              ("friction", args.friction), ("contact", args.contact), ("lash", args.lash),
               ("periods", args.periods), ("amplitude_exponent", args.amplitude_exponent),
               ("paper", args.paper or None), ("image", args.image or None),
               ("film", args.film or None),
               ("recording", False if args.no_recording else None), ("part", args.part))
              if value is not None}
+    check_options(args.lab, given)
+    out = Path(args.out)
+    _writable_folder(out, "--out", "the synthetic measurement")
+    module = LABS[args.lab]
+    write = getattr(module, "write_synthetic", None)
+    if write is None:
+        scenes = [k for k, m in LABS.items() if hasattr(m, "write_synthetic")]
+        raise InputError(f"{args.lab} has no synthetic scene yet",
+                         f"use one of {', '.join(scenes)}")
+    takes = inspect.signature(write).parameters
     foreign = [name for name in given if name not in takes]
     if foreign:
         raise InputError(f"dynlab synth {args.lab} takes no {', '.join(foreign)}",
                          f"leave those options out for {args.lab}")
-    if args.students is not None:
-        from .variants import write_variants
+    fmt = given.get("fmt", takes["fmt"].default if "fmt" in takes else None)
+    _check_format(module, args.lab, fmt, given.get("sample_rate"))
+    given.update({k: round(given[k] * 1e3, 6) for k in ("sample_rate",) if k in given})
+    given.update({k: given[k] * 1e-6 for k in ("contact", "lash") if k in given})
+    try:
+        if args.students is not None:
+            from .variants import write_variants
 
-        variants = write_variants(write, args.out, args.students, args.seed, **given)
-        for sid, files in variants.items():
-            print(f"{sid}: {files['toml']}")
-        return 0
-    written = write(args.out, args.seed, **given)
+            variants = write_variants(write, out, args.students, args.seed, **given)
+            for sid, files in variants.items():
+                print(f"{sid}: {files['toml']}")
+            return 0
+        written = write(out, args.seed, **given)
+    except OSError as exc:
+        raise InputError(f"cannot write the synthetic measurement there "
+                         f"({exc.strerror or exc})", "give --out a folder you can write to, "
+                         "on a disk with room", file=str(out)) from None
     for path in written.values():
         print(path)
     return 0
+
+
+def _check_format(module, lab: str, fmt: str | None, sample_rate: float | None) -> None:
+    """The recording format is one the lab writes; a WAV's rate is a whole number of Hz."""
+    formats = getattr(module, "SYNTH_FORMATS", ())
+    if fmt is None or not formats:
+        return
+    if fmt not in formats:
+        raise InputError(f"--format {fmt}: {lab} writes its records as "
+                         f"{', '.join(formats)}", f"give --format {' or '.join(formats)}")
+    if fmt == "wav" and sample_rate is not None and \
+            abs(sample_rate * 1e3 - round(sample_rate * 1e3)) > 1e-6:
+        raise InputError(f"--sample-rate {sample_rate:g} kHz is not a whole number of "
+                         "samples per second, which a WAV file stores",
+                         "give a sound card's rate, e.g. --sample-rate 44.1 or 48")
 
 
 def parser() -> argparse.ArgumentParser:

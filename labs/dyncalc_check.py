@@ -42,6 +42,7 @@ import numpy as np
 
 from processing import dynamics as dyn
 from processing.diagnostics import InputError
+from processing.files import resolved
 from processing.grading import Policy
 from processing.kinematics import piston_acceleration, rod_angle
 from processing.measurement import Inputs, bi
@@ -547,14 +548,10 @@ def check_tables(path: str | Path, entries, inputs: Inputs, policy: Policy = Pol
         if not isinstance(file, str):
             raise InputError(f"{file!r} is not a file name", f"write {name} = \"{name}.csv\"",
                              file=str(path), field=where)
-        csv_path = (path.parent / file).resolve()
-        if confine and path.parent.resolve() not in csv_path.parents:
+        csv_path = path.parent / file
+        if confine and resolved(path.parent) not in resolved(csv_path).parents:
             raise InputError(f"'{file}' lies outside the submission's folder",
                              "put the table beside the submission", file=str(path), field=where)
-        if not csv_path.is_file():
-            raise InputError(f"the table file '{file}' is not found", "export the table as CSV "
-                             "next to the submission, or correct the name", file=str(path),
-                             field=where)
         table = read_table(csv_path, name, cylinders=args["cylinders"],
                            piston_area=args["piston_area"],
                            mu_p=drawing["mu_p"].value if drawing else None, shown=str(csv_path))

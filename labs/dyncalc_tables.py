@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from processing.diagnostics import InputError
+from processing.files import REPORTED_TABLE, read_text
 from processing.grading import written_digits
 from processing.units import RU_UNITS, dimension, si_factor
 
@@ -121,10 +122,9 @@ def split_header(header: str) -> tuple[str, str]:
     return (name, unit) if comma else (header, "")
 
 
-def _cells(path: Path) -> list[list[str]]:
+def _cells(text: str) -> list[list[str]]:
     """The CSV's rows (comma-, semicolon- or tab-separated; a decimal comma when not
     comma-separated)."""
-    text = path.read_text(encoding="utf-8-sig")
     first = text.splitlines()[0] if text.strip() else ""
     bare = re.sub(r'"[^"]*"', "", first)        # separators inside quoted headers do not count
     delimiter = "\t" if "\t" in bare else ";" if ";" in bare else ","
@@ -161,9 +161,11 @@ def read_table(path: Path, name: str, *, cylinders: int, piston_area: float,
     """
     kind = KINDS[name]
     where = f"reported.tables.{name}"
+    text = read_text(path, REPORTED_TABLE, field=where, legacy="cp1251",
+                     fix="export the sheet as CSV")
     try:
-        rows = _cells(path)
-    except (OSError, UnicodeDecodeError, csv.Error) as exc:
+        rows = _cells(text)
+    except csv.Error as exc:
         raise InputError(f"cannot read the table ({exc})", "export the sheet as CSV (UTF-8)",
                          file=shown, field=where) from None
     if len(rows) < 2:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import hashlib
+import re
 import tomllib
 from pathlib import Path
 
@@ -13,31 +14,103 @@ from processing.diagnostics import InputError
 from processing.toml_writer import dumps
 
 
+MAX_ID = 64
+"""Longest student id [characters]: it names the student's folder (a file system allows
+255 bytes, four a character at most)."""
+
+MAX_STUDENTS = 5000
+"""Most students of a roster: a class list, not a register of the university."""
+
+_RESERVED = re.compile(r"(con|prn|aux|nul|com\d|lpt\d)(\..*)?", re.I)
+"""Names Windows keeps for its devices: no folder may take them."""
+
+_CONTROL = re.compile(r"[\x00-\x1f\x7f]")
+
+
 def read_roster(path: str | Path) -> list[tuple[str, str]]:
     """(id, name) of every student of a roster CSV with the columns ``id`` and ``name``
-    (``name`` optional), ids unique and usable as folder names."""
+    (``name`` optional), ids unique and usable as folder names.
+
+    The roster is a text file (:data:`processing.files.ROSTER`: UTF-8, or Windows-1251 as
+    Russian Excel saves it) with a header row; its cells are separated by commas, semicolons
+    (Excel in a comma-decimal region) or tabs.
+
+    Raises
+    ------
+    InputError
+        Not a roster (:mod:`processing.files`: a FIFO, a device, too large, binary data);
+        no ``id`` column; more than :data:`MAX_STUDENTS` rows; an id that is empty, longer
+        than :data:`MAX_ID`, holds a control character, a path separator or a character
+        Windows forbids in names, is ``.``, ``..`` or a Windows device name, or repeats
+        another (letter case aside) — naming the roster's row and the fix.
+    """
+    from processing.files import ROSTER, looks_binary, read_text
+
     path = Path(path)
+    fix = "save the roster as CSV (a header row id,name and a row per student)"
+    text = read_text(path, ROSTER, legacy="cp1251", fix=fix, binary=True)
+    lines = text.splitlines()
+    sep = next((s for s in (";", "\t") if lines and s in lines[0]), ",")
     try:
-        rows = list(csv.DictReader(path.read_text(encoding="utf-8-sig").splitlines()))
-    except (OSError, UnicodeDecodeError, csv.Error) as exc:
-        raise InputError(f"cannot read the roster ({exc})", "give a CSV file with a header "
-                         "row: id,name", file=str(path)) from None
-    if not rows or "id" not in rows[0]:
+        reader = csv.reader(lines, delimiter=sep)
+        header = [h.strip().lower() for h in next(reader, [])]
+        rows = list(reader)
+    except csv.Error as exc:
+        raise InputError(f"not a CSV table ({exc})", "save the roster as CSV: a header row "
+                         "id,name and a row per student", file=str(path)) from None
+    if "id" not in header:
+        if looks_binary(text):
+            raise InputError("not a text file (binary data), so not a roster", fix,
+                             file=str(path))
         raise InputError("the roster has no 'id' column", "write a header row id,name and a "
                          "row per student", file=str(path), field="id")
+    if len(rows) > MAX_STUDENTS:
+        raise InputError(f"{len(rows)} rows: a roster holds at most {MAX_STUDENTS} students",
+                         "give the roster of one class or group", file=str(path))
+    at, named = header.index("id"), header.index("name") if "name" in header else None
     students, seen = [], {}
     for line, row in enumerate(rows, start=2):
-        sid = (row.get("id") or "").strip()
-        if not sid or any(c in sid for c in '/\\:*?"<>|') or sid in (".", ".."):
-            raise InputError(f"row {line}: id {sid!r} cannot name a folder",
-                             "give each student a plain id (letters, digits, - or _)",
-                             file=str(path), field="id")
-        if sid in seen:
-            raise InputError(f"id {sid!r} is in rows {seen[sid]} and {line}",
+        if not any(cell.strip() for cell in row):
+            continue
+        sid = row[at].strip() if at < len(row) else ""
+        _check_id(path, line, sid)
+        if sid.casefold() in seen:
+            raise InputError(f"id {sid!r} is in rows {seen[sid.casefold()]} and {line}"
+                             + ("" if sid in (s for s, _ in students) else
+                                " (ids that differ only in letter case name one folder on "
+                                "Windows and macOS)"),
                              "give every student a different id", file=str(path), field="id")
-        seen[sid] = line
-        students.append((sid, (row.get("name") or sid).strip()))
+        seen[sid.casefold()] = line
+        name = row[named].strip() if named is not None and named < len(row) else ""
+        if _CONTROL.search(name):
+            raise InputError(f"row {line}: the name holds a control character",
+                             "write the student's name as plain text", file=str(path),
+                             field="name")
+        students.append((sid, name or sid))
+    if not students:
+        raise InputError("the roster names no student", "add a row per student under the "
+                         "header id,name", file=str(path), field="id")
     return students
+
+
+def _check_id(path: Path, line: int, sid: str) -> None:
+    """Refuse an id that cannot name a folder on every system a class is copied to."""
+    def refuse(problem: str) -> InputError:
+        return InputError(f"row {line}: {problem}", "give each student a plain id (letters, "
+                          f"digits, - or _, at most {MAX_ID} characters)", file=str(path),
+                          field="id")
+
+    if not sid:
+        raise refuse("the id is empty")
+    if len(sid) > MAX_ID:
+        raise refuse(f"the id is {len(sid)} characters long, more than {MAX_ID}")
+    if _CONTROL.search(sid):
+        raise refuse(f"the id {sid!r} holds a control character")
+    if any(c in sid for c in '/\\:*?"<>|') or sid in (".", ".."):
+        raise refuse(f"id {sid!r} cannot name a folder (a path separator or a character "
+                     "file systems forbid)")
+    if _RESERVED.fullmatch(sid) or sid.endswith((".", " ")):
+        raise refuse(f"id {sid!r} cannot name a folder on Windows")
 
 
 def student_seed(seed: int, student_id: str) -> int:
@@ -78,7 +151,6 @@ def design_variant(lab_id: str, sample: str, out_dir: str | Path, seed: int,
         Paths written: ``toml`` and ``answer``.
     """
     import json
-    import re
 
     from .registry import evaluate
     from .samples import sample_dir

@@ -32,6 +32,7 @@ from typing import Any
 
 from .diagnostics import (ImplausibleValueWarning, InputError, SingleReadingWarning,
                           TextTruncatedWarning)
+from .files import MEASUREMENT, read_bytes, resolved
 from .uncertainty import Measured
 from .units import magnitude_verdict, parse_quantity, si_factor, si_unit, to_si
 
@@ -48,9 +49,6 @@ STOPWATCH = dict(unit="s", limit="0.01 s", repeated=True)
 AMPLITUDE = dict(unit="deg", limit="1 deg", required=False, symbol="θ₀", maximum="90 deg")
 COUNT = dict(kind="count", symbol="n")
 GRAVITY = dict(unit="m/s^2", default="9.81 ± 0.02 m/s^2")
-
-MAX_FILE_BYTES = 1 << 20
-"""Largest measurement file read [bytes]: a lab sheet is a few kB; series belong in recordings."""
 
 MAX_READINGS = 1000
 """Most repeated readings one field takes; longer series belong in a recording (CSV)."""
@@ -272,21 +270,12 @@ def _row(where: str, sec: Section, f: Field, v) -> dict:
 
 
 def read_toml(path: str | Path) -> dict:
-    """Read a TOML file, turning every failure into an :class:`InputError`."""
+    """Read a TOML measurement file (a regular file of at most 1 MiB,
+    :data:`processing.files.MEASUREMENT`), turning every failure into an :class:`InputError`."""
     path = Path(path)
+    raw = read_bytes(path, MEASUREMENT)
     try:
-        size = path.stat().st_size
-        if size > MAX_FILE_BYTES and path.is_file():
-            raise InputError(f"the file is {size / 2**20:.1f} MiB; a measurement file is a "
-                             f"lab sheet of a few kB (at most {MAX_FILE_BYTES >> 20} MiB)",
-                             "keep long series in a recording (CSV, WAV, HDF5) named by the "
-                             "measurement file, and long notes short", file=str(path))
-        text = path.read_bytes().decode("utf-8-sig")
-    except FileNotFoundError:
-        raise InputError("file not found", "check the path", file=str(path)) from None
-    except IsADirectoryError:
-        raise InputError("is a directory, not a measurement file",
-                         "give the path of a .toml file", file=str(path)) from None
+        text = raw.decode("utf-8-sig")
     except UnicodeDecodeError:
         raise InputError("not a text file (not UTF-8)",
                          "give a TOML measurement file; 'dynlab template LAB' writes one",
@@ -451,8 +440,8 @@ def _file(f: Field, raw, src: _Where, fail) -> Path:
     if not isinstance(raw, str):
         raise fail(f"'{f.name}' must be a file name in quotes, got {raw!r}",
                    f"write e.g. {f.name} = \"record.csv\" (relative to this file's folder)")
-    target = src.folder / Path(raw).expanduser()
-    if src.root is not None and not target.resolve().is_relative_to(src.root):
+    target = src.folder / os.path.expanduser(raw)
+    if src.root is not None and not resolved(target).is_relative_to(src.root):
         raise fail(f"'{raw}' lies outside the submission's folder {src.root}",
                    "copy the file into the folder of the measurement file and name it "
                    "relative to it (files outside are not read in confined mode)")

@@ -41,7 +41,6 @@ import contextlib
 import dataclasses
 import difflib
 import functools
-import io
 import itertools
 import math
 import operator
@@ -58,12 +57,17 @@ import pandas as pd
 from scipy.io import wavfile
 
 from .diagnostics import InputError
+from .files import IMAGE, STREAMED, TABLE, read_text, regular
 
 CHUNK = 2**22
 """Default block length of :meth:`Channel.chunks` [samples]: 32 MB of float64."""
 
 HDF5_CHUNK = 2**18
 """Storage chunk of the datasets :func:`write_hdf5` streams [samples]."""
+
+HDF5_MAX_CHUNK = 64 << 20
+"""Largest storage chunk of a dataset read [bytes]: HDF5 decompresses a chunk whole, so a
+chunk of gigabytes compressed to a few bytes would fill the memory for one sample."""
 
 RATE_TOLERANCE = 1e-3
 """Relative disagreement allowed between a given sample rate and the file's, and the allowed
@@ -76,6 +80,8 @@ _FORMAT_HINTS = {"csv": ".csv or .txt (a table of numbers)", "wav": ".wav (a sou
                  "a paper record)"}
 _IMAGES = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp")
 _FORMATS.update(dict.fromkeys(_IMAGES, "image"))
+_FILE_KINDS = {"csv": TABLE, "image": IMAGE}
+"""The formats read whole, and their size limits; the others stream (:data:`STREAMED`)."""
 _TIME_UNITS = {"s": 1.0, "с": 1.0, "ms": 1e-3, "мс": 1e-3, "us": 1e-6, "µs": 1e-6, "μs": 1e-6,
                "мкс": 1e-6, "ns": 1e-9}
 _TIME_NAME = re.compile(r"(?:t|time|время)(?:\s*[,_\[(/]\s*(" + "|".join(_TIME_UNITS)
@@ -501,17 +507,15 @@ def write_csv(path, columns: dict[str, np.ndarray], sample_rate: float | None = 
 # ---- files and sample rates ----
 
 def _file_format(src: _Source, allowed: tuple[str, ...]) -> str:
-    """The format of an existing, non-empty file, one of ``allowed``."""
-    if not src.path.exists():
-        raise src.error("file not found", "check the path and the file name")
-    if src.path.is_dir():
-        raise src.error("a folder, not a file", "give the path of the recording file")
+    """The format of an existing, non-empty regular file of at most the size its reader takes
+    (:mod:`processing.files`), one of ``allowed``."""
     kind = _FORMATS.get(src.path.suffix.lower())
+    info = regular(src.path, _FILE_KINDS.get(kind, STREAMED), field=src.field)
     if kind not in allowed:
         raise src.error(f"unknown file type '{src.path.suffix or '(no extension)'}'",
                         "give a " + ", a ".join(_FORMAT_HINTS[k] for k in allowed)
                         + " file; export the recorder's data to one of these")
-    if src.path.stat().st_size == 0:
+    if info.st_size == 0:
         raise src.error("the file is empty (0 bytes)", "the recorder did not write it: "
                         "record or export again")
     return kind
@@ -619,7 +623,7 @@ class _Table:
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("error", pd.errors.ParserWarning)  # rows beyond the header
-                frame = pd.read_csv(io.StringIO(text), sep=sep, header=0 if header else None,
+                frame = pd.read_csv(_Slices(text), sep=sep, header=0 if header else None,
                                     decimal=decimal, comment="#", skipinitialspace=True,
                                     index_col=False, low_memory=False)
         except (pd.errors.ParserError, pd.errors.ParserWarning, ValueError) as exc:
@@ -669,31 +673,42 @@ class _Table:
         return values
 
 
-_CONTROLS = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f]")
-"""Control characters other than tab, CR and LF: a text table holds almost none."""
-
-
 def _read_text(src: _Source) -> str:
     """The table's text: UTF-8, else Windows-1251 (Russian Excel); binary data refused."""
-    raw = src.path.read_bytes()
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        try:
-            text = raw.decode("cp1251")
-        except UnicodeDecodeError:
-            text = "\x00"
-    controls = len(_CONTROLS.findall(text, 0, 65536))
-    if "\x00" in text or controls > 0.01 * min(len(text), 65536):
-        raise src.error("not a text table (binary data)",
-                        "give a .csv/.txt table of numbers, or the recording's real extension")
-    return text
+    return read_text(src.path, TABLE, field=src.field, legacy="cp1251",
+                     fix="give a .csv/.txt table of numbers, or the recording's real extension")
 
 
 def _content_lines(text: str) -> Iterator[tuple[int, str]]:
     """(row number, line) of the lines that are neither blank nor comments."""
-    return ((no, line) for no, line in enumerate(io.StringIO(text), 1)
+    return ((no, line) for no, line in enumerate(_lines(text), 1)
             if line.strip() and not line.lstrip().startswith("#"))
+
+
+def _lines(text: str) -> Iterator[str]:
+    """The lines of ``text``, each with its newline, sliced as they are asked for (a
+    :class:`io.StringIO` would first copy the whole text, at four bytes a character)."""
+    start = 0
+    while start < len(text):
+        end = text.find("\n", start) + 1 or len(text)
+        yield text[start:end]
+        start = end
+
+
+class _Slices:
+    """A long text handed to :func:`pandas.read_csv` in slices, without a copy of the
+    whole (see :func:`_lines`)."""
+
+    def __init__(self, text: str):
+        self.text, self.at = text, 0
+
+    def read(self, size: int = -1) -> str:
+        end = len(self.text) if size is None or size < 0 else self.at + size
+        piece, self.at = self.text[self.at:end], min(end, len(self.text))
+        return piece
+
+    def __iter__(self) -> Iterator[str]:
+        return _lines(self.text[self.at:])
 
 
 def _separator(line: str) -> str:
@@ -942,6 +957,7 @@ def _hdf5_channel(src: _Source, f: h5py.File, name: str, given: float | None) ->
                         "store each channel as a 1-D dataset of numbers")
     if ds.shape[0] == 0:
         raise src.error(f"dataset '{name}' holds no samples", "record again")
+    _check_storage(src, name, ds)
     missing = (f"no sample rate for dataset '{name}'",
                "add the attribute sample_rate [Hz] to the dataset or the file, or give sample_rate")
     rate = _rate(src, _attr(src, name, (ds, f), ("sample_rate", "fs")), given, missing)
@@ -949,6 +965,22 @@ def _hdf5_channel(src: _Source, f: h5py.File, name: str, given: float | None) ->
     return src.channel(name, rate, ds.shape[0], ds.dtype,
                        functools.partial(_hdf5_reader, src.path, name),
                        1.0 if volts is None else volts)
+
+
+def _check_storage(src: _Source, name: str, ds: h5py.Dataset) -> None:
+    """Refuse samples stored outside the file (external or virtual storage names other
+    files, which the reader would open unjudged: a FIFO, a device) and chunks larger than
+    :data:`HDF5_MAX_CHUNK` (each is decompressed whole, however few samples are asked)."""
+    if ds.external or ds.is_virtual:
+        raise src.error(f"dataset '{name}' keeps its samples in other files "
+                        f"({'virtual' if ds.is_virtual else 'external'} storage)",
+                        "store the samples in the file itself (h5repack copies them in)")
+    chunk = math.prod(ds.chunks) * ds.dtype.itemsize if ds.chunks else 0
+    if chunk > HDF5_MAX_CHUNK:
+        raise src.error(f"dataset '{name}' is stored in chunks of {chunk / 2**20:.0f} MiB, "
+                        f"each read whole (at most {HDF5_MAX_CHUNK >> 20} MiB)",
+                        "write it with smaller chunks (h5repack -l CHUNK=262144), as "
+                        "recorders do")
 
 
 def _attr(src: _Source, name: str, holders, keys: tuple[str, ...]) -> float | None:

@@ -36,6 +36,7 @@ import cv2
 import numpy as np
 
 from ..diagnostics import InputError
+from ..files import IMAGE, regular
 from .header import HeaderError, image_header
 
 MIN_SIDE = 64
@@ -118,9 +119,7 @@ def load_image(path, *, field: str | None = None) -> tuple[np.ndarray, float]:
         that states more than :data:`MAX_PIXELS`, not an image OpenCV decodes, or too small.
     """
     p = Path(path)
-    if not p.is_file():
-        raise InputError("the image file does not exist", "check the file's name and that it "
-                         "lies in the measurement file's folder", file=str(p), field=field)
+    regular(p, IMAGE, field=field)
     try:
         header = image_header(p)
     except HeaderError as exc:

@@ -36,6 +36,7 @@ import numpy as np
 from ..decay import DampedSineFit, fit_damped_sine
 from ..diagnostics import (FilmAmplitudeWarning, InconsistentInputWarning,
                            InputError, IrregularFrameRateWarning)
+from ..files import FILM, regular
 from ..savgol import savgol
 from ..uncertainty import Measured
 
@@ -243,9 +244,7 @@ def _open(path, field_name):
 
     The frame size is read off the stream's header before the first frame is decoded, and
     a frame over :data:`MAX_FRAME_PIXELS` is refused."""
-    if not Path(path).is_file():
-        raise _refuse(path, field_name, "the film is not found", "check the file's name and "
-                      "that it lies beside the measurement file")
+    regular(path, FILM, field=field_name)
     capture = cv2.VideoCapture(str(path))
     if not capture.isOpened():
         raise _refuse(path, field_name, "not a film OpenCV can read", "give an MP4, MOV or "
