@@ -457,3 +457,17 @@ def test_film_frames_beyond_4k_refused(tmp_path, capsys):
                            rf"header says 7680 × 4320 px a frame \(33.2 Mpx\), more than the "
                            rf"{MAX_FRAME_PIXELS / 1e6:.3g} Mpx.*Fix: film at 1080p or 4K",
                            tmp_path / "out")
+
+
+@pytest.mark.parametrize("content", [
+    "#EXTM3U\n#EXT-X-TARGETDURATION:10\n#EXTINF:10,\nhttp://192.0.2.1/a.ts\n#EXT-X-ENDLIST\n",
+    "ffconcat version 1.0\nfile '/etc/passwd'\n",
+], ids=["hls-playlist", "ffconcat"])
+def test_a_film_that_names_other_files_or_addresses_is_not_opened(tmp_path, capsys, content):
+    """A text named like a film (a playlist the decoder would follow to other files or to
+    the network) is refused by its first bytes before the decoder sees it."""
+    folder = shutil.copytree(LAB1.parent, tmp_path / "in")
+    (folder / "pendulum.mp4").write_text(content, encoding="utf-8")
+    code, out, err = run(capsys, "run", folder / LAB1.name, "--out", tmp_path / "out")
+    assert_one_clear_error(code, out, err, folder / "pendulum.mp4", "pendulum.video",
+                           r"not a film: its first bytes", tmp_path / "out")

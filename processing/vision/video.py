@@ -245,7 +245,13 @@ def _open(path, field_name):
     The frame size is read off the stream's header before the first frame is decoded, and
     a frame over :data:`MAX_FRAME_PIXELS` is refused."""
     regular(path, FILM, field=field_name)
-    capture = cv2.VideoCapture(str(path))
+    with open(path, "rb") as f:
+        head = f.read(12)
+    if not _is_film(head):
+        raise _refuse(path, field_name, "not a film: its first bytes are not those of an MP4, "
+                      "MOV, AVI or MKV file", "give the film as the phone recorded it (MP4 or "
+                      "MOV)")
+    capture = cv2.VideoCapture(str(Path(path).resolve()))  # no name read as a protocol
     if not capture.isOpened():
         raise _refuse(path, field_name, "not a film OpenCV can read", "give an MP4, MOV or "
                       "AVI file as the phone recorded it")
@@ -262,6 +268,20 @@ def _open(path, field_name):
         raise _refuse(path, field_name, "not a film OpenCV can read", "give an MP4, MOV or "
                       "AVI file as the phone recorded it")
     return capture, first, min(1.0, WORK_SIDE / max(first.shape[:2]))
+
+
+def _is_film(head: bytes) -> bool:
+    """Whether a file's first bytes are those of a film container: an ISO base media file
+    (MP4, MOV, 3GP: a box such as ``ftyp`` or ``moov`` first), AVI (RIFF) or Matroska/WebM
+    (EBML). Anything else — a playlist or a text that names other files or addresses for the
+    decoder to open — is not read.
+
+    >>> _is_film(bytes.fromhex("0000001c") + b"ftypisom"), _is_film(b"#EXTM3U http://")
+    (True, False)
+    """
+    return (head[4:8] in (b"ftyp", b"moov", b"mdat", b"wide", b"free", b"skip")
+            or (head[:4] == b"RIFF" and head[8:12] == b"AVI ")
+            or head[:4] == b"\x1a\x45\xdf\xa3")
 
 
 def _background(frames: np.ndarray) -> np.ndarray:
