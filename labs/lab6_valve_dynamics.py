@@ -273,9 +273,13 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
         labels = {v: str(photos[v].name) for v in names}
     else:
         rate = entry["sample_rate"].value if "sample_rate" in entry else None
-        wanted = [*names.values(), entry["tdc_channel"]]
+        uses = [(f"the {report.VALVE_WORDS[v]['en']} valve's force", c,
+                 f"valve[{list(names).index(v)}].channel") for v, c in names.items()]
+        uses.append(("the TDC marks", entry["tdc_channel"], f"{where}.tdc_channel"))
         if "marks_channel" in entry:
-            wanted.append(entry["marks_channel"])
+            uses.append(("the time marks", entry["marks_channel"], f"{where}.marks_channel"))
+        _distinct(inputs, uses)
+        wanted = [c for _, c, _ in uses]
         channels = open_channels(path, wanted, sample_rate=rate, field=field)
         rate = channels[0].sample_rate
         traces = {v: c.read().astype(float) * c.volts_per_code
@@ -298,6 +302,18 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
                      clipped_effect=CLIPPED_FORCE)
     size = next(iter(traces.values())).size
     return np.arange(size) / rate, traces, tdc, photos
+
+
+def _distinct(inputs: Inputs, uses: list[tuple[str, object, str]]) -> None:
+    """Refuse one channel named for two things (a valve's force and the TDC marks): each use
+    is (what it is for, the channel, the field that names it)."""
+    seen = {}
+    for use, channel, field in uses:
+        if str(channel) in seen:
+            raise inputs.error(f"channel '{channel}' is named both for {seen[str(channel)]} "
+                               f"and for {use}", "name each its own channel of the record: "
+                               "[[valve]] channel, tdc_channel and marks_channel", field)
+        seen[str(channel)] = use
 
 
 def _pulse_marks(channel, rate: float, field: str, pulses: str, fix: str) -> np.ndarray:

@@ -51,6 +51,10 @@ CLIP_REFUSED = 0.05
 """Share of a record's samples clipped above which it is refused (unless the lab reduces
 around its clipped stretches and says so with a limit of its own)."""
 
+LOGIC_SHARE = 0.8
+"""Clipped share above which a channel is more like a logic channel's two levels (marks
+named for a sensor) than an overloaded sensor's record, and is refused as either."""
+
 NOISE_ROUGHNESS = 0.5
 """Roughness (:func:`roughness`) above which a record holds no oscillation above its noise:
 the noise's power exceeds the signal's (white noise: 1)."""
@@ -273,7 +277,8 @@ def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
     ------
     InputError
         Flat, noise only (or an oscillation faster than a third of the sample rate), shorter
-        than ``least_duration`` or clipped beyond ``clip_refused``.
+        than ``least_duration``, clipped beyond ``clip_refused``, or sitting at two levels
+        (:data:`LOGIC_SHARE`) whatever the lab allows.
 
     Examples
     --------
@@ -310,6 +315,12 @@ def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
         raise refuse(f"lasts {q.duration:.4g} s ({q.samples} samples); {purpose} needs at "
                      f"least {least_duration:.4g} s", "record longer, or name the whole "
                      "recording")
+    if q.clipped > LOGIC_SHARE:
+        raise refuse(f"sits at its two extremes in {100 * q.clipped:.0f} % of its samples: a "
+                     f"logic channel (TDC or time marks), or a sensor clipped past recognition, "
+                     f"nothing for {purpose} to read", "name the sensor's own channel; if it "
+                     "is the one, lower the amplifier's gain or raise the recorder's range and "
+                     "record again")
     if q.clipped > clip_refused:
         raise refuse(f"is clipped: {100 * q.clipped:.1f} % of its samples sit at the "
                      f"recorder's limits (more than {100 * clip_refused:g} %); its peaks are "

@@ -156,6 +156,17 @@ def test_check_record_keeps_its_defaults_and_takes_a_fix_and_an_effect():
                      fix="take another photograph")
 
 
+def test_a_logic_channel_named_for_a_sensor_is_not_called_an_overload_alone():
+    """TDC pulses with shaped edges sit at their two levels in nearly every sample: refused
+    as a logic channel (or a sensor clipped past recognition), whatever share a lab allows."""
+    k = np.arange(20000)
+    tdc = np.interp(k % 2000, [0, 3, 17, 20, 2000], [0.0, 1.0, 1.0, 0.0, 0.0])
+    with pytest.raises(InputError, match=r"sits at its two extremes in 100 % of its samples: "
+                                         r"a logic channel.*Fix: name the sensor's own channel"):
+        check_record(tdc, 1e4, file="r.csv", field="decay.signal", channel="tdc",
+                     clip_refused=1.0)
+
+
 @pytest.mark.parametrize("f, problem", [(6e3, "above the record's Nyquist frequency"),
                                         (1.0, "slower than one cycle over the record")])
 def test_a_frequency_the_record_cannot_hold_is_refused(f, problem):
@@ -259,6 +270,13 @@ def test_lab6_record_that_is_not_what_it_claims(tmp_path, capsys, column, field,
     toml = lab6_first_records(tmp_path)
     change_column(toml.parent / "r03.csv", column, change)
     refused(capsys, toml, toml.parent / "r03.csv", field, problem)
+
+
+def test_lab6_one_channel_named_for_a_valve_and_the_tdc_marks(tmp_path, capsys):
+    toml = lab6_first_records(tmp_path, 1)
+    edit_toml(toml, lambda d: d["valve"][0].update(channel="tdc"))
+    refused(capsys, toml, toml, "record[0].tdc_channel", r"channel 'tdc' is named both for "
+            r"the inlet valve's force and for the TDC marks")
 
 
 def test_lab6_too_short_a_record_says_so(tmp_path, capsys):
