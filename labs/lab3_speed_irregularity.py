@@ -38,7 +38,8 @@ from processing.diagnostics import (GapNotFoundWarning, InconsistentInputWarning
 from processing.edges import METHODS as EDGE_METHODS
 from processing.edges import stream_edges
 from processing.measurement import Field, Inputs, LabSpec, Section, bi, image_section
-from processing.result import LabResult, compare, flag_estimates, result_values
+from processing.record_quality import check_pulse_channel, check_record
+from processing.result import STRICTLY_POSITIVE, LabResult, compare, flag_estimates, result_values
 from processing.signals import image_options, open_channel, read_edge_times, read_figures
 from processing.toothwheel import ToothTrack, calibrate_pitch, recurring_gap, track_teeth
 from processing.uncertainty import Measured, propagate
@@ -62,6 +63,10 @@ UNEQUAL_CYCLES = 0.01
 
 PITCH_BIAS = 0.02
 """Relative bias of the tooth-by-tooth δ from pitch errors above which a warning is given."""
+
+PHOTO_FIX = ("photograph the oscillogram again, sharp and whole, with its speed trace, zero line "
+             "and marks in the frame")
+"""What to do about a flat or noise-only trace read off a photograph."""
 
 SPEC = LabSpec(
     id="lab3", number="3",
@@ -288,6 +293,8 @@ def _oscillogram(inputs: Inputs, i: int, entry: dict, revolutions: int) -> Oscil
                            "not both", field)
     options = {**image_options(inputs.sections.get("image")), "zero": "line"}
     channel = open_channel(path, channel=entry.get("trace"), field=field, image=options)
+    check_record(channel.value[np.isfinite(channel.value)], channel.sample_rate, file=str(path),
+                 field=field, channel=str(channel.name), purpose="δ", fix=PHOTO_FIX)
     tdc = channel.marks.get("tdc", np.array([]))
     starts = tdc[::revolutions]
     if starts.size < 3:
@@ -354,16 +361,19 @@ def _signal_edges(inputs: Inputs, i: int, entry: dict, method: str):
     path = entry["signal"]
     channel = open_channel(path, channel=entry.get("channel"), sample_rate=rate,
                            field=f"{where}.signal")
+    check_pulse_channel(channel, field=f"{where}.signal", pulses="tooth pulses")
     times = _edges_of(channel, method)
     if times.size < 3:
         raise InputError(f"no tooth pulses found in channel '{channel.name}' "
-                         f"({times.size} edges in {channel.duration:.3g} s)",
-                         "check that this is the sensor's channel and that the signal is not "
-                         "flat or pure noise", file=str(path), field=f"{where}.signal")
+                         f"({times.size} edges in {channel.duration:.3g} s): too short a "
+                         "record, or pulses too slow for it", "record at least eight working "
+                         "cycles of the sensor's channel", file=str(path),
+                         field=f"{where}.signal")
     tdc = None
     if "tdc_channel" in entry:
         mark = open_channel(path, channel=entry["tdc_channel"], sample_rate=rate,
                             field=f"{where}.tdc_channel")
+        check_pulse_channel(mark, field=f"{where}.tdc_channel", pulses="TDC marks")
         tdc = _edges_of(mark, method)
     return times, tdc, channel.sample_rate * float(np.median(np.diff(times)))
 
@@ -394,6 +404,7 @@ def _calibration(inputs: Inputs, method: str):
     path = wheel["calibration"]
     channel = open_channel(path, channel=wheel.get("calibration_channel"),
                            field="wheel.calibration")
+    check_pulse_channel(channel, field="wheel.calibration", pulses="tooth pulses")
     track = _track(inputs, _edges_of(channel, method), "wheel.calibration", path)
     try:
         return calibrate_pitch(track)
@@ -505,7 +516,9 @@ def _pitch_bias(track, fourier, tooth, calibration, orders, revolutions) -> dict
 # ------------------------------------------------------------------------ results
 
 def _result_names(r: int) -> dict:
-    return {
+    """Labels, symbols and display units of regime r's results: speeds and δ, every one
+    above zero by nature (:data:`~processing.result.STRICTLY_POSITIVE`)."""
+    names = {
         f"omega_mean_{r}": (bi(f"mean speed, regime {r} (signal)", f"средняя частота вращения, "
                               f"режим {r} (сигнал)"), "n", "rpm"),
         f"omega_min_{r}": (bi(f"lowest speed of the mean cycle, regime {r}",
@@ -527,6 +540,7 @@ def _result_names(r: int) -> dict:
                               f"режим {r}"), "n_osc", "rpm"),
         f"omega_tach_{r}": (bi(f"tachometer, regime {r}", f"тахометр, режим {r}"), "n_t", "rpm"),
     }
+    return {name: (*declared, STRICTLY_POSITIVE) for name, declared in names.items()}
 
 
 def _jack(value, u, n, u_b: float = 0.0, limit: float = 0.0) -> Measured:
@@ -564,6 +578,14 @@ def _check_inputs(inputs: Inputs) -> None:
     if engine["strokes"] not in (2, 4):
         raise inputs.error(f"strokes = {engine['strokes']}", "write 4 (four-stroke) or 2",
                            "engine.strokes")
+    for i, e in enumerate(inputs["regime"]):
+        if "h_max" in e and "h_min" in e and not e["h_max"].value > e["h_min"].value:
+            raise inputs.error(f"h_max = {1e3 * e['h_max'].value:g} mm is not above h_min = "
+                               f"{1e3 * e['h_min'].value:g} mm: δ = (h_max − h_min)/h_cp would "
+                               "not be above zero", "h_max is the highest point of the speed "
+                               "trace over a working cycle and h_min the lowest: check that "
+                               "they are not swapped, and read the ripple with a magnifier if "
+                               "it is finer than the ruler", f"regime[{i}].h_max")
     recorded = [i for i, e in enumerate(inputs["regime"]) if "signal" in e or "edges" in e]
     if wheel is None:
         if recorded:

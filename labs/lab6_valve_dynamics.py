@@ -39,7 +39,9 @@ import numpy as np
 from processing.diagnostics import InputError, collect_notices
 from processing.measurement import Field, Inputs, LabSpec, Section, bi, image_section
 from processing.record_checks import check_tachometer, check_time_marks
-from processing.regression import curvature_test, fit_line
+from processing.record_quality import (SENSOR_FIX, check_pulses, check_record,
+                                       clipped_mask)
+from processing.regression import calibration_fault, curvature_test, fit_line
 from processing.result import LabResult, flag_estimates, result_values
 from processing.signals import (image_options, is_image, open_channel, open_channels,
                                 read_figures)
@@ -64,6 +66,21 @@ somewhere over the loads."""
 CONTACT_MARGIN = 2.0
 """A record keeps contact for the separation line when P_min exceeds this many of its
 standard uncertainties and no loss of contact is seen."""
+
+CLIPPED_FORCE = (
+    "an opening whose largest (least) force sits on them is cut off there, and its P_max "
+    "(P_min) is left out of the results",
+    "у открытий, чья наибольшая (наименьшая) сила приходится на них, она срезана, и P_max "
+    "(P_min) этого режима в результаты не включена")
+"""What a clipped force channel's warning says the reduction did (English, Russian)."""
+
+PHOTO_FIX = ("photograph the oscillogram again, sharp and whole, with each valve's trace, its "
+             "zero and the marks in the frame")
+"""What to do about a flat or noise-only trace read off a photograph."""
+
+MARKS_FIX = ("check the time-mark generator's lead to the recorder and record again, or leave "
+             "marks_channel out")
+"""What to do about a flat or noise-only time-mark channel."""
 
 SEPARATION_MODEL = 0.02
 """Half-width, as a share of the speed, of the rectangular type B uncertainty of the
@@ -231,6 +248,8 @@ def _marks(x, rate: float) -> np.ndarray:
     """Times of the marks of a pulse channel: where each pulse falls through half the
     channel's range (linear between the samples around it). [s]"""
     x = np.asarray(x, dtype=float)
+    if x.size < 2:
+        return np.array([])
     half = 0.5 * (x.min() + x.max())
     k = np.flatnonzero((x[:-1] >= half) & (x[1:] < half))
     return (k + (x[k] - half) / (x[k] - x[k + 1])) / rate
@@ -238,7 +257,9 @@ def _marks(x, rate: float) -> np.ndarray:
 
 def _read(inputs: Inputs, where: str, entry: dict, names: dict):
     """Time, the valves' traces, the TDC marks' times and the channels (for their figures) of
-    a record file or a photographed oscillogram."""
+    a record file or a photographed oscillogram; each channel checked to be what it claims
+    (:mod:`processing.record_quality`): a trace neither flat nor noise nor clipped beyond
+    the limit, the marks neither flat nor noise."""
     path, field = entry["signal"], f"{where}.signal"
     if is_image(path):
         options = image_options(inputs.sections.get("image"))
@@ -249,26 +270,58 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
         first = next(iter(photos.values()))
         tdc = first.marks.get("tdc", np.array([]))
         rate = first.sample_rate
+        labels = {v: str(photos[v].name) for v in names}
     else:
         rate = entry["sample_rate"].value if "sample_rate" in entry else None
-        wanted = [*names.values(), entry["tdc_channel"]]
+        uses = [(f"the {report.VALVE_WORDS[v]['en']} valve's force", c,
+                 f"valve[{list(names).index(v)}].channel") for v, c in names.items()]
+        uses.append(("the TDC marks", entry["tdc_channel"], f"{where}.tdc_channel"))
         if "marks_channel" in entry:
-            wanted.append(entry["marks_channel"])
+            uses.append(("the time marks", entry["marks_channel"], f"{where}.marks_channel"))
+        _distinct(inputs, uses)
+        wanted = [c for _, c, _ in uses]
         channels = open_channels(path, wanted, sample_rate=rate, field=field)
         rate = channels[0].sample_rate
         traces = {v: c.read().astype(float) * c.volts_per_code
                   for v, c in zip(names, channels)}
-        tdc = _marks(channels[len(names)].read() * channels[len(names)].volts_per_code, rate)
+        labels = {v: str(c.name) for v, c in zip(names, channels)}
+        tdc = _pulse_marks(channels[len(names)], rate, f"{where}.tdc_channel", "TDC marks",
+                           SENSOR_FIX)
         if len(channels) > len(names) + 1:
             marks = channels[-1]
-            check_time_marks(inputs, "engine", marks.name, _marks(marks.read().astype(float),
-                                                                  rate), rate,
+            check_time_marks(inputs, "engine", marks.name,
+                             _pulse_marks(marks, rate, f"{where}.marks_channel", "time marks",
+                                          MARKS_FIX), rate,
                              lambda problem, fix, key: InputError(
                                  problem, fix, file=marks.path, field=f"{where}.{key}"),
                              "2 ms")
         photos = {}
+    for valve, x in traces.items():
+        check_record(x, rate, file=str(path), field=field, channel=labels[valve],
+                     purpose="the valve's forces", fix=PHOTO_FIX if photos else SENSOR_FIX,
+                     clipped_effect=CLIPPED_FORCE)
     size = next(iter(traces.values())).size
     return np.arange(size) / rate, traces, tdc, photos
+
+
+def _distinct(inputs: Inputs, uses: list[tuple[str, object, str]]) -> None:
+    """Refuse one channel named for two things (a valve's force and the TDC marks): each use
+    is (what it is for, the channel, the field that names it)."""
+    seen = {}
+    for use, channel, field in uses:
+        if str(channel) in seen:
+            raise inputs.error(f"channel '{channel}' is named both for {seen[str(channel)]} "
+                               f"and for {use}", "name each its own channel of the record: "
+                               "[[valve]] channel, tdc_channel and marks_channel", field)
+        seen[str(channel)] = use
+
+
+def _pulse_marks(channel, rate: float, field: str, pulses: str, fix: str) -> np.ndarray:
+    """The marks' times of a recorded pulse channel, refused flat or noise only. [s]"""
+    x = channel.read().astype(float) * channel.volts_per_code
+    check_pulses(x, rate, file=str(channel.path), field=field, channel=str(channel.name),
+                 pulses=pulses, fix=fix)
+    return _marks(x, rate)
 
 
 def _paper_mm(channel) -> float:
@@ -280,39 +333,59 @@ def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
     where = f"record[{i}]"
     names = {v: spec.get("channel", v) for v, spec in valves.items()}
     time, raw, tdc, photos = _read(inputs, where, entry, names)
+    rate = 1.0 / (time[1] - time[0])
+    duration = time.size / rate
     per_rev = inputs["engine"]["tdc_per_revolution"]
     if tdc.size < per_rev + 1:
-        raise InputError(f"{tdc.size} TDC mark(s) on the record: its speed needs a whole "
-                         "revolution", "name the TDC channel (tdc_channel = ...) and record at "
-                         "least two camshaft revolutions", file=str(entry["signal"]),
-                         field=f"{where}.tdc_channel")
+        raise _few_marks(inputs, entry, tdc.size, duration, where)
     try:
         revs = revolutions(tdc, per_revolution=per_rev)
     except InputError as exc:
         raise InputError(exc.problem, exc.fix, file=str(entry["signal"]),
                          field=f"{where}.tdc_channel") from None
-    rate = 1.0 / (time[1] - time[0])
     span = revs.mark_times[-1] - revs.mark_times[0]
     speed = Measured(revs.angular_speed, revs.u_speed, max(revs.speeds.size - 1, 1),
                      limit=revs.angular_speed / (rate * span))
     _check_speed(entry, speed.value, where)
     traces = {}
+    cam_turn = 4 * np.pi / inputs["engine"]["strokes"] / speed.value
     for valve, x in raw.items():
         zero = trace_zero(x)
         preload = valves[valve]["P0"].value / valves[valve]["k"]
         photo = photos.get(valve)
         stroke = photo.stroke_value * _paper_mm(photo) if photo else 0.0
         events = valve_events(time, x - zero.level, preload, noise=zero.noise,
-                              resolution=stroke / 2)
+                              resolution=stroke / 2, clipped=clipped_mask(x))
         if not events:
             raise InputError(f"channel '{names[valve]}' holds no whole valve event above its "
-                             f"noise (σ = {zero.noise:.3g})", "record at least two camshaft "
-                             "revolutions and check the channel names and the amplifier's gain",
+                             f"noise (σ = {zero.noise:.3g}) over its {duration:.3g} s, "
+                             f"{duration / cam_turn:.1f} camshaft revolutions",
+                             "record at least two camshaft revolutions and check the channel "
+                             "names, the preload P0 and the amplifier's gain",
                              file=str(entry["signal"]), field=f"{where}.signal")
         traces[valve] = Trace(valve, time, x - zero.level, zero.noise, events,
                               photo.stroke_time if photo else 0.0, stroke)
     return Recorded(i + 1, Path(entry["signal"]), entry["clearance"].value, speed, revs,
                     traces, photos)
+
+
+def _few_marks(inputs: Inputs, entry: dict, found: int, duration: float,
+               where: str) -> InputError:
+    """Too few TDC marks for a revolution: a record too short for the tachometer's speed,
+    or marks the channel does not hold."""
+    n = entry.get("n")
+    strokes = inputs["engine"]["strokes"]
+    need = 2 * np.pi * strokes / n.value if n is not None else 0.0
+    if duration < need:
+        return InputError(f"{found} TDC mark(s) on the record: it lasts {duration:.3g} s, "
+                          f"shorter than the two camshaft revolutions its speed and a whole "
+                          f"valve event need ({need:.3g} s at n = {n.value / report.RPM_SI:.0f} "
+                          "min⁻¹)", "record at least two camshaft revolutions",
+                          file=str(entry["signal"]), field=f"{where}.signal")
+    return InputError(f"{found} TDC mark(s) on the record's {duration:.3g} s: its speed needs "
+                      "a whole revolution", "name the TDC channel (tdc_channel = ...) and "
+                      "record at least two camshaft revolutions", file=str(entry["signal"]),
+                      field=f"{where}.tdc_channel")
 
 
 def _check_speed(entry: dict, omega: float, where: str) -> None:
@@ -342,6 +415,12 @@ def _calibration(inputs: Inputs, entry: dict, where: str):
         raise inputs.error(f"the calibration has {np.unique(P).size} distinct load(s)",
                            "load the rocker in several steps up to about 1500 N (the manual: "
                            "80…100 mm of trace) and read the trace at each", f"{where}.load")
+    fault = calibration_fault(P, A, names=("load", "deflection"),
+                              resolution=entry["deflection"].limit)
+    if fault is not None:
+        raise inputs.error(fault, "read the trace's deflection again at each calibration load, "
+                           "each beside its own load (the channel must be the gauge's, its "
+                           "amplifier on)", f"{where}.deflection")
     fit = fit_line(A, P)
     if not fit.slope > 0:
         raise inputs.error("the trace's deflection does not grow with the load",
@@ -414,9 +493,12 @@ def _flat(recorded, valves) -> dict:
             extreme = PHOTO_EXTREME * tr.stroke
             flat[f"{key}.T_open"] = _mean([e.closing - e.opening for e in ev],
                                           math.hypot(u_open, u_close), m, limit=dt)
-            flat[f"{key}.A_max"] = _mean([e.P_max for e in ev], ev[0].u_P, m, limit=extreme)
-            flat[f"{key}.A_min"] = _mean([e.P_min for e in ev], ev[0].u_P_min, m,
-                                         limit=extreme)
+            if not any(e.clipped_max for e in ev):
+                flat[f"{key}.A_max"] = _mean([e.P_max for e in ev], ev[0].u_P, m,
+                                             limit=extreme)
+            if not any(e.clipped_min for e in ev):
+                flat[f"{key}.A_min"] = _mean([e.P_min for e in ev], ev[0].u_P_min, m,
+                                             limit=extreme)
             advance, lag = _timing(r, tr, v)
             flat[f"{key}.advance"] = Measured(advance, omega * u_open / math.sqrt(m),
                                               limit=omega * dt / 2)
@@ -462,6 +544,7 @@ def separations(recorded, flat) -> list[Separation]:
                 continue
             kept = [r for r in recs if r.speed.value < lost[0].speed.value
                     and not _lost(flat, r.number, v)
+                    and f"r{r.number}.{v}.A_min" in flat
                     and flat[f"r{r.number}.{v}.A_min"].value
                     > CONTACT_MARGIN * flat[f"r{r.number}.{v}.A_min"].u]
             if len(kept) >= 2:
@@ -487,8 +570,9 @@ def _model(recorded, seps, strokes: int):
             out[f"n_{i}"] = w
             for v in r.traces:
                 key, k = f"r{i}.{v}", x[f"k_{v}"]
-                out[f"P_max_{v}_{i}"] = force(k, x[f"{key}.A_max"])
-                out[f"P_min_{v}_{i}"] = force(k, x[f"{key}.A_min"])
+                for extreme in ("max", "min"):
+                    if f"{key}.A_{extreme}" in x:
+                        out[f"P_{extreme}_{v}_{i}"] = force(k, x[f"{key}.A_{extreme}"])
                 T_cam = 2 * np.pi / (cam * w)
                 out[f"phi_{v}_{i}"] = opening_duration(x[f"{key}.T_open"], T_cam)
                 out[f"phi_crank_{v}_{i}"] = out[f"phi_{v}_{i}"] / cam

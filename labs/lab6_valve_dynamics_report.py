@@ -12,7 +12,7 @@ import numpy as np
 from processing.diagnostics import InconsistentInputWarning, TableCurvatureWarning
 from processing.measurement import bi
 from processing.reporting.content import fmt_pm, result_pm
-from processing.result import Figure, Table
+from processing.result import STRICTLY_POSITIVE, Figure, Table
 from processing.diagnostics import ContactLossWarning, FreeOscillationWarning
 
 RPM_SI = math.pi / 30
@@ -81,14 +81,22 @@ def _mm(clearance: float) -> str:
     return f"{1e3 * clearance:g}"
 
 
+POSITIVE_PER_VALVE = {name: (STRICTLY_POSITIVE,) for name in ("P_max", "nu", "phi", "phi_crank")}
+"""A valve's results above zero by nature: its largest force (above the springs' preload),
+the drive's frequency and the opening's duration. P_min falls to zero where contact is lost,
+the timing may lead or lag its dead centre, and the angle without contact is zero with
+contact kept."""
+
+
 def result_names(recorded, valves, seps) -> dict:
     """Labels, symbols and display units of this file's results."""
     out = {f"k_{v}": (bi(f"trace scale k, {VALVE_WORDS[v]['en']} valve (N per unit of "
                          "the trace)", f"масштаб записи k, {VALVE_WORDS[v]['ru']} клапан "
-                         "(Н на единицу записи)"), "k", "") for v in valves}
+                         "(Н на единицу записи)"), "k", "", STRICTLY_POSITIVE) for v in valves}
     for r in recorded:
         i = r.number
-        out[f"n_{i}"] = (bi(f"speed, record {i}", f"частота вращения, режим {i}"), "n", "rpm")
+        out[f"n_{i}"] = (bi(f"speed, record {i}", f"частота вращения, режим {i}"), "n", "rpm",
+                         STRICTLY_POSITIVE)
         for v in r.traces:
             w = VALVE_WORDS[v]
             where = bi(f"{w['en']}, record {i}", f"{w['ru']}, режим {i}")
@@ -109,12 +117,13 @@ def result_names(recorded, valves, seps) -> dict:
                     ("loss", "cam angle without contact", "угол р. вала без силового "
                      "замыкания", "φ_разр", "deg")):
                 out[f"{name}_{v}_{i}"] = (bi(f"{en}, {where['en']}", f"{ru}, {where['ru']}"),
-                                          sym, unit)
+                                          sym, unit, *POSITIVE_PER_VALVE.get(name, ()))
     for s in seps:
         w = VALVE_WORDS[s.valve]
         out[s.name] = (bi(f"speed at which the drive separates, {w['en']} valve, δ = "
                           f"{_mm(s.clearance)} mm", f"частота вращения разрыва цепи, "
-                          f"{w['ru']} клапан, δ = {_mm(s.clearance)} мм"), "n_разр", "rpm")
+                          f"{w['ru']} клапан, δ = {_mm(s.clearance)} мм"), "n_разр", "rpm",
+                   STRICTLY_POSITIVE)
     return out
 
 
@@ -294,9 +303,11 @@ def _draw_forces(fig, recorded, results, seps, lang):
         for j, (c, recs) in enumerate(_by_clearance(recorded, v).items()):
             n = np.array([r.speed.value / RPM_SI for r in recs])
             for name, style in (("P_max", "o-"), ("P_min", "s--")):
-                val = np.array([results[f"{name}_{v}_{r.number}"].value for r in recs])
-                U = np.array([results[f"{name}_{v}_{r.number}"].estimate.U for r in recs])
-                ax.errorbar(n, val, U, fmt=style, ms=4, lw=1, capsize=2, color=f"C{j}",
+                got = [f"{name}_{v}_{r.number}" in results for r in recs]
+                keys = [f"{name}_{v}_{r.number}" for r, ok in zip(recs, got) if ok]
+                val = np.array([results[k].value for k in keys])
+                U = np.array([results[k].estimate.U for k in keys])
+                ax.errorbar(n[got], val, U, fmt=style, ms=4, lw=1, capsize=2, color=f"C{j}",
                             label=f"{name}, δ = {_mm(c)}")
         for s in seps:
             if s.name in results and s.valve == v:
@@ -370,12 +381,17 @@ def conclusion(*, recorded, results, seps, **_) -> list[dict]:
             lines.append(bi(f"The drive's free oscillations: ν = {v} ± {U} Hz (the records' "
                             "weighted mean)", f"Свободные колебания привода: ν = {v} ± {U} Гц "
                             "(взвешенное среднее по режимам)"))
-    top = max((k for k in results if k.startswith("P_max_")), key=lambda k: results[k].value)
-    low = min((k for k in results if k.startswith("P_min_")), key=lambda k: results[k].value)
-    lines.append(bi(f"Largest force {results[top].value:.0f} N ({top}); least force while "
-                    f"open {results[low].value:.0f} N ({low})",
-                    f"Наибольшая сила {results[top].value:.0f} Н ({top}); наименьшая при "
-                    f"открытом клапане {results[low].value:.0f} Н ({low})"))
+    top = max((k for k in results if k.startswith("P_max_")), default=None,
+              key=lambda k: results[k].value)
+    low = min((k for k in results if k.startswith("P_min_")), default=None,
+              key=lambda k: results[k].value)
+    forces = ([(f"Largest force {results[top].value:.0f} N ({top})",
+                f"Наибольшая сила {results[top].value:.0f} Н ({top})")] if top else []) + \
+        ([(f"least force while open {results[low].value:.0f} N ({low})",
+           f"наименьшая при открытом клапане {results[low].value:.0f} Н ({low})")] if low else [])
+    if forces:
+        en, ru = ("; ".join(part) for part in zip(*forces))
+        lines.append(bi(en[0].upper() + en[1:], ru[0].upper() + ru[1:]))
     for s in seps:
         if s.name in results:
             r = results[s.name]

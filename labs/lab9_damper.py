@@ -36,7 +36,9 @@ from processing.diagnostics import (InputError, collect_notices)
 from processing.load_cycle import out_of_order
 from processing.loops import branch_work, loop_area
 from processing.measurement import Field, Inputs, LabSpec, Section, bi, image_section
-from processing.regression import LineFit, fit_line
+from processing.record_quality import (SENSOR_FIX, check_frequency, check_record,
+                                       clipped_mask)
+from processing.regression import LineFit, calibration_fault, fit_line
 from processing.result import LabResult, compare, flag_estimates, result_values
 from processing.signals import image_options, is_image, open_channel, read_figures
 from processing.uncertainty import Measured, propagate
@@ -62,6 +64,17 @@ DRIFT_CORRELATION = 0.3
 """Lag-one correlation of the trace fit's residuals above which the baseline is suspect."""
 
 DIRECTIONS = {"forward": 1.0, "reverse": -1.0}
+
+DECAY_CLIPPED = (
+    "the fit leaves them out and reads the decrement from the rest of the record, with the "
+    "uncertainty of what is left",
+    "подбор их не учитывает и определяет декремент по остальной записи, с неопределённостью "
+    "по оставшемуся")
+"""What a clipped decay record's warning says the reduction did (English, Russian)."""
+
+PHOTO_FIX = ("photograph the paper record again, sharp and whole, with its trace and time "
+             "marks in the frame")
+"""What to do about a flat or noise-only trace read off a photograph."""
 
 SPEC = LabSpec(
     id="lab9", number="9",
@@ -407,15 +420,20 @@ def _scale(inputs: Inputs) -> Measured | None:
     if phi.size != reading.size:
         raise inputs.error(f"{phi.size} calibration twists but {reading.size} readings",
                            "write one reading for every twist", "decay.cal_reading")
-    if np.unique(reading).size < 2:
-        raise inputs.error(f"the calibration has {np.unique(reading).size} distinct point(s); "
-                           "a scale needs a straight line through at least two",
-                           "read the record at two or more twists, e.g. at no load and at "
-                           "the largest twist (better: four steps)", "decay.cal_reading")
+    if np.unique(phi).size < 2:
+        one = phi.size < 2
+        raise inputs.error(f"the calibration has {np.unique(phi).size} distinct "
+                           f"{'point' if one else 'twist'}(s); a scale needs a straight line "
+                           "through at least two", "read the record at two or more twists, "
+                           "e.g. at no load and at the largest twist (better: four steps)",
+                           "decay.cal_reading" if one else "decay.cal_phi")
+    fault = calibration_fault(phi, reading, names=("twist", "reading"),
+                              resolution=d["cal_reading"].limit)
+    if fault is not None:
+        raise inputs.error(fault, "read the record's deflection again at each twist set, "
+                           "each beside its own twist in cal_reading (the channel must be "
+                           "the strain gauges', its amplifier on)", "decay.cal_reading")
     fit = fit_line(reading, phi)
-    if fit.slope == 0:
-        raise inputs.error("the calibration's twists do not change with the readings",
-                           "check the pairing of cal_phi and cal_reading", "decay.cal_phi")
     u_b = d["cal_phi"].u_type_b / np.sqrt(np.sum((reading - reading.mean()) ** 2))
     return fit.measured_slope(u_b=u_b).scaled(float(np.sign(fit.slope)))
 
@@ -459,18 +477,32 @@ def _record_decay(inputs: Inputs, scale) -> Decay:
                           field="decay.signal")
 
     if x.size < 64:
-        raise refuse(f"the record holds {x.size} samples", "record the whole decay")
+        raise refuse(f"the record holds {x.size} samples, too short for a decay",
+                     "record the whole decay, from before the release until the swing dies "
+                     "into the noise")
+    quality = check_record(x, channel.sample_rate, file=str(path), field="decay.signal",
+                           channel=str(channel.name), purpose="the decrement", clip_refused=1.0,
+                           fix=PHOTO_FIX if is_image(path) else SENSOR_FIX,
+                           clipped_effect=DECAY_CLIPPED)
+    clipped = clipped_mask(x) if quality.clipped else None
     try:
-        record = analyse_decay(t, x)
+        record = analyse_decay(t, x, clipped=clipped)
     except ValueError as exc:
-        raise refuse(str(exc), "check that the channel is the strain gauges' and that it "
-                     "caught the release and the ringing after it (a larger twist before the "
-                     "release lifts it out of the noise)") from None
+        if clipped is not None:
+            raise refuse(f"clipped: {100 * quality.clipped:.1f} % of its samples sit at the "
+                         f"recorder's limits, and {exc}", "lower the amplifier's gain or "
+                         "raise the recorder's range, and record the decay again") from None
+        raise refuse(f"{exc}: the record lasts {quality.duration:.3g} s ({x.size} samples)",
+                     "record the whole decay, from before the release until "
+                     "the swing dies into the noise (five periods or more); a larger twist "
+                     "before the release lifts it out of the noise") from None
     except RuntimeError as exc:
         raise refuse(str(exc), "check that the record holds a free decay after a sudden "
                      "release" + ("; a mirror image of the paper (a front camera's mirror "
                                   "mode) reads backwards in time, the decay growing: flip it "
                                   "left to right" if is_image(path) else "")) from None
+    check_frequency(record.trace.omega_d / (2 * np.pi), channel.sample_rate, quality.duration,
+                    file=str(path), field="decay.signal", what="the decay's frequency ω_d/2π")
     return Decay(record.trace.measured("delta"), record.measured_period(), record.peaks,
                  record, t, x, scale, channel)
 

@@ -16,51 +16,61 @@ from processing.diagnostics import (AmplitudeDependentDampingWarning, BaselineDr
                                     StiffnessRatioWarning, UnclosedLoopWarning)
 from processing.measurement import bi
 from processing.reporting.content import result_pm
-from processing.result import Figure, Table
+from processing.result import STRICTLY_POSITIVE, Figure, Table
 
 # ------------------------------------------------------------------------ result labels
 
 _STATIC = {
     "C_static": (bi("static stiffness C = M_max/φ_max", "статическая жёсткость C = M_max/φ_max"),
-                 "C", "N*m/rad"),
+                 "C", "N*m/rad", STRICTLY_POSITIVE),
     "C_static_fit": (bi("static stiffness: slope of the loading branch",
-                        "статическая жёсткость: наклон ветви нагружения"), "C_fit", "N*m/rad"),
+                        "статическая жёсткость: наклон ветви нагружения"), "C_fit", "N*m/rad",
+                     STRICTLY_POSITIVE),
     "E_max": (bi("energy at the largest twist E_max = M_max φ_max/2",
-                 "энергия при наибольшей закрутке E_max = M_max φ_max/2"), "E_max", "J"),
+                 "энергия при наибольшей закрутке E_max = M_max φ_max/2"), "E_max", "J",
+              STRICTLY_POSITIVE),
     "E_loss": (bi("energy lost per loop E_n (the loop's area)",
                   "энергия, теряемая за петлю E_n (площадь петли)"), "E_n", "J"),
     "xi_static": (bi("relative damping coefficient ξ′_d = E_n/E_max",
                      "относительный коэффициент демпфирования ξ′_d = E_n/E_max"), "ξ′_d", ""),
 }
 STATIC = tuple(_STATIC)
-"""The static quantities found per run and averaged over the runs."""
+"""The static quantities found per run and averaged over the runs. (E_n and ξ′ of an
+inverted loop come out negative: a reading set beside the wrong moment, warned about by
+name rather than refused.)"""
 
 RESULTS = {
     **{q: ({"en": f"{lab['en']} (mean of the runs)", "ru": f"{lab['ru']} (среднее по опытам)"},
-           sym, unit) for q, (lab, sym, unit) in _STATIC.items()},
-    "log_decrement": (bi("logarithmic decrement δ", "логарифмический декремент δ"), "δ", ""),
+           *rest) for q, (lab, *rest) in _STATIC.items()},
+    "log_decrement": (bi("logarithmic decrement δ", "логарифмический декремент δ"), "δ", "",
+                      STRICTLY_POSITIVE),
     "log_decrement_peaks": (bi("logarithmic decrement by a line through the peaks",
-                               "логарифмический декремент по прямой через пики"), "δ_p", ""),
-    "T_d": (bi("period of the damped oscillation", "период затухающих колебаний"), "T", "ms"),
+                               "логарифмический декремент по прямой через пики"), "δ_p", "",
+                            STRICTLY_POSITIVE),
+    "T_d": (bi("period of the damped oscillation", "период затухающих колебаний"), "T", "ms",
+            STRICTLY_POSITIVE),
     "omega_d": (bi("damped angular frequency ω_d = 2π/T", "круговая частота ω_d = 2π/T"),
-                "ω_d", "rad/s"),
+                "ω_d", "rad/s", STRICTLY_POSITIVE),
     "xi_dynamic": (bi("damping coefficient of the layer ξ_d = I ω_d δ/π",
-                      "коэффициент демпфирования слоя ξ_d = I ω_d δ/π"), "ξ_d", "N*m*s"),
+                      "коэффициент демпфирования слоя ξ_d = I ω_d δ/π"), "ξ_d", "N*m*s",
+                   STRICTLY_POSITIVE),
     "C_dynamic": (bi("dynamic stiffness C_d = I ω_d² [1 + (δ/2π)²]",
-                     "динамическая жёсткость C_d = I ω_d² [1 + (δ/2π)²]"), "C_d", "N*m/rad"),
+                     "динамическая жёсткость C_d = I ω_d² [1 + (δ/2π)²]"), "C_d", "N*m/rad",
+                  STRICTLY_POSITIVE),
     "C_ratio": (bi("dynamic to static stiffness C_d/C", "отношение жёсткостей C_d/C"),
-                "C_d/C", ""),
+                "C_d/C", "", STRICTLY_POSITIVE),
     "mu_phi": (bi("scale of the record μ_φ (twist per unit of the record)",
-                  "масштаб записи μ_φ (угол на единицу записи)"), "μ_φ", ""),
+                  "масштаб записи μ_φ (угол на единицу записи)"), "μ_φ", "", STRICTLY_POSITIVE),
 }
-"""Labels, symbols and display units of the lab's results (the runs' means and the decay)."""
+"""Labels, symbols and display units of the lab's results (the runs' means and the decay),
+with :data:`~processing.result.STRICTLY_POSITIVE` on those above zero by nature."""
 
 
 def run_results(numbers) -> dict:
     """Labels of the per-run results ``C_static_k`` … ``xi_static_k`` of runs ``numbers``."""
     return {f"{q}_{k}": ({"en": f"{lab['en']}, run {k}", "ru": f"{lab['ru']}, опыт {k}"},
-                         f"{sym},{k}", unit)
-            for k in numbers for q, (lab, sym, unit) in _STATIC.items()}
+                         f"{sym},{k}", *rest)
+            for k in numbers for q, (lab, sym, *rest) in _STATIC.items()}
 
 
 FORMULAS = [

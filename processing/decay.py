@@ -16,6 +16,11 @@ reductions are offered, with no knowledge of what rang:
   along the record (damping that depends on the amplitude).
 * :func:`analyse_decay` does both to a record and returns them together.
 
+A record clipped by its recorder (its first swings cut at the converter's or the amplifier's
+limit) is reduced around the clipped samples: each function takes their mask
+(:func:`processing.record_quality.clipped_mask`); the extrema they touch are not used, and
+the fits leave them out, so the decrement comes from what the record holds unharmed.
+
 The half range of an exponentially decaying record is the amplitude times
 (1 + cosh(δ/2))/2, the same factor for every peak, so ratios of half ranges are ratios of
 amplitudes.
@@ -61,7 +66,7 @@ the amplitude goes unseen. (A decrement of 0.89 at 30 dB stands out for 2.4 peri
 damper``.)"""
 
 
-def noise_sd(x, window: int | None = None) -> float:
+def noise_sd(x, window: int | None = None, *, exclude=None) -> float:
     """Standard deviation of the noise on a smooth, well-sampled record.
 
     Without ``window``: from the median absolute deviation of second differences (white
@@ -73,6 +78,9 @@ def noise_sd(x, window: int | None = None) -> float:
     sample per pixel column, whose errors alternate from column to column, fools the first
     by a factor of six.
 
+    ``exclude`` (a mask) leaves samples out of the median: a clipped stretch, whose held
+    value has no noise.
+
     Examples
     --------
     >>> rng = np.random.default_rng(1)
@@ -82,15 +90,16 @@ def noise_sd(x, window: int | None = None) -> float:
     (0.01, 0.01)
     """
     x = np.asarray(x, dtype=float)
-    if window is None:
-        d2 = np.diff(x, 2)
-        return float(1.4826 * np.median(np.abs(d2 - np.median(d2))) / math.sqrt(6.0))
+    keep = np.ones(x.size, bool) if exclude is None else ~np.asarray(exclude, bool)
+    if window is None or x.size <= max(int(window) | 1, 7):
+        d2 = np.diff(x, 2)[keep[1:-1] & keep[:-2] & keep[2:]]
+        return float(1.4826 * np.median(np.abs(d2 - np.median(d2))) / math.sqrt(6.0)) \
+            if d2.size else 0.0
     window = max(int(window) | 1, 7)
-    if x.size <= window:
-        return noise_sd(x)
-    r = x - savgol(x, window, 3)
+    r = (x - savgol(x, window, 3))[keep]
     h0 = float(savgol_coeffs(window, 3)[window // 2])
-    return float(1.4826 * np.median(np.abs(r - np.median(r))) / math.sqrt(1.0 - h0))
+    return float(1.4826 * np.median(np.abs(r - np.median(r))) / math.sqrt(1.0 - h0)) \
+        if r.size else 0.0
 
 
 def dominant_period(time, x) -> float:
@@ -126,6 +135,8 @@ class Peaks(Record):
         Noise standard deviation of the record (:func:`noise_sd`). [record's unit]
     period : float
         Period from the spacing of the extrema (twice their median spacing). [s]
+    clipped : ndarray of bool or None
+        Extrema whose lobe holds a clipped sample (None: no mask was given).
     """
 
     time: np.ndarray
@@ -135,6 +146,12 @@ class Peaks(Record):
     used: np.ndarray
     noise: float
     period: float
+    clipped: np.ndarray | None = None
+
+    @property
+    def clear(self) -> int:
+        """Extrema whose lobe holds no clipped sample."""
+        return int(self.time.size - (0 if self.clipped is None else self.clipped.sum()))
 
     @property
     def amplitudes(self) -> np.ndarray:
@@ -176,7 +193,8 @@ def _refine(t: np.ndarray, x: np.ndarray, i: int, half: int) -> tuple[float, flo
     return float(t[i] + v), float(c0 - c1 * c1 / (4.0 * c2))
 
 
-def find_peaks(time, x, *, period: float | None = None, min_snr: float = PEAK_SNR) -> Peaks:
+def find_peaks(time, x, *, period: float | None = None, min_snr: float = PEAK_SNR,
+               clipped=None) -> Peaks:
     """Extrema of a free-decay record and their drift-free half ranges.
 
     Parameters
@@ -187,6 +205,10 @@ def find_peaks(time, x, *, period: float | None = None, min_snr: float = PEAK_SN
         The oscillation's period if known; otherwise :func:`dominant_period`. [s]
     min_snr : float
         Smallest half range used, in noise standard deviations.
+    clipped : array_like of bool, optional
+        Samples at the recorder's limits (:func:`processing.record_quality.clipped_mask`):
+        an extremum in a lobe that holds one is cut off, and so is the half range of its
+        neighbours, which is taken from it; the extrema used start after the last of those.
 
     Returns
     -------
@@ -225,7 +247,8 @@ def find_peaks(time, x, *, period: float | None = None, min_snr: float = PEAK_SN
     dt = float(np.median(np.diff(t)))
     T0 = dominant_period(t, x) if period is None else float(period)
     n_T = max(int(round(T0 / dt)), 3)
-    sigma = noise_sd(x, window=n_T // 8) if n_T >= 56 else noise_sd(x)
+    cut = np.zeros(x.size, bool) if clipped is None else np.asarray(clipped, bool)
+    sigma = noise_sd(x, window=n_T // 8 if n_T >= 56 else None, exclude=cut)
     y = x - uniform_filter1d(x, n_T, mode="nearest")
     lobes = _lobes(y, BAND * sigma)[1:]
     if lobes and np.any(np.abs(y[-max(n_T // 4, 1):]) > BAND * sigma):
@@ -234,21 +257,25 @@ def find_peaks(time, x, *, period: float | None = None, min_snr: float = PEAK_SN
     found = []
     for a, b, sign in lobes:
         i = a + int(np.argmax(sign * y[a:b]))
-        found.append((*_refine(t, x, i, half), sign))
+        found.append((*_refine(t, x, i, half), sign, bool(cut[a:b].any())))
+    mask = None if clipped is None else np.array([f[3] for f in found], bool)
     if not found:
         empty = np.array([])
-        return Peaks(empty, empty, empty, empty, np.array([], bool), sigma, T0)
-    tk, xk, sk = (np.array(c) for c in zip(*found))
+        return Peaks(empty, empty, empty, empty, np.array([], bool), sigma, T0, mask)
+    tk, xk, sk = (np.array(c) for c in list(zip(*found))[:3])
     half_range = 0.5 * np.abs(xk - neighbour_baseline(tk, xk))
     used = np.zeros(tk.size, bool)
     spacing = np.diff(tk)
     typical = float(np.median(spacing)) if spacing.size else T0 / 2
-    for k in range(1, tk.size - 1):
+    touched = np.zeros(tk.size, bool) if mask is None else \
+        np.convolve(mask, np.ones(3), mode="same") > 0
+    first = int(np.flatnonzero(touched)[-1]) + 1 if touched.any() else 1
+    for k in range(max(first, 1), tk.size - 1):
         regular = max(abs(spacing[k - 1] / typical - 1.0), abs(spacing[k] / typical - 1.0)) < 0.35
         if not (half_range[k] >= min_snr * sigma and regular):
             break
         used[k] = True
-    return Peaks(tk, xk, sk, half_range, used, sigma, 2.0 * typical)
+    return Peaks(tk, xk, sk, half_range, used, sigma, 2.0 * typical, mask)
 
 
 @dataclass(frozen=True)
@@ -594,7 +621,7 @@ class _Projection:
 
 def fit_damped_sine(time, x, *, start: float | None = None, period: float | None = None,
                     delta: float | None = None, baseline_order: int = 2,
-                    curved_envelope: bool = False) -> DampedSineFit:
+                    curved_envelope: bool = False, exclude=None) -> DampedSineFit:
     """Fit a damped sinusoid on a polynomial baseline to a free-decay record.
 
     Parameters
@@ -610,6 +637,8 @@ def fit_damped_sine(time, x, *, start: float | None = None, period: float | None
         creep).
     curved_envelope : bool
         Also fit γ, a quadratic term of the log-envelope (see :func:`decrement_trend`).
+    exclude : array_like of bool, optional
+        Samples left out of the fit (clipped ones); the model holds between them.
 
     Returns
     -------
@@ -637,13 +666,18 @@ def fit_damped_sine(time, x, *, start: float | None = None, period: float | None
     """
     t, x = np.asarray(time, dtype=float), np.asarray(x, dtype=float)
     t0 = float(t[0]) if start is None else float(start)
+    T0 = dominant_period(t[t >= t0], x[t >= t0]) if period is None else float(period)
     keep = t >= t0
+    if exclude is not None:
+        keep &= ~np.asarray(exclude, bool)
     t, x = t[keep], x[keep]
+    order = int(baseline_order)
+    if t.size <= 5 + order + curved_envelope:
+        raise RuntimeError(f"fit_damped_sine: {t.size} samples to fit, fewer than its "
+                           f"{5 + order + curved_envelope} parameters and one")
     tau = t - t0
     span = float(tau[-1]) or 1.0
     u = tau / span
-    order = int(baseline_order)
-    T0 = dominant_period(t, x) if period is None else float(period)
     guess = [0.3 if delta is None else float(delta), 2 * np.pi / T0]
 
     plain = _Projection(tau, u, x, order)
@@ -761,7 +795,8 @@ def _visible_end(t: np.ndarray, fit: DampedSineFit, sigma: float) -> float:
     return float(inside[-1]) if inside.size else fit.start + fit.period
 
 
-def decrement_trend(time, x, fit: DampedSineFit, *, noise: float | None = None) -> DecrementTrend:
+def decrement_trend(time, x, fit: DampedSineFit, *, noise: float | None = None,
+                    exclude=None) -> DecrementTrend:
     """Refit ``fit``'s record with a quadratic log-envelope and test its curvature γ.
 
     Parameters
@@ -772,6 +807,8 @@ def decrement_trend(time, x, fit: DampedSineFit, *, noise: float | None = None) 
         The plain fit (its start, baseline degree and values are reused).
     noise : float, optional
         The record's noise σ (default :func:`noise_sd`), for where the oscillation ends.
+    exclude : array_like of bool, optional
+        Samples the plain fit left out (clipped ones), left out here too.
 
     Returns
     -------
@@ -784,9 +821,10 @@ def decrement_trend(time, x, fit: DampedSineFit, *, noise: float | None = None) 
     rubber) gives γ < 0.
     """
     t, x = np.asarray(time, dtype=float), np.asarray(x, dtype=float)
-    sigma = noise_sd(x) if noise is None else noise
+    sigma = noise_sd(x, exclude=exclude) if noise is None else noise
     curved = fit_damped_sine(t, x, start=fit.start, period=fit.period, delta=fit.delta,
-                             baseline_order=fit.baseline.size - 1, curved_envelope=True)
+                             baseline_order=fit.baseline.size - 1, curved_envelope=True,
+                             exclude=exclude)
     end = _visible_end(t, fit, sigma)
     d0, d1 = float(curved.decrement_at(fit.start)), float(curved.decrement_at(end))
     z = curved.gamma / curved.u("gamma") if curved.u("gamma") > 0 else 0.0
@@ -835,7 +873,29 @@ class RecordedDecay(Record):
         return Measured(t.period, t.period * t.u("omega_d") / t.omega_d, t.dof)
 
 
-def analyse_decay(time, x) -> RecordedDecay:
+RAIL_BAND = 3.0
+"""Samples within this many noise σ of a clipped record's rail are left out of its fit with
+the clipped ones: the recorder kept them only because their noise fell below the rail, so
+their noise is biased away from it."""
+
+
+def _near_rails(x: np.ndarray, clipped, sigma: float):
+    """The clipped samples and those within :data:`RAIL_BAND` σ of the rails they sit at
+    (None without a mask)."""
+    if clipped is None or not np.any(clipped):
+        return clipped
+    cut = np.asarray(clipped, bool)
+    out = cut.copy()
+    middle = float(np.median(x))
+    for side in (1.0, -1.0):
+        rail = side * x[cut] > side * middle
+        if rail.any():
+            edge = side * float(np.min(side * x[cut][rail]))
+            out |= side * x >= side * edge - RAIL_BAND * sigma
+    return out
+
+
+def analyse_decay(time, x, *, clipped=None) -> RecordedDecay:
     """Reduce a free-decay record: its extrema, a damped sinusoid over the whole trace, a
     line through the peaks and the test of a changing decrement.
 
@@ -844,6 +904,10 @@ def analyse_decay(time, x) -> RecordedDecay:
     time, x : array_like
         Sample times (uniform) [s] and the record [any unit]; it may begin with the held
         twist before the release.
+    clipped : array_like of bool, optional
+        Samples at the recorder's limits (:func:`processing.record_quality.clipped_mask`):
+        left out of the fits with the samples within :data:`RAIL_BAND` noise σ of their
+        rails, and the extrema they touch out of the peaks.
 
     Returns
     -------
@@ -852,7 +916,8 @@ def analyse_decay(time, x) -> RecordedDecay:
     Raises
     ------
     ValueError
-        Fewer than three extrema stand out of the noise (no oscillation to fit).
+        Fewer than three extrema stand out of the noise (no oscillation to fit), or fewer
+        than three are clear of the clipped samples.
     RuntimeError
         The fit failed, or the fitted oscillation does not decay measurably (δ ≤ 2u(δ)).
 
@@ -871,15 +936,20 @@ def analyse_decay(time, x) -> RecordedDecay:
     (0.3, 0.1, False)
     """
     t, x = np.asarray(time, dtype=float), np.asarray(x, dtype=float)
-    found = find_peaks(t, x)
+    found = find_peaks(t, x, clipped=clipped)
     if found.time.size < 3:
         raise ValueError(f"{found.time.size} extrema of an oscillation stand out of the noise; "
                          "a decay needs at least three")
+    if found.clear < 3:
+        raise ValueError(f"{found.clear} of the {found.time.size} extrema after the release are "
+                         "clear of the clipped samples; a decay needs at least three")
     start = float(found.time[0] - 0.45 * found.period)
-    trace = fit_damped_sine(t, x, start=start, period=found.period)
+    clipped = _near_rails(x, clipped, found.noise)
+    trace = fit_damped_sine(t, x, start=start, period=found.period, exclude=clipped)
     if not trace.delta > 2.0 * trace.u("delta"):
         raise RuntimeError(f"the oscillation does not decay measurably (δ = {trace.delta:.2g} "
                            f"± {2 * trace.u('delta'):.2g}, k = 2): it is not a free decay")
     peaks = (log_decrement(found.amplitudes, step=0.5, half_ranges=True)
              if found.used.sum() >= 3 else None)
-    return RecordedDecay(found, trace, peaks, decrement_trend(t, x, trace, noise=found.noise))
+    return RecordedDecay(found, trace, peaks, decrement_trend(t, x, trace, noise=found.noise,
+                                                              exclude=clipped))

@@ -16,6 +16,13 @@ measures themselves are :func:`assess`:
   resolves has ρ = 2 sin²(π f / f_s), a few per cent at ten samples a period; a record
   whose broadband noise carries more power than its signal (SNR below 0 dB) has ρ > ½.
 
+A pulse channel (a toothed wheel's sensor, TDC or time marks) is timed by its edges, which a
+clipped pulse keeps, and its pulses may be a sample or two wide, which makes even a clean
+train rough: :func:`check_pulses` refuses it flat or noise only by :func:`periodicity`, the
+largest correlation of the channel with itself shifted (white noise: none; pulses repeating
+above their noise: more than ½). :func:`check_frequency` refuses a frequency read off a record
+that the record cannot hold (above its Nyquist frequency, or slower than one cycle over it).
+
 References
 ----------
 .. [1] J. S. Bendat, A. G. Piersol, Random Data: Analysis and Measurement Procedures, 4th ed.,
@@ -44,12 +51,37 @@ CLIP_REFUSED = 0.05
 """Share of a record's samples clipped above which it is refused (unless the lab reduces
 around its clipped stretches and says so with a limit of its own)."""
 
+LOGIC_SHARE = 0.8
+"""Clipped share above which a channel is more like a logic channel's two levels (marks
+named for a sensor) than an overloaded sensor's record, and is refused as either."""
+
 NOISE_ROUGHNESS = 0.5
 """Roughness (:func:`roughness`) above which a record holds no oscillation above its noise:
 the noise's power exceeds the signal's (white noise: 1)."""
 
+FAST_ROUGHNESS = 1.5
+"""Roughness above which a record's oscillation is faster than a third of its sample rate
+(ρ = 2 sin²(π f/f_s) > 1.5): it changes sign from sample to sample, as white noise (ρ ≈ 1)
+cannot."""
+
 FLAT_STEPS = 2
 """A record whose whole spread is at most this many of its resolution steps is flat."""
+
+PULSE_HEAD = 1 << 20
+"""Samples of a long pulse channel that :func:`check_pulse_channel` reads (8 MB as floats):
+its first seconds show whether it holds pulses as well as all of it does."""
+
+PULSE_NOISE = 0.5
+"""Periodicity (:func:`periodicity`) below which a pulse channel holds no pulses above its
+noise: no shift makes it resemble itself more than the noise's share of its power allows."""
+
+SENSOR_FIX = ("check that the sensor is connected and powered, that its amplifier's gain is set, "
+              "and that the channel named is the one that recorded it; then record again")
+"""What to do about a flat or noise-only channel of a recorder."""
+
+CLIPPED_EFFECT = ("peaks there are cut off and what is read from them is low",
+                  "пики срезаны, и определённое по ним занижено")
+"""What a clipped record does to a reduction that reads its peaks (English, Russian)."""
 
 
 @dataclass(frozen=True)
@@ -208,7 +240,8 @@ def assess(x, rate: float) -> RecordQuality:
 
 def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
                  least_duration: float = 0.0, purpose: str = "the reduction",
-                 clip_refused: float = CLIP_REFUSED) -> RecordQuality:
+                 clip_refused: float = CLIP_REFUSED, fix: str = SENSOR_FIX,
+                 clipped_effect: tuple[str, str] = CLIPPED_EFFECT) -> RecordQuality:
     """Refuse a record that is flat, noise only, too short or clipped beyond a limit; warn
     about a smaller clipped share.
 
@@ -229,6 +262,12 @@ def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
     clip_refused : float
         Clipped share above which the record is refused (:data:`CLIP_REFUSED`); a lab that
         leaves the clipped samples out of its fit may allow more.
+    fix : str
+        What to do about a flat or noise-only record (default :data:`SENSOR_FIX`; a trace
+        read off a photograph asks for another photograph).
+    clipped_effect : (str, str)
+        What the clipped samples do to the reduction, in English and Russian, for the
+        warning (default :data:`CLIPPED_EFFECT`; a fit around them says so).
 
     Returns
     -------
@@ -237,7 +276,9 @@ def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
     Raises
     ------
     InputError
-        Flat, noise only, shorter than ``least_duration`` or clipped beyond ``clip_refused``.
+        Flat, noise only (or an oscillation faster than a third of the sample rate), shorter
+        than ``least_duration``, clipped beyond ``clip_refused``, or sitting at two levels
+        (:data:`LOGIC_SHARE`) whatever the lab allows.
 
     Examples
     --------
@@ -255,21 +296,31 @@ def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
         return InputError(f"channel '{channel}' {problem}", fix, file=file, field=field)
 
     q = assess(x, rate)
-    sensor = ("check that the sensor is connected and powered, that its amplifier's gain is "
-              "set, and that the channel named is the one that recorded it; then record again")
     if q.flat:
         level = float(np.asarray(x, dtype=float)[0]) if q.samples else 0.0
         raise refuse(f"is flat: its {q.samples} samples stay at {level:.6g}"
                      + (f" within {q.spread:.3g}" if q.spread else "")
-                     + f", nothing for {purpose} to read", sensor)
+                     + f", nothing for {purpose} to read", fix)
+    if q.noise_only and q.roughness > FAST_ROUGHNESS:
+        raise refuse(f"swings from sample to sample (its changes carry {100 * q.roughness:.0f} % "
+                     f"of its variance): what it holds is faster than a third of its sample "
+                     f"rate ({rate:.6g} Hz), too fast for {purpose}", "record at a higher "
+                     "sample rate (ten or more samples a period), or give the recorder's true "
+                     "sample rate")
     if q.noise_only:
         raise refuse(f"holds no oscillation above its noise: its sample-to-sample changes "
                      f"carry {100 * q.roughness:.0f} % of its variance, as white noise does (a "
-                     f"record its sample rate resolves carries a few per cent)", sensor)
+                     f"record its sample rate resolves carries a few per cent)", fix)
     if q.duration < least_duration:
         raise refuse(f"lasts {q.duration:.4g} s ({q.samples} samples); {purpose} needs at "
                      f"least {least_duration:.4g} s", "record longer, or name the whole "
                      "recording")
+    if q.clipped > LOGIC_SHARE:
+        raise refuse(f"sits at its two extremes in {100 * q.clipped:.0f} % of its samples: a "
+                     f"logic channel (TDC or time marks), or a sensor clipped past recognition, "
+                     f"nothing for {purpose} to read", "name the sensor's own channel; if it "
+                     "is the one, lower the amplifier's gain or raise the recorder's range and "
+                     "record again")
     if q.clipped > clip_refused:
         raise refuse(f"is clipped: {100 * q.clipped:.1f} % of its samples sit at the "
                      f"recorder's limits (more than {100 * clip_refused:g} %); its peaks are "
@@ -278,9 +329,168 @@ def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
     if q.clipped > CLIP_WARNED:
         warnings.warn(ClippedRecordWarning(
             f"{file}, channel '{channel}': {100 * q.clipped:.2f} % of the samples sit at the "
-            f"recorder's limits; peaks there are cut off and what is read from them is low: "
-            f"lower the amplifier's gain or raise the recorder's range",
+            f"recorder's limits; {clipped_effect[0]}: lower the amplifier's gain or raise the "
+            f"recorder's range",
             f"{file}, канал '{channel}': {100 * q.clipped:.2f} % отсчётов на пределе "
-            f"регистратора; пики срезаны, и определённое по ним занижено: уменьшите усиление "
-            f"или увеличьте диапазон регистратора"))
+            f"регистратора; {clipped_effect[1]}: уменьшите усиление или увеличьте диапазон "
+            f"регистратора"))
     return q
+
+
+def periodicity(x) -> float:
+    """The largest correlation of a record with itself shifted by 1 to n/2 samples,
+    r(k) = Σ x̃ᵢ x̃ᵢ₊ₖ / ((n − k) var x), x̃ = x − x̄.
+
+    A pulse train, or any oscillation, repeats: r at its period is the share of the record's
+    power that repeats, near 1 above a weak noise, ½ where noise and pulses carry as much,
+    whatever the pulses' width (a one-sample pulse makes even a clean train rough,
+    :func:`roughness` ≈ 1). White noise resembles no shift of itself: r ~ 1/√(n − k).
+
+    Parameters
+    ----------
+    x : array_like
+        The record, at least four samples. [any unit]
+
+    Returns
+    -------
+    float
+        max r(k), nan for a constant or too short a record. [1]
+
+    Examples
+    --------
+    >>> pulses = np.zeros(5000)
+    >>> pulses[::250] = 1.0                        # one-sample pulses: rough, but periodic
+    >>> round(roughness(pulses), 2), round(periodicity(pulses), 2)
+    (0.98, 1.0)
+    >>> periodicity(np.random.default_rng(2).standard_normal(5000)) < 0.1
+    True
+    """
+    x = np.asarray(x, dtype=float)
+    n = x.size
+    y = x - x.mean() if n else x
+    variance = float(y @ y) / n if n else 0.0
+    if n < 4 or variance == 0:
+        return float("nan")
+    size = 1 << int(np.ceil(np.log2(2 * n)))
+    spectrum = np.fft.rfft(y, size)
+    lags = np.arange(1, n // 2 + 1)
+    r = np.fft.irfft(np.abs(spectrum) ** 2, size)[lags] / ((n - lags) * variance)
+    return float(r.max())
+
+
+def check_pulses(x, rate: float, *, file: str, field: str | None, channel: str,
+                 pulses: str = "pulses", fix: str = SENSOR_FIX) -> float:
+    """Refuse a pulse channel (a toothed wheel's sensor, TDC or time marks) that is flat or
+    holds only noise; its clipping is left alone (an edge is timed where a clipped pulse
+    crosses its mean level, as where a whole one does).
+
+    Flat here is constant: a logic channel's two levels are a code apart, and whether they
+    toggle with pulses or with noise in the converter's last bit, :func:`periodicity` tells.
+
+    Parameters
+    ----------
+    x : array_like
+        The channel, or a bounded stretch of a long one (its first million samples tell as
+        much as the whole). [any unit]
+    rate : float
+        Its sample rate. [Hz]
+    file, field, channel : str
+        For the messages, as :func:`check_record`.
+    pulses : str
+        What its pulses are, in the message ("tooth pulses", "TDC marks").
+    fix : str
+        What to do about it (default :data:`SENSOR_FIX`).
+
+    Returns
+    -------
+    float
+        Its :func:`periodicity`.
+
+    Raises
+    ------
+    InputError
+        Constant, or no shift of it repeats more than :data:`PULSE_NOISE` of its power.
+
+    Examples
+    --------
+    >>> marks = (np.arange(20000) % 200 < 2).astype(float)     # two-sample marks
+    >>> round(check_pulses(marks, 1e4, file="r.csv", field="record.marks", channel="m"), 2)
+    1.0
+    >>> check_pulses(np.full(300, 5.0), 1e4, file="r.csv", field="record.marks", channel="m",
+    ...              pulses="time marks")
+    Traceback (most recent call last):
+    ...
+    processing.diagnostics.InputError: r.csv, field 'record.marks': channel 'm' is flat: its 300 samples stay at 5, no time marks to time. Fix: ...
+    """
+    x = np.asarray(x, dtype=float)
+    if x.size == 0 or np.ptp(x) == 0:
+        level = float(x[0]) if x.size else 0.0
+        raise InputError(f"channel '{channel}' is flat: its {x.size} samples stay at "
+                         f"{level:.6g}, no {pulses} to time", fix, file=file, field=field)
+    repeat = periodicity(x)
+    if repeat < PULSE_NOISE:
+        raise InputError(f"channel '{channel}' holds no {pulses} above its noise: no stretch "
+                         f"of it repeats later (its best correlation with itself shifted is "
+                         f"{repeat:.2f}; a train of pulses gives more than {PULSE_NOISE:g}), "
+                         "as white noise does", fix, file=file, field=field)
+    return repeat
+
+
+def check_frequency(frequency: float, rate: float, duration: float, *, file: str,
+                    field: str | None, what: str) -> None:
+    """Refuse a frequency read off a record that the record cannot hold: at or above its
+    Nyquist frequency rate/2 (an alias, or a fit that ran off), or below one cycle over its
+    length.
+
+    Parameters
+    ----------
+    frequency : float
+        The frequency found. [Hz]
+    rate, duration : float
+        The record's sample rate [Hz] and length [s].
+    file, field : str
+        For the message.
+    what : str
+        The frequency's name in the message ("the decay's ω_d/2π").
+
+    Raises
+    ------
+    InputError
+
+    Examples
+    --------
+    >>> check_frequency(450.0, 10e3, 0.5, file="r.csv", field="record.signal", what="ν")
+    >>> check_frequency(6e3, 10e3, 0.5, file="r.csv", field="record.signal", what="ν")
+    Traceback (most recent call last):
+    ...
+    processing.diagnostics.InputError: r.csv, field 'record.signal': ν = 6000 Hz is above the record's Nyquist frequency (5000 Hz at 10000 Hz sampling): the record cannot hold it. Fix: ...
+    """
+    if not frequency < rate / 2:
+        raise InputError(f"{what} = {frequency:.4g} Hz is above the record's Nyquist frequency "
+                         f"({rate / 2:.6g} Hz at {rate:.6g} Hz sampling): the record cannot "
+                         "hold it", "record at a higher sample rate (ten or more samples a "
+                         "period), or give the recorder's true sample rate", file=file,
+                         field=field)
+    if not frequency * duration >= 1:
+        raise InputError(f"{what} = {frequency:.4g} Hz is slower than one cycle over the "
+                         f"record ({duration:.4g} s): the record cannot hold it",
+                         "record longer: several periods of the oscillation", file=file,
+                         field=field)
+
+
+def check_pulse_channel(channel, *, field: str | None, pulses: str = "pulses",
+                        fix: str = SENSOR_FIX, head: int = PULSE_HEAD) -> float:
+    """:func:`check_pulses` on the first ``head`` samples of a recorded channel, read in one
+    bounded block however long the recording (a
+    :class:`~processing.signals.Channel`: its ``chunks``, ``sample_rate``,
+    ``volts_per_code``, ``path`` and ``name``).
+
+    Returns
+    -------
+    float
+        The stretch's :func:`periodicity`.
+    """
+    stretch = next(channel.chunks(min(channel.length, head)))
+    return check_pulses(stretch.astype(float) * channel.volts_per_code, channel.sample_rate,
+                        file=str(channel.path), field=field, channel=str(channel.name),
+                        pulses=pulses, fix=fix)

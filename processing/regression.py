@@ -139,6 +139,61 @@ def fit_line(x, y, *, through_origin: bool = False) -> LineFit:
     return LineFit(b, a, u_b, u_a, -xm * u_b**2, s, dof, x.size, False)
 
 
+def calibration_fault(applied, reading, *, names: tuple[str, str] = ("load", "reading"),
+                      resolution: float = 0.0) -> str | None:
+    """What keeps a calibration table from giving a scale, in words (None if nothing does).
+
+    A calibration sets known values (loads, twists) and reads the instrument at each; a
+    scale is the slope of the line through them. It fails when the readings never change
+    (a dead channel, or readings copied down), and it is misread when they turn back: a
+    reading that moves against the others' direction by more than its own limit of error
+    twice over (the two readings each off by their limit) was written beside the wrong
+    value. The set values' own count is the caller's to check.
+
+    Parameters
+    ----------
+    applied, reading : array_like
+        The values set and the instrument's reading at each, one length. [any units]
+    names : (str, str)
+        What they are called in the message.
+    resolution : float
+        The readings' limit of error (0: none stated). [unit of ``reading``]
+
+    Returns
+    -------
+    str or None
+
+    Examples
+    --------
+    >>> calibration_fault([0, 300, 600, 900], [0.0, 18.1, 36.0, 54.2]) is None
+    True
+    >>> calibration_fault([0, 300, 600, 900], [5, 5, 5, 5], names=("load", "deflection"))
+    'the deflections never change: every one of the 4 is 5'
+    >>> calibration_fault([0, 300, 600, 900], [0, 18, 36, 10], names=("load", "deflection"),
+    ...                   resolution=0.2)
+    'deflection 4 (10) turns back past deflection 3 (36), although its load is larger: the others rise with the load'
+    """
+    x, y = np.asarray(applied, dtype=float).ravel(), np.asarray(reading, dtype=float).ravel()
+    what, read = names
+    if np.ptp(y) <= 2 * resolution:
+        if np.ptp(y) == 0:
+            return f"the {read}s never change: every one of the {y.size} is {y[0]:g}"
+        return (f"the {read}s never change by more than their limit of error twice over: "
+                f"they span {np.ptp(y):g} ({2 * resolution:g} allowed)")
+    order = np.argsort(x, kind="stable")
+    direction = math.copysign(1.0, fit_line(x, y).slope) if np.ptp(x) > 0 else 1.0
+    ahead = order[0]
+    for k in order[1:]:
+        if x[k] > x[ahead] and direction * (y[k] - y[ahead]) < -2 * resolution:
+            trend = "rise" if direction > 0 else "fall"
+            return (f"{read} {k + 1} ({y[k]:g}) turns back past {read} {ahead + 1} "
+                    f"({y[ahead]:g}), although its {what} is larger: the others {trend} with "
+                    f"the {what}")
+        if direction * (y[k] - y[ahead]) > 0:
+            ahead = k
+    return None
+
+
 @dataclass(frozen=True)
 class CurvatureTest(Record):
     """Whether a table bends: a quadratic term c₂ tested against the straight line.

@@ -21,7 +21,10 @@ of the cam:
   a cubic baseline (:func:`processing.decay.fit_damped_sine`) fitted from the largest swing
   after the opening over at most :data:`FIT_PERIODS` periods, before any loss of contact.
 
-Times in s, forces in the trace's unit above its zero (the calibration scales them).
+Times in s, forces in the trace's unit above its zero (the calibration scales them). A trace
+clipped by its recorder (:func:`processing.record_quality.clipped_mask`) is read around the
+clipped samples: an extreme that sits on them is flagged (it is cut off, not measured), and
+the free oscillation's fit leaves them out.
 
 References
 ----------
@@ -183,6 +186,9 @@ class ValveEvent(Record):
     oscillation : FreeOscillation or None
         The free oscillation (after the last loss of contact, if any), or None where the
         opening holds too few periods of it.
+    clipped_max, clipped_min : bool
+        Whether the smoothing window of P_max (of P_min) holds a clipped sample: the
+        extreme is cut off by the recorder, not measured.
     """
 
     opening: float
@@ -199,6 +205,8 @@ class ValveEvent(Record):
     loss: float
     loss_start: float
     oscillation: FreeOscillation | None
+    clipped_max: bool = False
+    clipped_min: bool = False
 
 
 def _crossing(t, y, level: float, k: int) -> float:
@@ -224,7 +232,8 @@ def _merge(runs, gap: float) -> list[tuple[int, int]]:
 
 
 def valve_events(time, force, preload: float, *, noise: float,
-                 period: float | None = None, resolution: float = 0.0) -> list[ValveEvent]:
+                 period: float | None = None, resolution: float = 0.0,
+                 clipped=None) -> list[ValveEvent]:
     """The whole valve events of a trace (those cut by the record's ends are left out).
 
     Parameters
@@ -244,6 +253,9 @@ def valve_events(time, force, preload: float, *, noise: float,
         The smallest force the trace resolves besides its noise (half the stroke of a trace
         read off a photograph; 0 for a recording): the drive counts as loaded only above
         it and as unloaded below it. [trace unit]
+    clipped : array_like of bool, optional
+        Samples at the recorder's limits: extremes on them are flagged
+        (:attr:`ValveEvent.clipped_max`), and the free oscillation is fitted without them.
 
     Returns
     -------
@@ -259,11 +271,14 @@ def valve_events(time, force, preload: float, *, noise: float,
     t, y = np.asarray(time, dtype=float), np.asarray(force, dtype=float)
     if y.size <= SMOOTH_WINDOW:
         return []
+    cut = np.zeros(y.size, bool) if clipped is None else np.asarray(clipped, bool)
     smooth = savgol(y, SMOOTH_WINDOW, 2)
     gain = float(np.sqrt(np.sum(savgol_coeffs(SMOOTH_WINDOW, 2) ** 2)))
     s_noise = noise * gain
     loaded = smooth > max(CONTACT_LEVEL * s_noise, resolution)
     runs = _stretches(loaded)
+    if not runs:
+        return []
     longest = max(b - a for a, b in runs)
     runs = [r for r in _merge(runs, GAP_SHARE * longest) if r[1] - r[0] > 0.5 * longest]
     events = []
@@ -271,13 +286,13 @@ def valve_events(time, force, preload: float, *, noise: float,
         if a == 0 or b == y.size - 1:
             continue
         events.append(_event(t, y, smooth, a, b, preload, noise, s_noise, period,
-                             resolution))
+                             resolution, cut))
     return [e for e in events if e is not None]
 
 
-def _event(t, y, smooth, a, b, preload, noise, s_noise, period,
-           resolution: float = 0.0) -> ValveEvent | None:
-    """One event over the loaded samples a…b."""
+def _event(t, y, smooth, a, b, preload, noise, s_noise, period, resolution: float,
+           cut: np.ndarray) -> ValveEvent | None:
+    """One event over the loaded samples a…b (``cut``: the clipped samples)."""
     seg = slice(a, b + 1)
     above = np.flatnonzero(y[seg] > preload) + a
     if above.size == 0:
@@ -288,7 +303,9 @@ def _event(t, y, smooth, a, b, preload, noise, s_noise, period,
     slope_up = abs(y[up + 1] - y[up]) / dt
     slope_down = abs(y[down + 1] - y[down]) / dt
     inside = slice(up + 1, down + 1)
-    t_max, P_max = _vertex(t, smooth, int(np.argmax(smooth[seg])) + a)
+    k_max = int(np.argmax(smooth[seg])) + a
+    t_max, P_max = _vertex(t, smooth, k_max)
+    k_min = None
     unloaded = smooth[inside] < max(LOSS_LEVEL * s_noise, resolution)
     loss = float(np.count_nonzero(unloaded) * dt)
     if unloaded.any():
@@ -298,15 +315,21 @@ def _event(t, y, smooth, a, b, preload, noise, s_noise, period,
         u_min = noise / math.sqrt(gone.size)
     else:
         loss_start, start = math.nan, opening
-        t_min, P_min = _vertex(t, smooth, int(np.argmin(smooth[inside])) + up + 1)
+        k_min = int(np.argmin(smooth[inside])) + up + 1
+        t_min, P_min = _vertex(t, smooth, k_min)
         u_min = s_noise
     try:
-        osc = free_oscillation(t, y, start, closing, period)
+        osc = free_oscillation(t, y, start, closing, period, exclude=cut)
     except RuntimeError:
         osc = None
+
+    def clipped_at(k):
+        reach = SMOOTH_WINDOW // 2 + 1
+        return k is not None and bool(cut[max(k - reach, 0):k + reach + 1].any())
+
     return ValveEvent(opening, closing, noise / slope_up, noise / slope_down,
                       (float(t[a]), float(t[b])), P_max, P_min, s_noise, u_min, t_max, t_min,
-                      loss, loss_start, osc)
+                      loss, loss_start, osc, clipped_at(k_max), clipped_at(k_min))
 
 
 def _vertex(t, y, k: int) -> tuple[float, float]:
@@ -346,7 +369,7 @@ def oscillation_period(time, force) -> float:
 
 
 def free_oscillation(time, force, start: float, stop: float,
-                     period: float | None = None) -> FreeOscillation:
+                     period: float | None = None, *, exclude=None) -> FreeOscillation:
     """The drive's free oscillation between ``start`` (the valve's opening) and ``stop``.
 
     The stretch fitted starts at the largest swing of the force about its running mean over
@@ -362,6 +385,8 @@ def free_oscillation(time, force, start: float, stop: float,
         The opening, and where it ends or first loses contact. [s]
     period : float, optional
         A first guess of the period. [s]
+    exclude : array_like of bool, optional
+        Samples left out of the fit (clipped ones), over the whole trace.
 
     Returns
     -------
@@ -370,8 +395,9 @@ def free_oscillation(time, force, start: float, stop: float,
     Raises
     ------
     RuntimeError
-        Fewer than :data:`MIN_PERIODS` periods to fit, or the fit failed or wandered more
-        than :data:`FREQUENCY_SLACK` from the spectrum's peak.
+        Fewer than :data:`MIN_PERIODS` periods to fit, the fit failed or wandered more
+        than :data:`FREQUENCY_SLACK` from the spectrum's peak, or its frequency is not below
+        the Nyquist frequency.
 
     Examples
     --------
@@ -382,7 +408,8 @@ def free_oscillation(time, force, start: float, stop: float,
     """
     t, y = np.asarray(time, dtype=float), np.asarray(force, dtype=float)
     keep = (t >= start) & (t <= stop)
-    t, y = t[keep], y[keep]
+    cut = np.zeros(t.size, bool) if exclude is None else np.asarray(exclude, bool)
+    t, y, cut = t[keep], y[keep], cut[keep]
     if t.size < 16:
         raise RuntimeError("free_oscillation: too few samples in the stretch")
     rate = 1.0 / float(np.median(np.diff(t)))
@@ -400,10 +427,10 @@ def free_oscillation(time, force, start: float, stop: float,
                            f"{MIN_PERIODS:g} needed")
     part = (t >= t0) & (t <= t1)
     with np.errstate(over="ignore", invalid="ignore"):
-        fit = fit_damped_sine(t[part], y[part], period=T, baseline_order=3)
+        fit = fit_damped_sine(t[part], y[part], period=T, baseline_order=3, exclude=cut[part])
     f = fit.omega_d / (2 * math.pi)
     if not (abs(f * T - 1) < FREQUENCY_SLACK and 0 <= fit.delta < 2 * math.pi
-            and math.isfinite(fit.u("omega_d"))):
+            and f < rate / 2 and math.isfinite(fit.u("omega_d"))):
         raise RuntimeError(f"free_oscillation: the fit wandered off (ν = {f:.4g} Hz against "
                            f"{1 / T:.4g} Hz from the spectrum, δ = {fit.delta:.3g})")
     return FreeOscillation(float(f), fit.u("omega_d") / (2 * math.pi), t0, t1,

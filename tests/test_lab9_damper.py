@@ -252,13 +252,14 @@ def test_bad_tables_name_the_file_the_field_and_the_fix(tmp_path, body, field, p
     assert "Fix:" in str(e)
 
 
-def test_record_without_three_peaks_is_refused_at_the_record(tmp_path):
+def test_noise_record_is_refused_at_the_record_as_noise(tmp_path):
     t = np.arange(4000) / 20e3
     noise = 0.01 * np.random.default_rng(0).standard_normal(t.size)
     np.savetxt(tmp_path / "flat.csv", np.column_stack([t, noise]), delimiter=",",
                header="t,u", comments="")
     path = measurement(tmp_path, '[decay]\nI = 0.03\nsignal = "flat.csv"\n')
-    with pytest.raises(InputError, match="at least three.*Fix: check that the channel") as exc:
+    with pytest.raises(InputError, match="no oscillation above its noise.*Fix: check that the "
+                                         "sensor") as exc:
         reduce(path)
     assert exc.value.file.endswith("flat.csv") and exc.value.field == "decay.signal"
 
