@@ -670,12 +670,18 @@ def _check_range(f: Field, readings: list[_Reading], path: str) -> None:
         if more:
             got += f" (and {more} more of its readings)" if lang == "en" else \
                 f" (и ещё {more} отсчётов)"
-        span = f"{least / k:.3g}–{greatest / k:.3g} {unit_text(f.unit, lang)}"
+        span = f"{_number(least / k)}–{_number(greatest / k)} {unit_text(f.unit, lang)}"
         text[lang] = (f"'{path}' ({f.label[lang]}) = {got} lies outside {span}, what the "
                       f"manual's bench measures: " if lang == "en" else
                       f"'{path}' ({f.label[lang]}) = {got} вне диапазона {span}, измеряемого "
                       f"на стенде методички: ") + _slip_text(f, worst, least, greatest, lang)
     warnings.warn(ImplausibleValueWarning(text["en"], text["ru"]))
+
+
+def _number(x: float) -> str:
+    """A range's bound as a person writes it: 10000, not 1e+04 (an exponent only for the
+    very large or small)."""
+    return f"{x:.6g}" if 1e-3 <= abs(x) < 1e6 else f"{x:.3g}"
 
 
 def _slip_text(f: Field, reading: _Reading, least: float, greatest: float, lang: str) -> str:
