@@ -15,7 +15,9 @@ read here, the same for every field of every lab and for the values ``dynlab che
   it split a reading.)
 * **Units in Russian**, as the reports print them: ``кг``, ``мм``, ``с``, ``Н·м``, ``кгс``,
   ``об/мин``, ``мин⁻¹``, ``рад/с``, ``Гц``, ``°``, ``МПа``, ``мВ/(м/с²)`` … (:data:`RU_WORDS`, a
-  pint preprocessor; pint itself reads ``·``, ``×``, ``²``, ``³``, ``⁻¹`` and ``°``).
+  pint preprocessor; pint itself reads ``·``, ``×``, ``²``, ``³``, ``⁻¹`` and ``°``), and as
+  typed: in a case that cannot be confused (``КГ``; not ``МН`` for ``мН``), a power without
+  its caret (``м2``, ``с-1``), a second typed as a Latin ``c`` (the key of ``с``).
 * **Rotational speeds count revolutions** (:func:`cycles_factor`): in a field declared as an
   angle per time (``rpm``, ``rad/s``) a speed written per time alone (``1/s``, ``s^-1``,
   ``с⁻¹``, ``Hz``, ``Гц``, ``1/min``, ``мин⁻¹``) is revolutions per that time, as are ``rps``,
@@ -65,9 +67,32 @@ RU_WORDS = {**{ru: en for en, ru in RU_UNITS.items() if ru.isalpha()},
 and the usual others); a word of Cyrillic letters is looked up whole."""
 
 
+_RU_ANY_CASE = {word.lower(): word for word in RU_WORDS
+                if sum(w.lower() == word.lower() for w in RU_WORDS) == 1}
+"""The symbols a wrong case cannot confuse (КГ, Кг for кг; not МН, mega, for мН, milli)."""
+
+_POWER = re.compile(r"(?<=[^\W\d_])(-?[1-9])(?![\d.,])")
+"""A power typed without its caret after a unit's letters: м2, с-1, мин-1."""
+
+_LATIN_C = re.compile(r"(?<![\w])c(?![\w])")
+"""A Latin c alone: с (second) typed with the keyboard in English (the same key); no lab
+measures anything in speeds of light."""
+
+
 def _russian_units(text: str) -> str:
-    """A unit expression with its Russian symbols in pint's (a pint preprocessor)."""
-    return re.sub(r"[А-Яа-яЁё]+", lambda m: RU_WORDS.get(m.group(0), m.group(0)), text)
+    """A unit expression as a Russian student types it in pint's symbols (a pint
+    preprocessor): Russian symbols (in any case that cannot be confused), powers without
+    their caret, a second typed as a Latin c.
+
+    >>> [_russian_units(t) for t in ("кг·м2", "КГ", "мин-1", "мм/c")]
+    ['kg·m^2', 'kg', 'min^-1', 'mm/s']
+    """
+    def symbol(m: re.Match) -> str:
+        word = m.group(0)
+        return RU_WORDS.get(word) or RU_WORDS.get(_RU_ANY_CASE.get(word.lower(), ""), word)
+
+    text = re.sub(r"[А-Яа-яЁё]+", symbol, text)
+    return _LATIN_C.sub("s", _POWER.sub(r"^\1", text))
 
 
 ureg = pint.UnitRegistry(preprocessors=[_russian_units])

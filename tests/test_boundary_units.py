@@ -402,6 +402,11 @@ def test_every_printed_unit_parses_back(unit, lang):
     ("1 кг·м²", "kg*m^2", 1.0), ("1 кг·мм²", "kg*m^2", 1e-6), ("1 Н·м/рад", "N*m/rad", 1.0),
     ("1 Н/мм", "N/m", 1e3), ("1 м/с²", "m/s^2", 1.0), ("1 мм/с", "m/s", 1e-3),
     ("1 кг/м³", "kg/m^3", 1.0), ("1 т", "kg", 1e3), ("1 сек", "s", 1.0),
+    # as typed: powers without a caret, the wrong case, a Latin c on the с key
+    ("1 кг·м2", "kg*m^2", 1.0), ("1 кг/м3", "kg/m^3", 1.0), ("1 м/с2", "m/s^2", 1.0),
+    ("1 мин-1", "rpm", math.pi / 30), ("1 с-1", "rpm", 2 * math.pi), ("1 КГ", "kg", 1.0),
+    ("1 Кг", "kg", 1.0), ("1 гц", "Hz", 1.0), ("1 МПА", "Pa", 1e6), ("30,62 c", "s", 30.62),
+    ("1 мм/c", "m/s", 1e-3), ("1 мН", "N", 1e-3), ("1 МН", "N", 1e6),
 ])
 def test_russian_units_of_the_issue(text, unit, si):
     assert parse_quantity(text, unit)[0] == pytest.approx(si, rel=1e-12)
