@@ -490,6 +490,21 @@ def test_every_speed_field_of_the_lab_reduces_the_same_in_any_unit(tmp_path, sam
         assert a[name].value == pytest.approx(b[name].value, rel=1e-9, nan_ok=True), name
 
 
+@pytest.mark.parametrize("written", [
+    {"value": 33.333333333333336, "unit": "Hz"}, {"value": "33,333333333333336", "unit": "об/с"},
+    {"readings": [33.333333333333336, 33.333333333333336], "unit": "1/s"},
+    {"value": 2000, "unit": "об/мин", "limit": "0,5 Гц"},
+])
+def test_a_speed_in_a_value_table_counts_revolutions(tmp_path, written):
+    data = _sample(ROOT / "sample_data/lab8/d120.toml")
+    data["engine"]["n"] = written
+    inputs, warned = _loaded(tmp_path / "student.toml", data)
+    assert not warned
+    assert inputs["engine"]["n"].value == pytest.approx(2000 * math.pi / 30, rel=1e-12)
+    if "limit" in written:
+        assert inputs["engine"]["n"].limit == pytest.approx(math.pi, rel=1e-12)
+
+
 def test_issue_lab4_takes_a_speed_in_hz(tmp_path):
     data = _sample(ROOT / "sample_data/lab4/lab4_seed4.toml")
     for reading in data["reading"]:
