@@ -640,6 +640,25 @@ def test_check_reads_a_russian_submission(tmp_path, capsys):
     assert '"verdict": "right"' in out, out
 
 
+@pytest.mark.parametrize("form", ["Гц", "1/s", "об/с", "rpm", "рад/с"])
+def test_check_reads_a_speed_per_second_as_revolutions(tmp_path, capsys, form):
+    """Lab 6's speed of record 1 reported per second, in Hz or in rad/s: read as the same
+    speed (before, 1/s and Hz were radians per second, 2π times too slow)."""
+    import json
+
+    sample = ROOT / "sample_data/lab6/lab6_seed6.toml"
+    omega = evaluate(sample, n_samples=0).results["n_1"].value
+    data = _sample(sample)
+    data["reported"] = {"n_1": _speed_text(omega, form)}
+    path = tmp_path / "student.toml"
+    path.write_text(dumps(data), encoding="utf-8")
+    code, out, err = run(capsys, "check", path, "--json")
+    assert code == 0, err
+    verdict = json.loads(out)["verdicts"][0]
+    assert verdict["reported"] == pytest.approx(omega, rel=1e-9), verdict
+    assert verdict["verdict"] != "wrong", verdict
+
+
 def test_check_names_a_decimal_comma_in_reported(tmp_path, capsys):
     text = (ROOT / "sample_data/lab1/flywheel.toml").read_text("utf-8")
     path = tmp_path / "student.toml"
