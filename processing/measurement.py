@@ -665,12 +665,12 @@ def _check_range(f: Field, readings: list[_Reading], path: str) -> None:
     k = si_factor(f.unit)
     text = {}
     for lang in ("en", "ru"):
-        got = f"{worst.number:.6g} {unit_text(worst.unit, lang)}".rstrip()
+        got = f"{_number(worst.number)} {unit_text(worst.unit, lang)}".rstrip()
         more = len(outside) - 1
         if more:
             got += f" (and {more} more of its readings)" if lang == "en" else \
                 f" (и ещё {more} отсчётов)"
-        span = f"{_number(least / k)}–{_number(greatest / k)} {unit_text(f.unit, lang)}"
+        span = f"{_number(least / k)}–{_number(greatest / k)} {unit_text(f.unit, lang)}".rstrip()
         text[lang] = (f"'{path}' ({f.label[lang]}) = {got} lies outside {span}, what the "
                       f"manual's bench measures: " if lang == "en" else
                       f"'{path}' ({f.label[lang]}) = {got} вне диапазона {span}, измеряемого "
