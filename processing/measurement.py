@@ -45,11 +45,11 @@ def bi(en: str, ru: str) -> dict[str, str]:
 # Field presets for the manual's usual instruments (lab 1: "mass to ±1 g, lengths to ±0.5 mm";
 # a stopwatch reads to 0.01 s; an amplitude is judged by eye against a scale to about 1°),
 # with what they measure on the manual's benches: parts of an engine weighed on the lab's
-# scales, lengths of its parts and rigs, times of 10–50 swings of 0.1–10 s, swings of a few
+# scales, lengths of its parts and rigs, times of 1–50 swings of 0.5–10 s, swings of a few
 # degrees (the methods want 5–10°), the local gravity.
 MASS = dict(unit="kg", limit="1 g", plausible=("10 g", "50 kg"))
 LENGTH = dict(unit="mm", limit="0.5 mm", plausible=("1 mm", "2000 mm"))
-STOPWATCH = dict(unit="s", limit="0.01 s", repeated=True, plausible=("1 s", "600 s"))
+STOPWATCH = dict(unit="s", limit="0.01 s", repeated=True, plausible=("0.5 s", "600 s"))
 AMPLITUDE = dict(unit="deg", limit="1 deg", required=False, symbol="θ₀", maximum="90 deg",
                  plausible=("0.5 deg", "45 deg"))
 COUNT = dict(kind="count", symbol="n")

@@ -560,7 +560,7 @@ def test_a_unit_slip_outside_the_bench_warns(tmp_path, sample, where, number):
     ("trifilar.R1", 0.1, r"= 0.1 mm lies outside 10–500 mm.*: a value in m typed as mm\? "
      r"0.1 m = 100 mm"),
     ("trifilar.t", [36070, 36210, 36220], r"= 36220 s \(and 2 more of its readings\) lies "
-     r"outside 1–600 s.*a value in ms typed as s\? 36220 ms = 36.22 s"),
+     r"outside 0.5–600 s.*a value in ms typed as s\? 36220 ms = 36.22 s"),
     ("trifilar.amplitude", "0.12", r"= 0.12 deg lies outside 0.5–45 deg.*a value in rad "
      r"typed as deg\? 0.12 rad = 6.875 deg"),
 ])
