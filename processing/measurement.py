@@ -114,7 +114,7 @@ class Field:
         for a part on the lab's scales). A reading outside warns (``implausible_value``),
         naming the unit slip that would put it inside (:func:`processing.units.likely_slip`);
         far outside what any bench measures (:data:`processing.units.PLAUSIBLE`) it is
-        refused. Zero (where allowed) is not checked.
+        refused. Zero (where allowed) is not checked; a series, by its largest reading.
     series : bool
         An array is a series of distinct values, one per step (a calibration's loads, a
         chain's masses), not repeated readings of one quantity.
@@ -654,10 +654,14 @@ def plausible_range(f: Field) -> tuple[float, float]:
 
 def _check_range(f: Field, readings: list[_Reading], path: str) -> None:
     """Warn once about the field's readings outside the range its bench measures, naming
-    the unit slip that would bring the farthest of them inside."""
+    the unit slip that would bring the farthest of them inside. A series (a calibration
+    from zero, a loop back to it) is judged by its largest reading: its small ones near
+    zero are no slip."""
     if f.plausible is None:
         return
     least, greatest = plausible_range(f)
+    if f.series:
+        readings = [max(readings, key=lambda r: r.value)]
     outside = [r for r in readings if r.value and not least <= r.value <= greatest]
     if not outside:
         return
