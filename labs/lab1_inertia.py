@@ -264,6 +264,15 @@ def physical_pendulum(period, m, c, g):
 
 # -------------------------------------------------------------------- the measurement file
 
+PART_LENGTH = {**LENGTH, "plausible": ("1 mm", "1000 mm")}
+"""A part's dimensions on the caliper or the ruler, a bolt hole's to a flywheel's rim."""
+
+RIG_RADIUS = {**LENGTH, "plausible": ("10 mm", "500 mm")}
+"""Radii of the trifilar suspension's thread points on its discs."""
+
+SUSPENSION = {**LENGTH, "plausible": ("100 mm", "3000 mm")}
+"""Lengths of a suspension's threads or wire."""
+
 SPEC = LabSpec(
     id="lab1", number="1",
     title=bi("Moments of inertia of engine parts", "Определение моментов инерции деталей двигателя"),
@@ -293,16 +302,19 @@ SPEC = LabSpec(
                   choices=("axial", "transverse", "end", "centre")),
             Field("m", bi("mass of the part", "масса части"), **MASS, required=False),
             Field("rho", bi("density (instead of m)", "плотность (вместо m)"), unit="kg/m^3",
-                  limit="100 kg/m^3", required=False, symbol="ρ", example="7200"),
+                  limit="100 kg/m^3", required=False, symbol="ρ", example="7200",
+                  plausible=("500 kg/m^3", "20000 kg/m^3")),
             Field("R", bi("outer radius (torus: centre-line radius)",
-                          "наружный радиус (тор: радиус средней линии)"), **LENGTH, required=False),
+                          "наружный радиус (тор: радиус средней линии)"), **PART_LENGTH,
+                  required=False),
             Field("r", bi("inner radius (torus: section radius)",
-                          "внутренний радиус (тор: радиус сечения)"), **LENGTH, required=False,
-                  allow_zero=True),
-            Field("h", bi("height along the axis", "высота вдоль оси"), **LENGTH, required=False),
-            Field("l", bi("rod length", "длина стержня"), **LENGTH, required=False),
+                          "внутренний радиус (тор: радиус сечения)"), **PART_LENGTH,
+                  required=False, allow_zero=True),
+            Field("h", bi("height along the axis", "высота вдоль оси"), **PART_LENGTH,
+                  required=False),
+            Field("l", bi("rod length", "длина стержня"), **PART_LENGTH, required=False),
             Field("offset", bi("distance from the axis of rotation", "расстояние до оси вращения"),
-                  **LENGTH, required=False, allow_zero=True, symbol="c"),
+                  **PART_LENGTH, required=False, allow_zero=True, symbol="c"),
             Field("count", bi("number of identical parts", "число одинаковых частей"),
                   kind="count", default=1),
             Field("hole", bi("a hole (subtracted)", "отверстие (вычитается)"), kind="flag",
@@ -310,10 +322,12 @@ SPEC = LabSpec(
         )),
         Section("trifilar", bi("Trifilar suspension", "Трёхнитяный подвес"), fields=(
             Field("R1", bi("radius of the thread points, upper disc",
-                           "радиус точек крепления нитей на верхнем диске"), **LENGTH, symbol="R₁"),
+                           "радиус точек крепления нитей на верхнем диске"), **RIG_RADIUS,
+                  symbol="R₁"),
             Field("R2", bi("radius of the thread points, lower platform",
-                           "радиус точек крепления нитей на нижнем диске"), **LENGTH, symbol="R₂"),
-            Field("l", bi("thread length", "длина нити"), **LENGTH),
+                           "радиус точек крепления нитей на нижнем диске"), **RIG_RADIUS,
+                  symbol="R₂"),
+            Field("l", bi("thread length", "длина нити"), **SUSPENSION),
             Field("n_osc", bi("full oscillations timed", "число полных колебаний"), **COUNT),
             Field("t", bi("time of n_osc oscillations, part on the platform",
                           "время n колебаний, деталь на платформе"),
@@ -352,20 +366,22 @@ SPEC = LabSpec(
                                   "или: видео колебаний с эталоном"), kind="file",
                   required=False),
             Field("J_ref", bi("reference body's moment of inertia", "момент инерции эталона"),
-                  unit="kg*m^2", required=False, symbol="J_э"),
+                  unit="kg*m^2", required=False, symbol="J_э",
+                  plausible=("1e-4 kg*m^2", "10 kg*m^2")),
             Field("m_ref", bi("reference cylinder's mass (instead of J_ref)",
                               "масса эталонного цилиндра (вместо J_э)"), **MASS, required=False),
             Field("d_ref", bi("reference cylinder's diameter", "диаметр эталонного цилиндра"),
-                  unit="mm", limit="0.05 mm", required=False),
+                  unit="mm", limit="0.05 mm", required=False, plausible=("10 mm", "1000 mm")),
             Field("G", bi("shear modulus of the wire", "модуль сдвига проволоки"), unit="GPa",
-                  limit="2 GPa", required=False, example="79 GPa for steel"),
+                  limit="2 GPa", required=False, example="79 GPa for steel",
+                  plausible=("20 GPa", "100 GPa")),
             Field("d", bi("wire diameter", "диаметр проволоки"), unit="mm", limit="0.005 mm",
-                  required=False),
-            Field("l", bi("wire length", "длина проволоки"), **LENGTH, required=False),
+                  required=False, plausible=("0.3 mm", "10 mm")),
+            Field("l", bi("wire length", "длина проволоки"), **SUSPENSION, required=False),
         )),
         Section("pendulum", bi("Physical pendulum", "Физический маятник"), fields=(
             Field("c", bi("distance from the pivot to the centre of mass",
-                          "расстояние от оси подвеса до центра масс"), **LENGTH),
+                          "расстояние от оси подвеса до центра масс"), **PART_LENGTH),
             Field("n_osc", bi("full oscillations timed", "число полных колебаний"), **COUNT),
             Field("t", bi("time of n_osc oscillations", "время n колебаний"),
                   **{**STOPWATCH, "required": False}),

@@ -166,6 +166,12 @@ def inertia_about_cm(T, l, m_sh, g):
 
 # -------------------------------------------------------------------- the measurement file
 
+ROD_LENGTH = {**LENGTH, "plausible": ("50 mm", "1000 mm")}
+"""Lengths along a connecting rod."""
+
+BORE = dict(unit="mm", limit="0.05 mm", plausible=("5 mm", "200 mm"))
+"""A rod's bore on the caliper."""
+
 SPEC = LabSpec(
     id="lab2", number="2",
     title=bi("Reducing the connecting-rod mass", "Приведение масс шатуна"),
@@ -181,7 +187,7 @@ SPEC = LabSpec(
                   example="1.012 kg"),
             Field("l_sh", bi("distance between the pin and crank-pin axes",
                              "расстояние между осями головок"), unit="mm", limit="0.1 mm",
-                  symbol="l_ш"),
+                  symbol="l_ш", plausible=("50 mm", "1000 mm")),
             Field("engine", bi("engine type (for the statistics)", "тип двигателя"),
                   kind="choice", choices=tuple(STATISTICAL_SHARE), default="petrol"),
             Field("g", bi("local acceleration of gravity", "ускорение свободного падения"),
@@ -190,17 +196,18 @@ SPEC = LabSpec(
         Section("weighing", bi("Weighing method", "Метод взвешивания"), fields=(
             Field("R_A", bi("balance reading under the small end (ΔG)",
                             "показание весов под поршневой головкой (ΔG)"), unit="g",
-                  limit="1 g", symbol="R_A"),
+                  limit="1 g", symbol="R_A", plausible=("10 g", "20 kg")),
         )),
         Section("swinging", bi("Swinging method", "Метод качания"), fields=(
             Field("l_CD", bi("distance between the prism edges C and D",
-                             "расстояние между рёбрами призм C и D"), **LENGTH, symbol="l_CD"),
+                             "расстояние между рёбрами призм C и D"), **ROD_LENGTH,
+                  symbol="l_CD"),
             Field("d_C", bi("small-end bore diameter (prism C rests on it)",
-                            "диаметр отверстия поршневой головки (опора призмы C)"), unit="mm",
-                  limit="0.05 mm", symbol="d_C"),
+                            "диаметр отверстия поршневой головки (опора призмы C)"), **BORE,
+                  symbol="d_C"),
             Field("d_D", bi("big-end bore diameter (prism D rests on it)",
                             "диаметр отверстия кривошипной головки (опора призмы D)"),
-                  unit="mm", limit="0.05 mm", symbol="d_D"),
+                  **BORE, symbol="d_D"),
             Field("n_osc", bi("full oscillations timed", "число полных колебаний"), **COUNT),
             Field("t_C", bi("time of n_osc oscillations hung at the small end",
                             "время n колебаний на поршневой головке"),

@@ -37,7 +37,8 @@ from processing.diagnostics import (GapNotFoundWarning, InconsistentInputWarning
                                     UndersampledWarning, UnequalCyclesWarning, collect_notices)
 from processing.edges import METHODS as EDGE_METHODS
 from processing.edges import stream_edges
-from processing.measurement import Field, Inputs, LabSpec, Section, bi, image_section
+from processing.measurement import (ENGINE_SPEED, SAMPLE_RATE, Field, Inputs, LabSpec, Section,
+                                    bi, image_section)
 from processing.record_quality import check_pulse_channel, check_record
 from processing.result import STRICTLY_POSITIVE, LabResult, compare, flag_estimates, result_values
 from processing.signals import image_options, open_channel, read_edge_times, read_figures
@@ -67,6 +68,9 @@ PITCH_BIAS = 0.02
 PHOTO_FIX = ("photograph the oscillogram again, sharp and whole, with its speed trace, zero line "
              "and marks in the frame")
 """What to do about a flat or noise-only trace read off a photograph."""
+
+ORDINATE = dict(unit="mm", limit="0.5 mm", plausible=("1 mm", "500 mm"))
+"""A height read off an oscillogram's paper with a ruler."""
 
 SPEC = LabSpec(
     id="lab3", number="3",
@@ -120,21 +124,21 @@ SPEC = LabSpec(
                   kind="text", required=False),
             Field("sample_rate", bi("sample rate, if the file does not say",
                                     "частота дискретизации, если её нет в файле"),
-                  unit="kHz", required=False, symbol="f_s"),
+                  **SAMPLE_RATE, required=False, symbol="f_s"),
             Field("edges", bi("or: tooth edge times from a counter (CSV, s)",
                               "или: моменты фронтов от счётчика (CSV, с)"),
                   kind="file", required=False),
-            Field("n_tach", bi("tachometer reading", "показание тахометра"), unit="rpm",
+            Field("n_tach", bi("tachometer reading", "показание тахометра"), **ENGINE_SPEED,
                   limit="5 rpm", symbol="n", example=1800),
             Field("h_max", bi("oscillogram: highest point of the speed trace",
-                              "осциллограмма: наибольшая ордината"), unit="mm",
-                  limit="0.5 mm", required=False, symbol="h_max"),
+                              "осциллограмма: наибольшая ордината"), **ORDINATE,
+                  required=False, symbol="h_max"),
             Field("h_min", bi("oscillogram: lowest point of the speed trace",
-                              "осциллограмма: наименьшая ордината"), unit="mm",
-                  limit="0.5 mm", required=False, symbol="h_min"),
+                              "осциллограмма: наименьшая ордината"), **ORDINATE,
+                  required=False, symbol="h_min"),
             Field("h_mean", bi("oscillogram: mean level (default (h_max + h_min)/2)",
                                "осциллограмма: средний уровень (по умолчанию (h_max + h_min)/2)"),
-                  unit="mm", limit="0.5 mm", required=False, symbol="h_cp"),
+                  **ORDINATE, required=False, symbol="h_cp"),
             Field("oscillogram", bi("or: a photograph or scan of the oscillogram, with its zero "
                                     "line and TDC marks ([image])",
                                     "или: снимок осциллограммы с нулевой линией и отметками ВМТ "

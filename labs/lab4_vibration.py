@@ -44,7 +44,8 @@ from processing.balance import phasor_sum
 from processing.diagnostics import InputError, collect_notices
 from processing.dynamics import firing_phases
 from processing.edges import detect_edges
-from processing.measurement import Field, Inputs, LabSpec, Section, bi, firing_order
+from processing.measurement import (ENGINE_SPEED, SAMPLE_RATE, Field, Inputs, LabSpec, Section,
+                                    bi, firing_order)
 from processing.misfire import CutCylinder, find_cut_cylinder
 from processing.orders import OrderFit, order_fit
 from processing.record_checks import check_tachometer
@@ -90,6 +91,17 @@ decade of margin each way; beyond it a sensitivity in the wrong unit is the like
 G_RATIO = 9.80665
 """mV per g over mV per m/s²: the factor a sensitivity given in the wrong one of them makes."""
 
+PART_MASS = dict(unit="kg", limit="0.01 kg", plausible=("10 g", "50 kg"))
+"""A crank train's masses, from the engine's data or weighed."""
+
+ACCELERATION = dict(unit="m/s^2", plausible=("0.02 m/s^2", "2000 m/s^2"))
+VELOCITY = dict(unit="mm/s", plausible=("0.02 mm/s", "1000 mm/s"))
+DISPLACEMENT = dict(unit="um", plausible=("0.05 um", "10000 um"))
+"""What the vibration meter reads off an engine, RMS or peak to peak: the manual's
+4–160 m/s² with a decade and more of margin for a quiet point and direction (the synthetic
+bench's quietest reads 0.13 m/s², 0.33 mm/s, 1.1 µm), velocities and displacements to
+match."""
+
 SPEC = LabSpec(
     id="lab4", number="4",
     title=catalogue.title("lab4"),
@@ -109,18 +121,19 @@ SPEC = LabSpec(
                                      "порядок работы цилиндров, напр. 1-3-4-2"),
                   kind="text", required=False),
             Field("R", bi("crank radius", "радиус кривошипа"), unit="mm", limit="0.1 mm",
-                  required=False, symbol="R", example=35),
+                  required=False, symbol="R", example=35, plausible=("10 mm", "300 mm")),
             Field("lambda", bi("crank radius over rod length", "отношение R/L"), unit="",
-                  limit="0.005", required=False, symbol="λ", example=0.28),
+                  limit="0.005", required=False, symbol="λ", example=0.28,
+                  plausible=("0.1", "0.5")),
             Field("m_j", bi("reciprocating mass of one cylinder", "масса поступательно "
-                            "движущихся частей одного цилиндра"), unit="kg", limit="0.01 kg",
+                            "движущихся частей одного цилиндра"), **PART_MASS,
                   required=False, symbol="m_j", example=0.55),
             Field("m_r", bi("rotating mass of one crank left after the counterweights",
                             "неуравновешенная вращающаяся масса одного кривошипа"),
-                  unit="kg", limit="0.01 kg", required=False, allow_zero=True, symbol="m_r",
-                  example=0),
+                  **PART_MASS, required=False, allow_zero=True, symbol="m_r", example=0),
             Field("mass", bi("mass of the engine on its mounts", "масса двигателя на опорах"),
-                  unit="kg", limit="1 kg", required=False, symbol="m_дв", example=140),
+                  unit="kg", limit="1 kg", required=False, symbol="m_дв", example=140,
+                  plausible=("10 kg", "5000 kg")),
         )),
         Section("sensor", bi("Accelerometer", "Вибродатчик"), help=report.SENSOR_HELP,
                 fields=(
@@ -132,7 +145,7 @@ SPEC = LabSpec(
         )),
         Section("meter", bi("Vibration meter", "Виброметр"), fields=(
             Field("limit", bi("basic error of the meter", "основная погрешность виброметра"),
-                  unit="%", default="15 %", symbol="δ_м"),
+                  unit="%", default="15 %", symbol="δ_м", plausible=("1 %", "50 %")),
             Field("db_reference", bi("reference values of the dB scale: ISO 1683 "
                                      "(10⁻⁶ m/s², 10⁻⁹ m/s, 10⁻¹² m) or GOST 25275 "
                                      "(3·10⁻⁴ m/s², 5·10⁻⁸ m/s, 8·10⁻¹² m)",
@@ -163,9 +176,9 @@ SPEC = LabSpec(
                   kind="choice", choices=("cycle", "revolution"), default="cycle"),
             Field("sample_rate", bi("sample rate, if the file does not say",
                                     "частота дискретизации, если её нет в файле"),
-                  unit="kHz", required=False, symbol="f_s"),
+                  **SAMPLE_RATE, required=False, symbol="f_s"),
             Field("n", bi("speed by the tachometer", "частота вращения по тахометру"),
-                  unit="rpm", limit="10 rpm", required=False, symbol="n"),
+                  **ENGINE_SPEED, limit="10 rpm", required=False, symbol="n"),
             Field("ignition", bi("ignition: all cylinders, or one cylinder cut",
                                  "зажигание: все цилиндры или один отключён"),
                   kind="choice", choices=IGNITION, default="all"),
@@ -178,22 +191,22 @@ SPEC = LabSpec(
                 help=report.READING_HELP, fields=(
             Field("point", bi("number of the point (1, 2, … in the order of [[point]])",
                               "номер точки"), kind="count"),
-            Field("n", bi("speed", "частота вращения"), unit="rpm", limit="10 rpm",
+            Field("n", bi("speed", "частота вращения"), **ENGINE_SPEED, limit="10 rpm",
                   symbol="n"),
             Field("ignition", bi("ignition", "зажигание"), kind="choice", choices=IGNITION,
                   default="all"),
-            Field("a", bi("RMS acceleration", "СКЗ виброускорения"), unit="m/s^2",
+            Field("a", bi("RMS acceleration", "СКЗ виброускорения"), **ACCELERATION,
                   required=False, symbol="a"),
-            Field("v", bi("RMS velocity", "СКЗ виброскорости"), unit="mm/s", required=False,
+            Field("v", bi("RMS velocity", "СКЗ виброскорости"), **VELOCITY, required=False,
                   symbol="v"),
-            Field("x", bi("RMS displacement", "СКЗ виброперемещения"), unit="um",
+            Field("x", bi("RMS displacement", "СКЗ виброперемещения"), **DISPLACEMENT,
                   required=False, symbol="x"),
             Field("a_pp", bi("peak-to-peak acceleration", "размах виброускорения"),
-                  unit="m/s^2", required=False, symbol="2a"),
-            Field("v_pp", bi("peak-to-peak velocity", "размах виброскорости"), unit="mm/s",
+                  **ACCELERATION, required=False, symbol="2a"),
+            Field("v_pp", bi("peak-to-peak velocity", "размах виброскорости"), **VELOCITY,
                   required=False, symbol="2v"),
             Field("x_pp", bi("peak-to-peak displacement", "размах виброперемещения"),
-                  unit="um", required=False, symbol="2x"),
+                  **DISPLACEMENT, required=False, symbol="2x"),
         )),
     ),
 )

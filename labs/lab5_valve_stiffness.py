@@ -40,7 +40,8 @@ import numpy as np
 
 from processing.diagnostics import collect_notices
 from processing.load_cycle import BRANCHES, LoadCycle, fit_branches, hysteresis
-from processing.measurement import GRAVITY, LENGTH, MASS, Field, Inputs, LabSpec, Section, bi
+from processing.measurement import (ENGINE_SPEED, GRAVITY, LENGTH, MASS, Field, Inputs, LabSpec,
+                                    Section, bi)
 from processing.result import LabResult, compare, flag_estimates, result_values
 from processing.text_table import TextTable, format_table, read_table
 from processing.toml_writer import dumps
@@ -96,9 +97,9 @@ SPEC = LabSpec(
         Section("rig", bi("Rig and rocker", "Установка и коромысло"), required=True, fields=(
             Field("i", bi("rocker ratio (valve arm over push-rod arm)",
                           "передаточное отношение коромысла"), unit="", limit="0.01",
-                  symbol="i", example=1.5),
+                  symbol="i", example=1.5, plausible=("0.5", "3")),
             Field("i1", bi("loading lever ratio", "передаточное отношение рычага"), unit="",
-                  default="10", limit="0.05", symbol="i₁"),
+                  default="10", limit="0.05", symbol="i₁", plausible=("1", "50")),
             Field("g", bi("acceleration of gravity (weights given as masses)",
                           "ускорение свободного падения (грузы заданы массой)"), **GRAVITY),
         )),
@@ -107,12 +108,12 @@ SPEC = LabSpec(
                              "единицы показаний индикаторов: деления или мм"),
                   kind="choice", choices=("div", "mm")),
             Field("division", bi("scale value of a division", "цена деления"), unit="mm",
-                  default="0.01 mm", symbol="e"),
+                  default="0.01 mm", symbol="e", plausible=("0.001 mm", "0.1 mm")),
             Field("scale_limit", bi("limit of a gauge's proportional (scale) error",
                                     "предел погрешности масштаба индикатора"), unit="%",
-                  default="2 %", symbol="δ_e"),
+                  default="2 %", symbol="δ_e", plausible=("0.1 %", "10 %")),
             Field("range", bi("measuring range of the gauges", "диапазон измерений индикатора"),
-                  unit="mm", default="10 mm"),
+                  unit="mm", default="10 mm", plausible=("1 mm", "100 mm")),
         )),
         Section("run", bi("Loading run", "Цикл нагружения"), required=True, many=True,
                 help=report.TABLE_HELP, fields=(
@@ -126,7 +127,8 @@ SPEC = LabSpec(
                               "характеристика: h и d (или P), по строке на перемещение"),
                   kind="text"),
             Field("k_dyn", bi("dynamometer characteristic", "характеристика динамометра"),
-                  unit="N/mm", default="145 N/mm", limit="1.5 N/mm", symbol="k_d"),
+                  unit="N/mm", default="145 N/mm", limit="1.5 N/mm", symbol="k_d",
+                  plausible=("1 N/mm", "10000 N/mm")),
         )),
         Section("masses", bi("Oscillating parts", "Колеблющиеся детали"), fields=(
             Field("m_valve", bi("valve with retainer and cotters", "клапан с тарелкой и "
@@ -134,7 +136,8 @@ SPEC = LabSpec(
             Field("m_spring", bi("valve springs", "клапанные пружины"), **MASS, symbol="m_n"),
             Field("J_rocker", bi("rocker's moment of inertia about its shaft",
                                  "момент инерции коромысла относительно оси"),
-                  unit="kg*mm^2", symbol="J_кор", example="105 ± 5 kg*mm^2"),
+                  unit="kg*mm^2", symbol="J_кор", example="105 ± 5 kg*mm^2",
+                  plausible=("1 kg*mm^2", "10000 kg*mm^2")),
             Field("a", bi("rocker's valve-side arm", "плечо коромысла со стороны клапана"),
                   **LENGTH, symbol="a"),
             Field("m_rod", bi("push rod", "штанга"), **MASS, symbol="m_ш"),
@@ -150,7 +153,7 @@ SPEC = LabSpec(
         Section("engine", bi("Engine speed (for cam orders)", "Частота вращения (для "
                              "порядков)"), fields=(
             Field("n", bi("crankshaft speed", "частота вращения коленчатого вала"),
-                  unit="rpm", symbol="n", example=2000),
+                  **ENGINE_SPEED, symbol="n", example=2000),
             Field("strokes", bi("strokes per cycle", "тактность"), kind="count", default=4,
                   symbol="τ"),
         )),

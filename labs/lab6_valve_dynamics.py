@@ -37,7 +37,8 @@ from pathlib import Path
 import numpy as np
 
 from processing.diagnostics import InputError, collect_notices
-from processing.measurement import Field, Inputs, LabSpec, Section, bi, image_section
+from processing.measurement import (ENGINE_SPEED, MARK_PERIOD, SAMPLE_RATE, Field, Inputs, LabSpec,
+                                    Section, bi, image_section)
 from processing.record_checks import check_tachometer, check_time_marks
 from processing.record_quality import (SENSOR_FIX, check_pulses, check_record,
                                        clipped_mask)
@@ -106,7 +107,7 @@ SPEC = LabSpec(
                                            "отметок ВМТ за оборот коленчатого вала"),
                   kind="count", default=1),
             Field("mark_period", bi("period of the time marks", "период отметчика времени"),
-                  unit="ms", required=False, symbol="T_отм"),
+                  **MARK_PERIOD, required=False, symbol="T_отм"),
         )),
         Section("valve", bi("Valve drive with a strain gauge", "Привод клапана с тензодатчиком"),
                 required=True, many=True, help=report.VALVE_HELP, fields=(
@@ -118,15 +119,16 @@ SPEC = LabSpec(
                   kind="text", required=False),
             Field("P0", bi("springs' preload on the closed valve (lab 5)",
                            "сила предварительной затяжки пружин при закрытом клапане "
-                           "(лаб. 5)"), unit="N", limit="10 N", symbol="P₀", example=260),
+                           "(лаб. 5)"), unit="N", limit="10 N", symbol="P₀", example=260,
+                  plausible=("10 N", "5000 N")),
             Field("load", bi("calibration loads", "тарировочные нагрузки"), unit="N",
-                  limit="5 N", allow_zero=True, symbol="P",
-                  example="[0, 300, 600, 900, 1200, 1500]"),
+                  limit="5 N", allow_zero=True, symbol="P", series=True,
+                  example="[0, 300, 600, 900, 1200, 1500]", plausible=("1 N", "20000 N")),
             Field("deflection", bi("the trace's deflection at each load (the record's unit: mm "
                                    "of oscillogram or V)", "отклонение записи при каждой "
                                    "нагрузке (в единицах записи: мм осциллограммы или В)"),
-                  unit="", limit="0.2", allow_zero=True, symbol="A",
-                  example="[0, 18.1, 36.0, 54.2, 71.9, 90.1]"),
+                  unit="", limit="0.2", allow_zero=True, symbol="A", series=True,
+                  example="[0, 18.1, 36.0, 54.2, 71.9, 90.1]", plausible=("1e-4", "1e4")),
         )),
         Section("record", bi("Record", "Осциллограмма"), many=True, required=True,
                 help=report.RECORD_HELP, fields=(
@@ -135,9 +137,10 @@ SPEC = LabSpec(
                                "HDF5 или снимок бумажной осциллограммы ([image])"),
                   kind="file", example="r500_03.csv"),
             Field("clearance", bi("valve clearance", "зазор между клапаном и коромыслом"),
-                  unit="mm", limit="0.02 mm", symbol="δ", example=0.3),
+                  unit="mm", limit="0.02 mm", symbol="δ", example=0.3,
+                  plausible=("0.1 mm", "1.5 mm")),
             Field("n", bi("speed by the tachometer", "частота вращения по тахометру"),
-                  unit="rpm", limit="10 rpm", required=False, symbol="n_t"),
+                  **ENGINE_SPEED, limit="10 rpm", required=False, symbol="n_t"),
             Field("tdc_channel", bi("channel of the TDC marks", "канал отметок ВМТ"),
                   kind="text", default="tdc"),
             Field("marks_channel", bi("channel of the time marks, if recorded",
@@ -145,7 +148,7 @@ SPEC = LabSpec(
                   kind="text", required=False),
             Field("sample_rate", bi("sample rate, if the file does not say",
                                     "частота дискретизации, если её нет в файле"),
-                  unit="kHz", required=False, symbol="f_s"),
+                  **SAMPLE_RATE, required=False, symbol="f_s"),
         )),
         image_section(),
     ),

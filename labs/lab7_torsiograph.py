@@ -40,7 +40,8 @@ from labs import lab7_torsiograph_report as report
 from processing.diagnostics import InputError, collect_notices
 from processing.dynamics import firing_phases
 from processing.edges import detect_edges
-from processing.measurement import Field, Inputs, LabSpec, Section, bi, firing_order, image_section
+from processing.measurement import (ENGINE_SPEED, MARK_PERIOD, SAMPLE_RATE, Field, Inputs, LabSpec,
+                                    Section, bi, firing_order, image_section)
 from processing.record_checks import check_tachometer, check_time_marks
 from processing.regression import fit_line
 from processing.resonance import Resonance, SweepEdge, locate_resonances, major_orders, \
@@ -122,38 +123,41 @@ SPEC = LabSpec(
                 required=True, fields=(
             Field("f_c", bi("natural frequency of the torsiograph's inertia mass",
                             "частота собственных колебаний инерционной массы торсиографа"),
-                  unit="Hz", limit="0.1 Hz", symbol="f_c", example=7.5),
+                  unit="Hz", limit="0.1 Hz", symbol="f_c", example=7.5,
+                  plausible=("0.1 Hz", "50 Hz")),
             Field("zeta", bi("damping ratio of the torsiograph's inertia mass",
                              "относительное демпфирование инерционной массы торсиографа"),
-                  unit="", default="0.2 ± 0.1", symbol="ζ"),
+                  unit="", default="0.2 ± 0.1", symbol="ζ", plausible=("0.01", "1.5")),
             Field("tdc_per_revolution", bi("TDC marks per crankshaft revolution",
                                            "отметок ВМТ за оборот коленчатого вала"),
                   kind="count", default=1),
             Field("mark_period", bi("period of the time marks", "период отметчика времени"),
-                  unit="ms", required=False, symbol="T_отм"),
+                  **MARK_PERIOD, required=False, symbol="T_отм"),
         )),
         Section("calibration", bi("Static calibration", "Статическая тарировка"),
                 required=True, help=report.CALIBRATION_HELP, fields=(
             Field("R", bi("lever radius", "длина рычага"), unit="mm", limit="0.5 mm",
-                  symbol="R", example=200),
+                  symbol="R", example=200, plausible=("10 mm", "2000 mm")),
             Field("h", bi("micrometer rises", "подъёмы микрометрического винта"), unit="mm",
-                  limit="0.005 mm", allow_zero=True, symbol="h",
-                  example="[0, 0.5, 1.0, 1.5, 2.0]"),
+                  limit="0.005 mm", allow_zero=True, symbol="h", series=True,
+                  example="[0, 0.5, 1.0, 1.5, 2.0]", plausible=("0.001 mm", "50 mm")),
             Field("deflection", bi("the trace's deflection at each rise (in the record's unit: "
                                    "V, or mm on paper)", "отклонение записи при каждом подъёме "
                                    "(в единицах записи: В или мм на бумаге)"),
-                  unit="", allow_zero=True, symbol="A_k",
-                  example="[0.02, 0.65, 1.27, 1.90, 2.52]"),
+                  unit="", allow_zero=True, symbol="A_k", series=True,
+                  example="[0.02, 0.65, 1.27, 1.90, 2.52]", plausible=("1e-4", "1e4")),
         )),
         Section("chain", bi("Equivalent torsional system (optional)",
                             "Эквивалентная крутильная система (необязательно)"),
                 help=report.CHAIN_HELP, fields=(
             Field("J", bi("moments of inertia of the discs, from the nose",
                           "моменты инерции масс, начиная с носка"), unit="kg*m^2",
-                  symbol="J", example="[0.05, 0.035, 0.035, 0.035, 0.035, 1.3]"),
+                  symbol="J", example="[0.05, 0.035, 0.035, 0.035, 0.035, 1.3]", series=True,
+                  plausible=("1e-4 kg*m^2", "100 kg*m^2")),
             Field("c", bi("torsional stiffnesses of the shafts between them",
                           "крутильные жёсткости участков между ними"), unit="N*m/rad",
-                  symbol="c", example="[5.2e5, 7.8e5, 7.8e5, 7.8e5, 6.1e5]"),
+                  symbol="c", example="[5.2e5, 7.8e5, 7.8e5, 7.8e5, 6.1e5]", series=True,
+                  plausible=("1e3 N*m/rad", "1e8 N*m/rad")),
         )),
         Section("record", bi("Record", "Торсиограмма"), many=True, required=True,
                 help=report.RECORD_HELP, fields=(
@@ -172,9 +176,9 @@ SPEC = LabSpec(
                   kind="text", required=False),
             Field("sample_rate", bi("sample rate, if the file does not say",
                                     "частота дискретизации, если её нет в файле"),
-                  unit="kHz", required=False, symbol="f_s"),
+                  **SAMPLE_RATE, required=False, symbol="f_s"),
             Field("n", bi("speed by the tachometer", "частота вращения по тахометру"),
-                  unit="rpm", limit="5 rpm", required=False, symbol="n_t"),
+                  **ENGINE_SPEED, limit="5 rpm", required=False, symbol="n_t"),
             Field("load", bi("load", "нагрузка"), kind="choice", choices=LOADS,
                   default="full"),
         )),

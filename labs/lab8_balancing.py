@@ -36,7 +36,8 @@ import numpy as np
 from processing.balance import (STECHKIN_KLIMOV_LIMIT, inline_balance, inline_history,
                                 stechkin_klimov)
 from processing.diagnostics import ImbalanceWarning, InconsistentInputWarning, collect_notices
-from processing.measurement import LENGTH, MASS, Field, Inputs, LabSpec, Section, bi
+from processing.measurement import (ENGINE_SPEED, LENGTH, MASS, Field, Inputs, LabSpec, Section,
+                                    bi)
 from processing.reporting.content import fmt_pm
 from processing.result import Figure, LabResult, Table, flag_estimates, result_values
 from processing.uncertainty import Measured, propagate
@@ -285,16 +286,18 @@ SPEC = LabSpec(
     sections=(
         Section("engine", bi("The engine", "Двигатель"), required=True, fields=(
             Field("r", bi("crank radius", "радиус кривошипа"), unit="mm", symbol="r",
-                  example="60 mm"),
+                  example="60 mm", plausible=("10 mm", "500 mm")),
             Field("lambda", bi("crank radius over connecting-rod length",
                                "отношение радиуса кривошипа к длине шатуна"), unit="",
-                  symbol="λ", example=0.279),
+                  symbol="λ", example=0.279, plausible=("0.1", "0.5")),
             Field("n", bi("crankshaft speed", "частота вращения коленчатого вала"),
-                  unit="rpm", symbol="n", example=2000),
+                  **ENGINE_SPEED, symbol="n", example=2000),
             Field("D", bi("cylinder bore (for ξ)", "диаметр цилиндра (для ξ)"), unit="mm",
-                  required=False, symbol="D", example="105 mm"),
+                  required=False, symbol="D", example="105 mm",
+                  plausible=("20 mm", "1000 mm")),
             Field("m_engine", bi("mass of the engine (for ξ)", "масса двигателя (для ξ)"),
-                  unit="kg", required=False, symbol="m", example="295 kg"),
+                  unit="kg", required=False, symbol="m", example="295 kg",
+                  plausible=("10 kg", "50000 kg")),
         )),
         Section("masses", bi("Masses of one crank and cylinder", "Массы одного кривошипа и цилиндра"),
                 help=bi("Masses reduced to the crank radius where they rotate. In [[cylinder]] mode\n"
@@ -344,9 +347,11 @@ SPEC = LabSpec(
                         "по умолчанию из раздела [masses]."),
                 fields=(
             Field("theta", bi("crank angle ahead of crank 1", "угол кривошипа относительно "
-                              "первого"), unit="deg", symbol="θ", allow_zero=True),
+                              "первого"), unit="deg", symbol="θ", allow_zero=True,
+                  plausible=("0.1 deg", "720 deg")),
             Field("x", bi("axial position of the cylinder axis", "осевая координата оси "
-                          "цилиндра"), unit="mm", symbol="x", allow_zero=True),
+                          "цилиндра"), unit="mm", symbol="x", allow_zero=True,
+                  plausible=("1 mm", "5000 mm")),
             Field("m_j", bi("reciprocating mass", "масса поступательно движущихся частей"),
                   **MASS, required=False, symbol="m_j"),
             Field("m_r", bi("rotating mass reduced to r", "вращающаяся масса, приведённая к r"),

@@ -35,7 +35,8 @@ from processing.decay import DecrementFit, RecordedDecay, analyse_decay, log_dec
 from processing.diagnostics import (InputError, collect_notices)
 from processing.load_cycle import out_of_order
 from processing.loops import branch_work, loop_area
-from processing.measurement import Field, Inputs, LabSpec, Section, bi, image_section
+from processing.measurement import (SAMPLE_RATE, Field, Inputs, LabSpec, Section, bi,
+                                    image_section)
 from processing.record_quality import (SENSOR_FIX, check_frequency, check_record,
                                        clipped_mask)
 from processing.regression import LineFit, calibration_fault, fit_line
@@ -101,18 +102,21 @@ SPEC = LabSpec(
                           kind="choice", choices=tuple(DIRECTIONS), default="forward"),
                     Field("M", bi("moment, in the order applied", "момент в порядке нагружения"),
                           unit="N*m", limit="0.5 N*m", allow_zero=True, symbol="M",
-                          example="[90, 180, 270, 315, 270, 180, 90, 0]"),
+                          example="[90, 180, 270, 315, 270, 180, 90, 0]", series=True,
+                          plausible=("0.1 N*m", "10000 N*m")),
                     Field("phi", bi("twist, read with each moment",
                                     "угол закрутки при каждом моменте"),
                           unit="mrad", limit="0.01 mrad", allow_zero=True, symbol="φ",
-                          example="[2.69, 6.15, 9.91, 12.12, 10.89, 7.90, 4.58, 0.09]"),
+                          example="[2.69, 6.15, 9.91, 12.12, 10.89, 7.90, 4.58, 0.09]",
+                          series=True, plausible=("0.005 mrad", "1000 mrad")),
                 )),
         Section("decay", bi("Free decay after a sudden release", "Свободные затухающие колебания"),
                 help=report.DECAY_HELP,
                 fields=(
                     Field("I", bi("moment of inertia of the damper's ring",
                                   "момент инерции маховика демпфера"), unit="kg*m^2", symbol="I",
-                          example="0.030 ± 0.0003 kg*m^2"),
+                          example="0.030 ± 0.0003 kg*m^2",
+                          plausible=("1e-3 kg*m^2", "10 kg*m^2")),
                     Field("signal", bi("record of the decay: CSV, WAV or HDF5 file, or a "
                                        "photograph or scan of the paper record ([image])",
                                        "запись колебаний: файл CSV, WAV или HDF5 или снимок "
@@ -122,27 +126,32 @@ SPEC = LabSpec(
                           required=False),
                     Field("sample_rate", bi("sample rate, if the file does not say",
                                             "частота дискретизации, если её нет в файле"),
-                          unit="kHz", required=False, symbol="f_s"),
+                          **SAMPLE_RATE, required=False, symbol="f_s"),
                     Field("peaks", bi("or: successive amplitudes read off the record, one per "
                                       "period", "или: последовательные амплитуды по "
                                       "осциллограмме, по одной за период"),
-                          unit="mm", limit="0.25 mm", required=False, symbol="φ_n"),
+                          unit="mm", limit="0.25 mm", required=False, symbol="φ_n",
+                          series=True, plausible=("0.1 mm", "500 mm")),
                     Field("T", bi("period of the oscillation", "период колебаний"), unit="ms",
-                          limit="0.05 ms", required=False, symbol="T"),
+                          limit="0.05 ms", required=False, symbol="T",
+                          plausible=("0.5 ms", "1000 ms")),
                     Field("t_N", bi("or: time of N periods", "или: время N периодов"),
-                          unit="ms", limit="0.1 ms", required=False, symbol="t_N"),
+                          unit="ms", limit="0.1 ms", required=False, symbol="t_N",
+                          plausible=("1 ms", "60000 ms")),
                     Field("N", bi("periods timed", "число периодов"), kind="count",
                           required=False, symbol="N"),
                     Field("cal_phi", bi("calibration: twists set on the static rig",
                                         "тарировка: углы, заданные на статическом стенде"),
                           unit="mrad", limit="0.01 mrad", allow_zero=True, required=False,
-                          symbol="φ_k", example="[0, 3, 6, 9]"),
+                          symbol="φ_k", example="[0, 3, 6, 9]", series=True,
+                          plausible=("0.01 mrad", "1000 mrad")),
                     Field("cal_reading", bi("calibration: the record's deflection at each "
                                             "twist (its unit: V, or mm on paper)",
                                             "тарировка: отклонение записи при каждом угле (в "
                                             "её единицах: В или мм на бумаге)"),
                           unit="", allow_zero=True, required=False, symbol="u_k",
-                          example="[0, 0.301, 0.598, 0.902]"),
+                          example="[0, 0.301, 0.598, 0.902]", series=True,
+                          plausible=("1e-6", "1e6")),
                 )),
         image_section(),
     ),

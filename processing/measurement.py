@@ -28,13 +28,15 @@ import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
+from .decimal_comma import decode_error, split_reading
 from .diagnostics import (ImplausibleValueWarning, InputError, SingleReadingWarning,
                           TextTruncatedWarning)
 from .files import MEASUREMENT, read_bytes, resolved
 from .uncertainty import Measured
-from .units import magnitude_verdict, parse_quantity, si_factor, si_unit, to_si
+from .units import (QuantityError, likely_slip, magnitude_verdict, number_to_si,
+                    parse_quantity, read_quantity, si_factor, si_unit, unit_text)
 
 def bi(en: str, ru: str) -> dict[str, str]:
     """A text in English and Russian."""
@@ -42,13 +44,23 @@ def bi(en: str, ru: str) -> dict[str, str]:
 
 
 # Field presets for the manual's usual instruments (lab 1: "mass to ±1 g, lengths to ±0.5 mm";
-# a stopwatch reads to 0.01 s; an amplitude is judged by eye against a scale to about 1°).
-MASS = dict(unit="kg", limit="1 g")
-LENGTH = dict(unit="mm", limit="0.5 mm")
-STOPWATCH = dict(unit="s", limit="0.01 s", repeated=True)
-AMPLITUDE = dict(unit="deg", limit="1 deg", required=False, symbol="θ₀", maximum="90 deg")
+# a stopwatch reads to 0.01 s; an amplitude is judged by eye against a scale to about 1°),
+# with what they measure on the manual's benches: parts of an engine weighed on the lab's
+# scales, lengths of its parts and rigs, times of 1–50 swings of 0.5–10 s, swings of a few
+# degrees (the methods want 5–10°), the local gravity.
+MASS = dict(unit="kg", limit="1 g", plausible=("10 g", "50 kg"))
+LENGTH = dict(unit="mm", limit="0.5 mm", plausible=("1 mm", "2000 mm"))
+STOPWATCH = dict(unit="s", limit="0.01 s", repeated=True, plausible=("0.5 s", "600 s"))
+AMPLITUDE = dict(unit="deg", limit="1 deg", required=False, symbol="θ₀", maximum="90 deg",
+                 plausible=("0.5 deg", "45 deg"))
 COUNT = dict(kind="count", symbol="n")
-GRAVITY = dict(unit="m/s^2", default="9.81 ± 0.02 m/s^2")
+GRAVITY = dict(unit="m/s^2", default="9.81 ± 0.02 m/s^2", plausible=("9.7 m/s^2", "9.9 m/s^2"))
+# An engine running on a test bed, by its tachometer (idle to the fastest petrol engine); a
+# recorder's or an ADC's sample rate (a sound card's 8 kHz to a fast card's few MHz).
+ENGINE_SPEED = dict(unit="rpm", plausible=("200 rpm", "10000 rpm"))
+SAMPLE_RATE = dict(unit="kHz", plausible=("1 kHz", "10000 kHz"))
+# The period of an oscillograph's time marks (a timer's 0.1 ms to a second).
+MARK_PERIOD = dict(unit="ms", plausible=("0.1 ms", "1000 ms"))
 
 MAX_READINGS = 1000
 """Most repeated readings one field takes; longer series belong in a recording (CSV)."""
@@ -95,6 +107,15 @@ class Field:
     maximum : str, optional
         The largest value that makes physical sense ("90 deg" for a swing amplitude);
         larger values are refused.
+    plausible : (str, str), optional
+        The least and the greatest value the manual's bench measures (``("10 g", "50 kg")``
+        for a part on the lab's scales). A reading outside warns (``implausible_value``),
+        naming the unit slip that would put it inside (:func:`processing.units.likely_slip`);
+        far outside what any bench measures (:data:`processing.units.PLAUSIBLE`) it is
+        refused. Zero (where allowed) is not checked; a series, by its largest reading.
+    series : bool
+        An array is a series of distinct values, one per step (a calibration's loads, a
+        chain's masses), not repeated readings of one quantity.
     """
 
     name: str
@@ -110,6 +131,8 @@ class Field:
     choices: tuple[str, ...] = ()
     example: Any = None
     maximum: str | None = None
+    plausible: tuple[str, str] | None = None
+    series: bool = False
 
     @property
     def display_symbol(self) -> str:
@@ -157,17 +180,19 @@ def image_section(name: str = "image") -> Section:
     return Section(name, bi("Reading photographed or scanned paper records",
                             "Считывание сфотографированных или отсканированных записей"), fields=(
         Field("mark_period", bi("period of the time marks", "период отметок времени"),
-              unit="ms", required=False, symbol="T_mark", example=1),
+              **MARK_PERIOD, required=False, symbol="T_mark", example=1),
         Field("paper_speed", bi("speed of the paper (without time marks, or as a check)",
                                 "скорость ленты (без отметок времени или для проверки)"),
-              unit="mm/s", required=False, symbol="v_л"),
+              unit="mm/s", required=False, symbol="v_л", plausible=("1 mm/s", "10000 mm/s")),
         Field("paper_width", bi("width of the paper between its edges (both in the picture)",
                                 "ширина ленты между краями (оба видны на снимке)"),
-              unit="mm", limit="0.5 mm", required=False, symbol="b", example=120),
+              unit="mm", limit="0.5 mm", required=False, symbol="b", example=120,
+              plausible=("10 mm", "1000 mm")),
         Field("grid", bi("pitch of a printed grid", "шаг отпечатанной сетки"), unit="mm",
-              required=False),
+              required=False, plausible=("0.5 mm", "50 mm")),
         Field("dpi", bi("a flatbed scan's resolution, dots per inch",
-                        "разрешение сканера, точек на дюйм"), unit="", required=False),
+                        "разрешение сканера, точек на дюйм"), unit="", required=False,
+              plausible=("50", "10000")),
         Field("traces", bi("how many traces the sheet carries (default: as found)",
                            "сколько линий записи на ленте (по умолчанию — по снимку)"),
               kind="count", required=False),
@@ -176,7 +201,7 @@ def image_section(name: str = "image") -> Section:
               kind="choice", choices=("mean", "line"), default="mean"),
         Field("bridge", bi("longest gap in a trace to interpolate across",
                            "наибольший разрыв линии, заполняемый интерполяцией"),
-              unit="ms", allow_zero=True, required=False),
+              unit="ms", allow_zero=True, required=False, plausible=("0.01 ms", "1000 ms")),
     ))
 
 
@@ -269,9 +294,19 @@ def _row(where: str, sec: Section, f: Field, v) -> dict:
     return row
 
 
-def read_toml(path: str | Path) -> dict:
+class TomlDocument(dict):
+    """A parsed measurement file, and the ``text`` it was parsed from (for the messages that
+    show a line of it)."""
+
+    def __init__(self, data: dict, text: str):
+        super().__init__(data)
+        self.text = text
+
+
+def read_toml(path: str | Path) -> TomlDocument:
     """Read a TOML measurement file (a regular file of at most 1 MiB,
-    :data:`processing.files.MEASUREMENT`), turning every failure into an :class:`InputError`."""
+    :data:`processing.files.MEASUREMENT`), turning every failure into an :class:`InputError` (a
+    decimal comma outside quotes named as such, with its line: :mod:`processing.decimal_comma`)."""
     path = Path(path)
     raw = read_bytes(path, MEASUREMENT)
     try:
@@ -281,8 +316,15 @@ def read_toml(path: str | Path) -> dict:
                          "give a TOML measurement file; 'dynlab template LAB' writes one",
                          file=str(path)) from None
     try:
-        return tomllib.loads(text)
+        return TomlDocument(tomllib.loads(text), text)
     except tomllib.TOMLDecodeError as exc:
+        found = decode_error(text, str(exc))
+        if found is not None:
+            split, field = found
+            raise InputError(split.problem("a decimal comma outside quotes: TOML takes a "
+                                           "comma for the separator between values, so the "
+                                           "file does not parse"), split.fix(),
+                             file=str(path), field=field) from None
         raise InputError(f"not a valid TOML file ({exc})",
                          "correct the syntax: key = value, strings in quotes, "
                          "arrays in [ ]; compare with 'dynlab template LAB'",
@@ -324,7 +366,8 @@ def load(path: str | Path, spec: LabSpec, data: dict | None = None, *,
                          file=file, field=key)
     meta = _load_meta(data.get("meta", {}), file)
     folder = Path(path).parent
-    where = _Where(file, folder, folder.resolve() if confine else None)
+    where = _Where(file, folder, folder.resolve() if confine else None,
+                   getattr(data, "text", None))
     sections: dict[str, Any] = {}
     for sec in spec.sections:
         raw = data.get(sec.name)
@@ -376,11 +419,13 @@ def _short_text(text: str, where: str) -> str:
 
 @dataclass(frozen=True)
 class _Where:
-    """The measurement file, its folder, and the folder files must stay in (or None)."""
+    """The measurement file, its folder, the folder files must stay in (or None), and its
+    text (None for a document given already parsed)."""
 
     file: str
     folder: Path
     root: Path | None
+    text: str | None = None
 
 
 def _load_section(sec: Section, raw: dict, src: _Where, where: str) -> dict:
@@ -432,7 +477,7 @@ def _convert(f: Field, raw, src: _Where, path: str):
             raise fail(f"'{f.name}' must be a whole number ≥ {least}, got {raw!r}",
                        "write the count as a whole number, e.g. 20")
         return raw
-    return _measured(f, raw, fail)
+    return _measured(f, raw, fail, src, path)
 
 
 def _file(f: Field, raw, src: _Where, fail) -> Path:
@@ -448,7 +493,16 @@ def _file(f: Field, raw, src: _Where, fail) -> Path:
     return target
 
 
-def _measured(f: Field, raw, fail) -> Measured:
+class _Reading(NamedTuple):
+    """One reading of a field: SI value and ± limit, and the number and unit as written."""
+
+    value: float
+    limit: float | None
+    number: float
+    unit: str
+
+
+def _measured(f: Field, raw, fail, src: _Where, path: str) -> Measured:
     limit = u_b = None
     if isinstance(raw, dict):
         for key in raw:
@@ -461,9 +515,9 @@ def _measured(f: Field, raw, fail) -> Measured:
         unit = _table_unit(f, raw["unit"], fail) if "unit" in raw else f.unit
         body = raw.get("value", raw.get("readings"))
         if "limit" in raw:
-            limit = _scalar(f, raw["limit"], unit, fail, what="limit", allow_zero=True)[0]
+            limit = _scalar(f, raw["limit"], unit, fail, what="limit", allow_zero=True).value
         if "u" in raw:
-            u_b = _scalar(f, raw["u"], unit, fail, what="u", allow_zero=True)[0]
+            u_b = _scalar(f, raw["u"], unit, fail, what="u", allow_zero=True).value
     else:
         unit, body = f.unit, raw
     if isinstance(body, list):
@@ -473,17 +527,17 @@ def _measured(f: Field, raw, fail) -> Measured:
             raise fail(f"'{f.name}' has {len(body)} readings; at most {MAX_READINGS} are taken",
                        "repeat a reading a few times (the manual asks for three); a long "
                        "series belongs in a recording file")
-        pairs = [_scalar(f, b, unit, fail) for b in body]
-        values = [p[0] for p in pairs]
-        limits = [p[1] for p in pairs if p[1] is not None]
+        _refuse_split(f, body, src, fail)
+        readings = [_scalar(f, b, unit, fail) for b in body]
+        limits = [r.limit for r in readings if r.limit is not None]
         limit = limit if limit is not None else (max(limits) if limits else None)
     else:
-        value, own_limit = _scalar(f, body, unit, fail)
-        values = [value]
-        limit = limit if limit is not None else own_limit
+        readings = [_scalar(f, body, unit, fail)]
+        limit = limit if limit is not None else readings[0].limit
+    _check_range(f, readings, path)
     if limit is None and u_b is None and f.limit is not None:
         limit = parse_quantity(f.limit, f.unit)[0]
-    if len(values) == 1 and f.repeated:
+    if len(readings) == 1 and f.repeated:
         warnings.warn(SingleReadingWarning(
             f"'{f.name}' ({f.label['en']}) was read once: its scatter is unknown and only the "
             f"instrument's limit enters its uncertainty; repeat the reading (the manual asks "
@@ -491,7 +545,22 @@ def _measured(f: Field, raw, fail) -> Measured:
             f"'{f.name}' ({f.label['ru']}) измерено один раз: разброс неизвестен, в "
             f"погрешность вошла только погрешность прибора; повторите опыт (методика требует "
             f"трёх повторений)"))
-    return Measured.from_readings(values, limit=limit or 0.0, u_b=u_b or 0.0)
+    return Measured.from_readings([r.value for r in readings], limit=limit or 0.0,
+                                  u_b=u_b or 0.0)
+
+
+def _refuse_split(f: Field, body: list, src: _Where, fail) -> None:
+    """Refuse readings that TOML split at decimal commas (:mod:`processing.decimal_comma`),
+    showing the line of the file."""
+    split = None if src.text is None else split_reading(src.text, f.name, body,
+                                                        series=f.series)
+    if split is None:
+        return
+    shown = ", ".join(str(v) for v in body[:8]) + (", …" if len(body) > 8 else "")
+    meant = ", ".join(f"{r:g}" for r in split.readings)
+    raise fail(split.problem(f"a decimal comma outside quotes: TOML takes a comma for a "
+                             f"separator, so '{f.name}' holds {len(body)} numbers "
+                             f"({shown}), not the readings {meant}"), split.fix())
 
 
 def _table_unit(f: Field, unit, fail) -> str:
@@ -512,22 +581,22 @@ def _table_unit(f: Field, unit, fail) -> str:
     return unit
 
 
-def _scalar(f: Field, raw, unit, fail, *, what: str = "value", allow_zero: bool | None = None):
+def _scalar(f: Field, raw, unit, fail, *, what: str = "value",
+            allow_zero: bool | None = None) -> _Reading:
     allow_zero = f.allow_zero if allow_zero is None else allow_zero
     if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
         raise fail(f"the {what} of '{f.name}' must be a number or a string with a unit, "
                    f"got {raw!r}", f"write e.g. {f.name} = \"12.5 {f.unit}\"")
     if isinstance(raw, str):
         try:
-            value, limit = parse_quantity(raw, unit)
-        except ValueError as exc:
-            raise fail(str(exc), f"write a number and a unit of {f.label['en']}, "
-                                 f"e.g. \"12.5 {f.unit}\"") from None
+            value, limit, written = read_quantity(raw, unit)
+        except QuantityError as exc:
+            raise fail(str(exc), exc.fix or f"write a number and a unit of {f.label['en']}, "
+                                            f"e.g. \"12.5 {f.unit}\"") from None
+        number = value / number_to_si(1.0, written, f.unit)
     else:
-        try:
-            value, limit = to_si(float(raw), unit), None
-        except Exception:
-            raise fail(f"unit '{unit}' is not known", "use a unit like mm, g, s, deg") from None
+        number, limit, written = float(raw), None, unit
+        value = number_to_si(number, unit, f.unit)
     if not math.isfinite(value):
         raise fail(f"the {what} of '{f.name}' is not a finite number ({raw!r})",
                    "write the number you read")
@@ -537,11 +606,13 @@ def _scalar(f: Field, raw, unit, fail, *, what: str = "value", allow_zero: bool 
         raise fail(f"'{f.name}' ({f.label['en']}) must be {bound}, got {raw!r}",
                    "check the sign and the reading" if value < 0 else
                    "a zero reading cannot be right here: check the value")
-    return value, limit
+    return _Reading(value, limit, number, written)
 
 
 def _check_magnitude(f: Field, value: float, raw, unit: str, fail, what: str) -> None:
-    """Refuse a value no bench can measure; warn about one outside the plausible range."""
+    """Refuse a value no bench can measure; warn about one outside the plausible range of its
+    dimension where the field declares none of its own (that is checked per field:
+    :func:`_check_range`)."""
     if f.maximum is not None and what == "value":
         top = parse_quantity(f.maximum, f.unit)[0]
         if value > top:
@@ -549,7 +620,7 @@ def _check_magnitude(f: Field, value: float, raw, unit: str, fail, what: str) ->
                        f"where the method makes no sense",
                        f"check the reading and its unit (the value must stay below {f.maximum})")
     verdict, plausible = magnitude_verdict(value, unit)
-    if verdict == "ok":
+    if verdict == "ok" or (verdict == "suspect" and f.plausible and what == "value"):
         return
     k = si_factor(unit)
     shown = (f"{plausible[0] / k:.3g} to {plausible[1] / k:.3g} {unit}" if plausible
@@ -563,6 +634,64 @@ def _check_magnitude(f: Field, value: float, raw, unit: str, fail, what: str) ->
         f"number and its unit",
         f"'{f.name}' ({f.label['ru']}) = {raw!r} вне обычного диапазона {shown}: проверьте "
         f"число и единицы"))
+
+
+def plausible_range(f: Field) -> tuple[float, float]:
+    """The field's :attr:`~Field.plausible` range in SI."""
+    return tuple(parse_quantity(x, f.unit)[0] for x in f.plausible)
+
+
+def _check_range(f: Field, readings: list[_Reading], path: str) -> None:
+    """Warn once about the field's readings outside the range its bench measures, naming
+    the unit slip that would bring the farthest of them inside. A series (a calibration
+    from zero, a loop back to it) is judged by its largest reading: its small ones near
+    zero are no slip."""
+    if f.plausible is None:
+        return
+    least, greatest = plausible_range(f)
+    if f.series:
+        readings = [max(readings, key=lambda r: r.value)]
+    outside = [r for r in readings if r.value and not least <= r.value <= greatest]
+    if not outside:
+        return
+    worst = max(outside, key=lambda r: abs(math.log(r.value / math.sqrt(least * greatest))))
+    k = si_factor(f.unit)
+    text = {}
+    for lang in ("en", "ru"):
+        got = f"{_number(worst.number)} {unit_text(worst.unit, lang)}".rstrip()
+        more = len(outside) - 1
+        if more:
+            got += f" (and {more} more of its readings)" if lang == "en" else \
+                f" (и ещё {more} отсчётов)"
+        span = f"{_number(least / k)}–{_number(greatest / k)} {unit_text(f.unit, lang)}".rstrip()
+        text[lang] = (f"'{path}' ({f.label[lang]}) = {got} lies outside {span}, what the "
+                      f"manual's bench measures: " if lang == "en" else
+                      f"'{path}' ({f.label[lang]}) = {got} вне диапазона {span}, измеряемого "
+                      f"на стенде методички: ") + _slip_text(f, worst, least, greatest, lang)
+    warnings.warn(ImplausibleValueWarning(text["en"], text["ru"]))
+
+
+def _number(x: float) -> str:
+    """A range's bound as a person writes it: 10000, not 1e+04 (an exponent only for the
+    very large or small)."""
+    return f"{x:.6g}" if 1e-3 <= abs(x) < 1e6 else f"{x:.3g}"
+
+
+def _slip_text(f: Field, reading: _Reading, least: float, greatest: float, lang: str) -> str:
+    """The unit slip that puts ``reading`` within [least, greatest] (SI), as a question with
+    the value it would be, or the advice to check the number."""
+    slip = likely_slip(reading.number, reading.unit, f.unit, least, greatest)
+    if slip is None:
+        return "check the number and its unit" if lang == "en" else "проверьте число и единицы"
+    meant, value = slip
+    into = f"{reading.number:.6g} {unit_text(meant, lang)}".rstrip()
+    if meant != f.unit:
+        into += f" = {value / si_factor(f.unit):.4g} {unit_text(f.unit, lang)}".rstrip()
+    if lang == "en":
+        return (f"a value in {unit_text(meant) or 'plain numbers'} typed as "
+                f"{unit_text(reading.unit) or 'a plain number'}? {into}")
+    return (f"значение в {unit_text(meant, 'ru') or 'долях'} записано как "
+            f"{unit_text(reading.unit, 'ru') or 'безразмерное число'}? {into}")
 
 
 def template(spec: LabSpec, lang: str = "en") -> str:
@@ -611,7 +740,8 @@ _TEMPLATE_TEXT = {
         "intro": ["Fill in what you measured. A value is a number in the unit shown in brackets,",
                   "or a string with its own unit: \"850 mm\", \"5.432 kg\". Add your instrument's",
                   "limit of error as \"850 ± 0.5 mm\". Repeated readings go in an array:",
-                  "t = [24.31, 24.28, 24.40]. Delete the optional sections you did not measure;",
+                  "t = [24.31, 24.28, 24.40]. A decimal comma goes in quotes: \"24,31\".",
+                  "Delete the optional sections you did not measure;",
                   "a commented line (#) is optional. Then: dynlab run THIS_FILE"],
         "required": "required", "optional": "optional", "repeats": "repeated readings",
         "limit": "instrument", "default": "default", "example": "e.g.",
@@ -619,8 +749,9 @@ _TEMPLATE_TEXT = {
     "ru": {
         "lab": "Лабораторная работа",
         "intro": ["Впишите измеренные значения: число в единицах, указанных в скобках, или",
-                  "строку с единицами: \"850 mm\", \"5.432 kg\". Погрешность прибора: \"850 ± 0.5 mm\".",
-                  "Повторные отсчёты — массивом: t = [24.31, 24.28, 24.40]. Удалите необязательные",
+                  "строку с единицами: \"850 мм\", \"5,432 кг\". Погрешность прибора: \"850 ± 0,5 мм\".",
+                  "Повторные отсчёты — массивом: t = [24.31, 24.28, 24.40]. Десятичная запятая —",
+                  "только в кавычках: \"24,31\", \"850,5 мм\". Удалите необязательные",
                   "разделы, которые не измерялись; строка с # — необязательная.",
                   "Затем: dynlab run ЭТОТ_ФАЙЛ"],
         "required": "обязательно", "optional": "необязательно", "repeats": "повторные отсчёты",

@@ -1,8 +1,29 @@
-"""Units at the boundary: parse '120.5 mm', '2345 g ± 1 g', convert to SI.
+"""Units at the boundary: parse '120.5 mm', '2345 g ± 1 g', '30,62 с', convert to SI.
 
 SI inside the toolkit; the manual's customary units (mm, g, min⁻¹, degrees, kgf) only where
 data enter. Parsing uses `pint <https://pint.readthedocs.io>`_, which knows every unit a lab
-sheet may carry and checks dimensions for us.
+sheet may carry and checks dimensions for us. Three conventions of a Russian lab sheet are
+read here, the same for every field of every lab and for the values ``dynlab check`` reads:
+
+* **Decimal commas.** Inside a value written as text a comma between digits is a decimal
+  comma: ``"30,62"``, ``"0,1706 kg*m^2"``, ``"30,62 ± 0,05 s"``. A number holding two commas
+  (``"1,234,5"``) or a comma and a point (``"1.234,5"``, ``"1,234.5"``) is refused as
+  ambiguous (a thousands separator or a slip), with the message saying so: write one decimal
+  separator and no thousands separator. A comma followed by a space is no decimal comma:
+  such a text holds two values, and the message says that readings go in an array. (A
+  comma outside quotes is TOML's own separator: :mod:`processing.decimal_comma` finds where
+  it split a reading.)
+* **Units in Russian**, as the reports print them: ``кг``, ``мм``, ``с``, ``Н·м``, ``кгс``,
+  ``об/мин``, ``мин⁻¹``, ``рад/с``, ``Гц``, ``°``, ``МПа``, ``мВ/(м/с²)`` … (:data:`RU_WORDS`, a
+  pint preprocessor; pint itself reads ``·``, ``×``, ``²``, ``³``, ``⁻¹`` and ``°``), and as
+  typed: in a case that cannot be confused (``КГ``; not ``МН`` for ``мН``), a power without
+  its caret (``м2``, ``с-1``), a second typed as a Latin ``c`` (the key of ``с``).
+* **Rotational speeds count revolutions** (:func:`cycles_factor`): in a field declared as an
+  angle per time (``rpm``, ``rad/s``) a speed written per time alone (``1/s``, ``s^-1``,
+  ``с⁻¹``, ``Hz``, ``Гц``, ``1/min``, ``мин⁻¹``) is revolutions per that time, as are ``rps``,
+  ``об/с``, ``rpm`` and ``об/мин``; only ``rad/s`` (``рад/с``), ``deg/s`` are angles per time.
+  A frequency field (``Hz``, ``kHz``: a sample rate, a natural frequency) counts cycles the
+  same way: ``3000 rpm`` there is 50 Hz.
 
 Glossary of names used across the toolkit
 -----------------------------------------
@@ -25,16 +46,66 @@ name                          meaning                                     SI uni
 """
 from __future__ import annotations
 
+import math
 import re
 from functools import cache
 
 import pint
 
-ureg = pint.UnitRegistry()
-ureg.define("kgf = 9.80665 * newton")
+RU_UNITS = {"kg": "кг", "mm": "мм", "m": "м", "s": "с", "g": "г", "deg": "°", "GPa": "ГПа",
+            "rad": "рад", "N": "Н", "Pa": "Па", "J": "Дж", "MPa": "МПа", "kN": "кН", "L": "л",
+            "cm": "см", "kW": "кВт", "MW": "МВт", "Hz": "Гц", "min": "мин", "rpm": "мин⁻¹",
+            "W": "Вт", "ms": "мс", "um": "мкм", "mrad": "мрад", "kHz": "кГц", "V": "В",
+            "mV": "мВ", "kgf": "кгс", "kPa": "кПа", "kJ": "кДж", "rps": "об/с"}
+"""How a Russian report prints a unit's symbols (:func:`unit_text`)."""
+
+RU_WORDS = {**{ru: en for en, ru in RU_UNITS.items() if ru.isalpha()},
+            "сек": "s", "мкс": "us", "ч": "h", "мг": "mg", "т": "t", "дм": "dm", "км": "km",
+            "мН": "mN", "МН": "MN", "Нм": "N*m", "бар": "bar", "атм": "atm", "мкВ": "uV",
+            "МГц": "MHz", "град": "deg", "об": "turn", "мл": "mL"}
+"""Russian unit symbols as a student types them → pint's (the inverse of :data:`RU_UNITS`
+and the usual others); a word of Cyrillic letters is looked up whole."""
+
+
+_RU_ANY_CASE = {word.lower(): word for word in RU_WORDS
+                if sum(w.lower() == word.lower() for w in RU_WORDS) == 1}
+"""The symbols a wrong case cannot confuse (КГ, Кг for кг; not МН, mega, for мН, milli)."""
+
+_POWER = re.compile(r"(?<=[^\W\d_])(-?[1-9])(?![\d.,])")
+"""A power typed without its caret after a unit's letters: м2, с-1, мин-1."""
+
+_LATIN_C = re.compile(r"(?<![\w])c(?![\w])")
+"""A Latin c alone: с (second) typed with the keyboard in English (the same key); no lab
+measures anything in speeds of light."""
+
+
+def _russian_units(text: str) -> str:
+    """A unit expression as a Russian student types it in pint's symbols (a pint
+    preprocessor): Russian symbols (in any case that cannot be confused), powers without
+    their caret, a second typed as a Latin c.
+
+    >>> [_russian_units(t) for t in ("кг·м2", "КГ", "мин-1", "мм/c")]
+    ['kg·m^2', 'kg', 'min^-1', 'mm/s']
+    """
+    def symbol(m: re.Match) -> str:
+        word = m.group(0)
+        return RU_WORDS.get(word) or RU_WORDS.get(_RU_ANY_CASE.get(word.lower(), ""), word)
+
+    text = re.sub(r"[А-Яа-яЁё]+", symbol, text)
+    return _LATIN_C.sub("s", _POWER.sub(r"^\1", text))
+
+
+ureg = pint.UnitRegistry(preprocessors=[_russian_units])
 
 _PLUS_MINUS = re.compile(r"\s*(?:±|\+/-|\+-)\s*")
-_PER_MINUTE = re.compile(r"(?:1\s*/\s*min\b|min\s*(?:\^|\*\*)\s*-1|min⁻¹|мин⁻¹|об/мин)")
+
+
+class QuantityError(ValueError):
+    """A value's text that cannot be read, with how to write it (``fix``)."""
+
+    def __init__(self, problem: str, fix: str | None = None):
+        super().__init__(problem)
+        self.fix = fix
 
 
 def dimension(unit: str) -> str:
@@ -67,8 +138,10 @@ PLAUSIBLE = {dimension(si): (lo, hi, si) for lo, hi, si in (
     (1e-6, 1e6, "m/s^2"), (1e-3, 1e13, "Pa"), (1e-3, 1e5, "kg/m^3"), (1e-15, 1e7, "kg*m^2"),
     (1e-6, 1e9, "N"), (1e-9, 1e9, "N*m"), (1e-3, 1e13, "N/m"), (1e-15, 1e3, "m^3"),
     (1e-15, 1e4, "m^2"), (1e-9, 1e6, "V"))}
-"""What a lab bench can measure, by dimension: (least, greatest, SI unit) of a magnitude.
-Outside it a value is suspect (a warning); :data:`REJECT_FACTOR` beyond it, it is refused."""
+"""What any lab bench can measure, by dimension: (least, greatest, SI unit) of a magnitude.
+Outside it a value is suspect (a warning) where its field declares no range of its own
+(:attr:`processing.measurement.Field.plausible`); :data:`REJECT_FACTOR` beyond it, it is
+refused."""
 
 REJECT_FACTOR = 1e3
 """How far beyond the plausible range a magnitude is refused rather than warned about."""
@@ -120,6 +193,35 @@ def _dimensionality(unit: str):
     return ureg.Quantity(1.0, unit).dimensionality
 
 
+@cache
+def _radians(unit: str) -> float:
+    """The power of the radian in ``unit``: 1 for an angle per time (``rpm``, ``rad/s``),
+    0 for a count per time (``Hz``, ``1/min``), which pint takes for radians."""
+    return dict(ureg.Quantity(1.0, unit).to_root_units().unit_items()).get("radian", 0)
+
+
+_PER_TIME = ureg.Quantity(1.0, "1/s").dimensionality
+
+
+def cycles_factor(unit: str, declared: str) -> float:
+    """What a value written in ``unit`` is multiplied by, beyond pint's conversion, in a field
+    declared in ``declared``: a speed written as a count per time (``Hz``, ``1/s``,
+    ``1/min``) where an angle per time is declared (``rpm``, ``rad/s``) counts revolutions
+    (2π rad each); an angle per time written where a count per time is declared (a frequency
+    in ``Hz``) counts cycles the same way (÷ 2π). pint would take ``1/s`` for ``rad/s``.
+
+    Examples
+    --------
+    >>> round(cycles_factor("Hz", "rpm"), 6), round(cycles_factor("rpm", "Hz"), 6)
+    (6.283185, 0.159155)
+    >>> cycles_factor("rad/s", "rpm"), cycles_factor("Hz", "kHz"), cycles_factor("mm", "m")
+    (1.0, 1.0, 1.0)
+    """
+    if _dimensionality(unit) != _PER_TIME or _dimensionality(declared) != _PER_TIME:
+        return 1.0
+    return (2 * math.pi) ** (_radians(declared) - _radians(unit))
+
+
 def si_factor(unit: str) -> float:
     """Factor converting a value in ``unit`` to SI base units (degrees → radians).
 
@@ -153,6 +255,56 @@ def convert(value: float, unit: str, to: str) -> float:
     return float((value * a + b - d) / c)
 
 
+def number_to_si(value: float, unit: str, declared: str) -> float:
+    """A plain number written in ``unit`` for a field declared in ``declared`` → SI, a
+    rotational speed counting revolutions (:func:`cycles_factor`).
+
+    >>> round(number_to_si(33.3, "Hz", "rpm") * 30 / math.pi, 1)   # in min⁻¹
+    1998.0
+    """
+    factor, offset = _to_base(unit)
+    return (value * factor + offset) * cycles_factor(unit, declared)
+
+
+_GROUPED = re.compile(r"\d+(?:[.,]\d+)+")
+"""A number's digits with the separators between them (``30,62``, ``1.234,5``)."""
+
+
+def decimal_point(text: str) -> str:
+    """``text`` with each decimal comma between digits written as a point.
+
+    A number with one comma and no point has a decimal comma. Two commas, or a comma and a
+    point, are ambiguous (a thousands separator, a slip): refused.
+
+    Raises
+    ------
+    QuantityError
+        For an ambiguous number, saying how to write it.
+
+    Examples
+    --------
+    >>> decimal_point("30,62 ± 0,05 s"), decimal_point("0,1706 kg*m^2")
+    ('30.62 ± 0.05 s', '0.1706 kg*m^2')
+    >>> decimal_point("1.234,5 mm")
+    Traceback (most recent call last):
+    ...
+    processing.units.QuantityError: '1.234,5 mm': the number 1.234,5 holds both a comma and a point: a thousands separator cannot be told from a decimal one
+    """
+    def point(match: re.Match) -> str:
+        number = match.group(0)
+        commas, points = number.count(","), number.count(".")
+        if not commas:
+            return number
+        if commas == 1 and not points:
+            return number.replace(",", ".")
+        how = "two commas" if not points else "both a comma and a point"
+        raise QuantityError(f"{text!r}: the number {number} holds {how}: a thousands "
+                            f"separator cannot be told from a decimal one",
+                            "write the number with one decimal separator (a point or a comma) "
+                            "and no thousands separator, e.g. \"1234.5\" or \"1234,5\"")
+    return _GROUPED.sub(point, text)
+
+
 def parse_quantity(text: str, expected_unit: str) -> tuple[float, float | None]:
     """Parse ``'850 mm'``, ``'850 ± 0.5 mm'`` or ``'850 mm ± 0.5 mm'`` into SI.
 
@@ -161,8 +313,10 @@ def parse_quantity(text: str, expected_unit: str) -> tuple[float, float | None]:
     text : str
         A number with a unit, optionally followed by a ± limit with its own unit (or sharing
         the value's unit when only one is written). A bare number takes ``expected_unit``.
+        Decimal commas, units in Russian and rotational speeds as the module says.
     expected_unit : str
-        The unit the field is declared in; only its dimension is checked here.
+        The unit the field is declared in; only its dimension is checked here (and whether
+        it counts an angle: :func:`cycles_factor`).
 
     Returns
     -------
@@ -171,38 +325,53 @@ def parse_quantity(text: str, expected_unit: str) -> tuple[float, float | None]:
 
     Raises
     ------
-    ValueError
+    QuantityError
         When the text is not a number with a unit, or the unit's dimension is wrong.
 
     Examples
     --------
     >>> parse_quantity("850 ± 0.5 mm", "mm")
     (0.85, 0.0005)
-    >>> parse_quantity("2345 g", "kg")
-    (2.345, None)
-    >>> round(parse_quantity("1500 min^-1", "rpm")[0], 4)   # speeds: revolutions per minute
-    157.0796
+    >>> parse_quantity("2345 г", "kg"), parse_quantity("30,62 ± 0,05 с", "s")
+    ((2.345, None), (30.62, 0.05))
+    >>> [round(parse_quantity(t, "rpm")[0], 4) for t in ("1500 min^-1", "25 1/s", "25 Гц")]
+    [157.0796, 157.0796, 157.0796]
     """
-    if expected_unit == "rpm":
-        # the manual's min⁻¹ is revolutions per minute; pint would read 1/min as 1/60 rad/s
-        text = _PER_MINUTE.sub("rpm", text)
+    return read_quantity(text, expected_unit)[:2]
+
+
+def read_quantity(text: str, expected_unit: str) -> tuple[float, float | None, str]:
+    """:func:`parse_quantity`, and the unit the value was written in (``expected_unit`` for a
+    bare number): ``(value, limit, unit)``.
+
+    >>> read_quantity("0,8 m", "mm")
+    (0.8, None, 'm')
+    """
+    written, text = text, decimal_point(text)
+    if "," in text:
+        raise QuantityError(f"cannot read {written!r}: a comma that is no decimal comma (not "
+                            f"between two digits) separates two values",
+                            "write one value per text, with a decimal comma between digits "
+                            "(\"30,62\"); repeated readings go in an array, "
+                            "t = [\"30,62\", \"30,81\"]")
     parts = _PLUS_MINUS.split(text.strip())
     if len(parts) > 2 or not parts[0]:
-        raise ValueError(f"cannot read {text!r} as a value with a unit")
+        raise QuantityError(f"cannot read {written!r} as a value with a unit")
     main, tol = parts[0], parts[1] if len(parts) == 2 else None
     if tol is not None and _is_number(main):
         unit_part = _unit_of(tol)
         main = f"{main} {unit_part}" if unit_part else main
-    value = _to_si(main, expected_unit, text)
+    unit = _russian_units(_unit_of(main)) or expected_unit
+    value = _to_si(main, expected_unit, written)
     limit = None
     if tol is not None:
         if _is_number(tol):
             tol = f"{tol} {_unit_of(main) or expected_unit}"
-        limit = _to_si(tol, expected_unit, text)
+        limit = _to_si(tol, expected_unit, written)
         if limit < 0:
-            raise ValueError(f"the ± limit in {text!r} is negative: a limit of error is a "
-                             f"half-width, ≥ 0")
-    return value, limit
+            raise QuantityError(f"the ± limit in {written!r} is negative: a limit of error is "
+                                f"a half-width, ≥ 0")
+    return value, limit, unit
 
 
 def to_si(value: float, unit: str) -> float:
@@ -224,7 +393,8 @@ _NUMBER_AND_UNIT = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\
 
 def _unit_of(s: str) -> str:
     m = _NUMBER_AND_UNIT.match(s)
-    return m.group(2).strip() if m else ""
+    unit = m.group(2).strip() if m else ""
+    return f"1{unit}" if unit.startswith("/") else unit      # "33.3 /s": per second
 
 
 def _to_si(s: str, expected_unit: str, whole: str) -> float:
@@ -232,26 +402,61 @@ def _to_si(s: str, expected_unit: str, whole: str) -> float:
     if _is_number(s):
         return to_si(float(s), expected_unit)
     if not re.match(r"^\s*[-+]?(?:\d|\.\d)", s):
-        raise ValueError(f"cannot read {whole!r}: it should start with a number, e.g. '12.5 {expected_unit}'")
-    number, unit = _NUMBER_AND_UNIT.match(s).groups()
+        raise QuantityError(f"cannot read {whole!r}: it should start with a number, e.g. "
+                            f"'12.5 {expected_unit}'")
+    number, unit = _NUMBER_AND_UNIT.match(s).group(1), _unit_of(s)
     try:
         dimension = _dimensionality(unit)
-        factor, offset = _to_base(unit)
     except Exception as exc:
-        raise ValueError(f"cannot read {whole!r} as a value with a unit ({exc})") from None
+        raise QuantityError(f"cannot read {whole!r} as a value with a unit ({exc})") from None
     if dimension != _dimensionality(expected_unit):
-        raise ValueError(
+        raise QuantityError(
             f"{whole!r} is {_dimension_name(str(ureg.Unit(unit)))}, but "
             f"{_dimension_name(expected_unit)} "
             f"is expected (unit like '{expected_unit}')"
         )
-    return float(number) * factor + offset
+    return number_to_si(float(number), unit, expected_unit)
 
 
-RU_UNITS = {"kg": "кг", "mm": "мм", "m": "м", "s": "с", "g": "г", "deg": "°", "GPa": "ГПа",
-             "rad": "рад", "N": "Н", "Pa": "Па", "J": "Дж", "MPa": "МПа", "kN": "кН", "L": "л",
-             "cm": "см", "kW": "кВт", "MW": "МВт", "Hz": "Гц", "min": "мин", "rpm": "мин⁻¹",
-             "W": "Вт"}
+SLIP_UNITS = ("mg", "g", "kg", "t", "um", "mm", "cm", "m", "ms", "s", "min", "rpm", "rps",
+              "rad/s", "Hz", "kHz", "MHz", "deg", "rad", "mrad", "", "%", "N", "kN", "kgf",
+              "N*m", "N*mm", "kN*m", "kgf*m", "N/m", "N/mm", "kN/mm", "kgf/mm", "Pa", "kPa",
+              "MPa", "GPa", "bar", "kg*m^2", "kg*cm^2", "kg*mm^2", "g*cm^2", "mm/s", "m/s",
+              "cm/s^2", "m/s^2", "kg/m^3", "g/cm^3", "kg/m^2", "g/cm^2", "L", "cm^3",
+              "N*m/rad", "kN*m/rad", "N*m/mrad", "mV", "V", "um/s")
+"""The units a number is usually meant in, one of which a unit slip swaps for another."""
+
+
+def likely_slip(number: float, written: str, declared: str, least: float,
+                greatest: float) -> tuple[str, float] | None:
+    """The unit that ``number``, written in ``written`` for a field declared in ``declared``,
+    was likely meant in: the one of :data:`SLIP_UNITS` (of the same dimension, counting
+    angles as the field does) that puts it within ``least``–``greatest`` [SI], nearest the
+    range's middle. None if none does.
+
+    Returns
+    -------
+    unit, value : str, float
+        The unit meant, and the value in SI it gives.
+
+    Examples
+    --------
+    >>> likely_slip(8450, "kg", "kg", 0.01, 50)      # grams typed as kg
+    ('g', 8.45)
+    >>> likely_slip(0.1, "mm", "mm", 0.01, 0.5)      # metres typed as mm
+    ('m', 0.1)
+    """
+    middle = math.log(least * greatest) / 2
+    found = []
+    for unit in SLIP_UNITS:
+        if _dimensionality(unit) != _dimensionality(written) \
+                or _radians(unit) != _radians(declared):
+            continue
+        value = number_to_si(number, unit, declared)
+        if least <= abs(value) <= greatest and \
+                not math.isclose(value, number_to_si(number, written, declared)):
+            found.append((abs(math.log(abs(value)) - middle), unit, value))
+    return min(found)[1:] if found else None
 
 
 def unit_text(unit: str, lang: str = "en") -> str:
