@@ -291,7 +291,7 @@ def _entry(path: str, field: str, entry) -> tuple:
 
 
 def _quantity(path: str, field: str, value, u, unit: str) -> Reported:
-    from processing.units import parse_quantity
+    from processing.units import decimal_point, parse_quantity
 
     if isinstance(value, bool) or not isinstance(value, (int, float, str)):
         raise InputError(f"{value!r} is not a value", "write a number with its unit, e.g. "
@@ -316,6 +316,7 @@ def _quantity(path: str, field: str, value, u, unit: str) -> Reported:
             raise InputError(f"the uncertainty is given twice: ± in the value and u = {u!r}",
                              "keep one of them", file=path, field=f"{field}.u")
         u_si = _uncertainty(path, f"{field}.u", u, unit)
+    text = decimal_point(text)          # "0,1708" has the digits of 0.1708
     digits, exponent = written_digits(text)
     scale = si / float(text.split()[0]) if _plain_number(text) and float(text.split()[0]) \
         else 1.0
@@ -525,6 +526,7 @@ def _readings(data: dict) -> tuple[float, ...]:
             out.append(float(x))
         elif isinstance(x, str):
             head = x.split()[0] if x.split() else ""
+            head = head if head.count(",") != 1 else head.replace(",", ".")  # a decimal comma
             if _plain_number(head):
                 out.append(float(head))
         elif isinstance(x, dict):

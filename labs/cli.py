@@ -11,6 +11,7 @@ Bad input prints one message naming the file, the field and the fix, and exits w
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -505,6 +506,11 @@ def main(argv=None) -> int:
     except InputError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return EXIT_INPUT
+    except BrokenPipeError:
+        # the reader of stdout stopped (`dynlab run ... | head`): nothing is wrong with the
+        # work; the rest of the output goes nowhere, and Python's flush at exit stays quiet
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     except Exception as exc:
         if args.debug:
             raise

@@ -625,10 +625,9 @@ def test_reported_u_with_a_decimal_comma():
     assert reported.u == pytest.approx(0.0016)
 
 
-@pytest.mark.xfail(strict=True, reason="labs/check.py counts the written digits "
-                   "(processing.grading.written_digits) on the raw text: '0,1708' reads as one "
-                   "significant figure and the right value is judged 'rounded' (check's owner)")
 def test_check_reads_a_russian_submission(tmp_path, capsys):
+    """A right value written with a decimal comma and a Russian unit is right: its digits are
+    counted as 0.1708's (they read as one significant figure, 'rounded', before)."""
     text = (ROOT / "sample_data/lab1/flywheel.toml").read_text("utf-8")
     result = evaluate(ROOT / "sample_data/lab1/flywheel.toml", n_samples=0).results
     j = result["J_trifilar"].value

@@ -629,3 +629,17 @@ def test_reports_into_a_path_the_system_cannot_make(tmp_path, capsys):
     code, out, err = run(capsys, "run", LAB2, "--out", out_dir)
     assert_one_clear_error(code, out, err, out_dir, None, r"cannot write the reports",
                            tmp_path / "nothing")
+
+
+def test_a_reader_that_stops_reading_is_no_internal_error():
+    """``dynlab kinematics ... | head -1``: the pipe closes under the output; the command ends
+    quietly with 0 (was 'internal error: BrokenPipeError')."""
+    import subprocess
+    import sys
+
+    read, write = os.pipe()
+    os.close(read)
+    child = subprocess.run([sys.executable, "-m", "labs.cli", "kinematics", "--lambda", "0.25"],
+                           stdout=write, stderr=subprocess.PIPE, text=True, timeout=60)
+    os.close(write)
+    assert child.returncode == 0 and child.stderr == "", child.stderr
