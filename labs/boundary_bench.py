@@ -72,6 +72,8 @@ class Expect:
     same: tuple[str, ...] = ()
     key: tuple[str, ...] = ()
     written: tuple[str, ...] = ()
+    says: str = ""
+    """A pattern an accepted run's standard output must hold."""
 
 
 @dataclass(frozen=True)
@@ -268,12 +270,19 @@ def _lab7_chain_alone(folder: Path) -> list[str]:
     return _report(path)
 
 
-def _check_with(reported: str, policy: str | None = None):
+def _lab9_left_running(folder: Path) -> list[str]:
+    """A decay that dies within ten periods, recorded for a hundred at 200 kHz."""
+    from .lab9_damper import write_synthetic
+
+    return _report(write_synthetic(folder, 3, periods=100, sample_rate=200e3)["toml"])
+
+
+def _check_with(reported: str, policy: str | None = None, *, json: bool = False):
     def build(folder: Path) -> list[str]:
         path = _sample(folder, "lab1/flywheel.toml")
         path.write_text(path.read_text(encoding="utf-8") + f"\n[reported]\n{reported}\n",
                         encoding="utf-8")
-        argv = ["check", path.name]
+        argv = ["check", path.name, *(["--json"] if json else [])]
         if policy is not None:
             (folder / "policy.toml").write_text(policy, encoding="utf-8")
             argv += ["--policy", "policy.toml"]
@@ -433,10 +442,10 @@ def _check_inputs() -> list[Case]:
     return [
         Case("check: a negative u", "check", _check_with('J_trifilar = { value = "0.247 kg*m^2", '
                                                          'u = "-0.001 kg*m^2" }'),
-             Expect(2, cause=r"negative|≥ 0|u", field="reported.J_trifilar")),
+             Expect(2, cause=r"negative|≥ 0", field="reported.J_trifilar.u")),
         Case("check: a misspelt u", "check", _check_with('J_trifilar = { value = "0.247 kg*m^2", '
                                                          'uu = "0.001 kg*m^2" }'),
-             Expect(2, cause=r"uu", field="reported.J_trifilar")),
+             Expect(2, cause=r"uu", field="reported.J_trifilar.uu")),
         Case("check: a negative tolerance", "check",
              _check_with('J_trifilar = "0.247 kg*m^2"', "rel_tol = -0.01\n"),
              Expect(2, cause=r"rel_tol")),
@@ -472,6 +481,11 @@ def _valid() -> list[Case]:
         Case("lab4 without TDC marks", "valid refused", _lab4_without_marks,
              Expect(0, same=("a_rms_1",)), sample=LAB4),
         Case("lab7 chain without records", "valid refused", _lab7_chain_alone, Expect(0)),
+        Case("lab9 recorder left running after the decay", "valid refused", _lab9_left_running,
+             Expect(0, key=("log_decrement", "T_d"))),
+        Case("check: a right value in Russian", "valid refused",
+             _check_with('J_trifilar = "0,1708 кг·м²"', json=True),
+             Expect(0, says=r'"verdict": "right"')),
     ]
 
 
@@ -598,6 +612,8 @@ def judge(case: Case, got: Outcome, folder: Path) -> tuple[str, str]:
         return "internal", f"exit {got.code}: {got.err.strip()[:200]}"
     if e.code == 2:
         return "accepted-wrong", "exit 0 where a refusal is due"
+    if e.says and not re.search(e.says, got.out):
+        return "accepted-wrong", f"the output does not say /{e.says}/"
     return _judge_result(case, folder)
 
 
