@@ -11,9 +11,8 @@ import math
 import numpy as np
 
 from processing.band_rms import QUANTITIES, REFERENCES as DB_REFERENCES
-from processing.diagnostics import (ClippedRecordWarning, CutCylinderWarning,
-                                    MethodsDisagreeWarning, NoiseFloorWarning,
-                                    SpeedDisagreesWarning)
+from processing.diagnostics import (CutCylinderWarning, MethodsDisagreeWarning,
+                                    NoiseFloorWarning, NoMarksWarning, SpeedDisagreesWarning)
 from processing.measurement import bi
 from processing.reporting.content import result_pm
 from processing.result import Figure, ResultValue, Table
@@ -54,7 +53,8 @@ def placements(recorded, readings, points) -> dict:
     for r in recorded:
         for c in r.channels:
             place[c.number] = (c.point, points[c.point - 1]["direction"],
-                               r.speed.value * RPM, r.ignition)
+                               r.speed.value * RPM if r.speed is not None else np.nan,
+                               r.ignition)
     for rd in readings:
         e = rd.entry
         place.setdefault(rd.number, (e["point"], points[e["point"] - 1]["direction"],
@@ -148,9 +148,13 @@ FORMULAS = [
        "X_n² = ∫ S_a(f) |H(f)|²/(2πf)^{2n} df, n = 0, 1, 2, по спектру всей записи с окном "
        "Ханна (без интегрирования во времени — без дрейфа)"),
     bi("a = U/S (S the sensor's sensitivity); peak-to-peak of the band signal's mean working "
-       "cycle (averaged over the record's cycles against the crank angle); L = 20 lg(X/X₀) dB",
+       "cycle (averaged over the record's cycles against the crank angle; without TDC marks, "
+       "of a and v over the whole record); L = 20 lg(X/X₀) dB; the broadband floor: the "
+       "spectrum between its lines (orders, tones) through the band's weight",
        "a = U/S (S — коэффициент преобразования датчика); размах среднего рабочего цикла "
-       "сигнала в полосе (осреднение циклов записи по углу поворота); L = 20 lg(X/X₀) дБ"),
+       "сигнала в полосе (осреднение циклов записи по углу поворота; без отметок ВМТ — a и v "
+       "по всей записи); L = 20 lg(X/X₀) дБ; широкополосный фон — спектр между его линиями "
+       "(гармониками, тонами) через вес полосы"),
     bi("Orders: x(t) = Σ Re(c_k e^{ikθ}) + drift, by least squares on the crank angle θ from "
        "the TDC marks (half orders for a four-stroke engine)",
        "Гармоники: x(t) = Σ Re(c_k e^{ikθ}) + дрейф, МНК по углу поворота θ от отметок ВМТ "
@@ -186,11 +190,14 @@ RECORD_HELP = bi(
     "A record of a steady regime: the accelerometers' channels (one per [[point]], in their "
     "order) and the TDC marks, at best cylinder 1's ignition pickup (tdc = \"cycle\": a "
     "falling edge at each firing TDC of cylinder 1; it fixes the half orders' phase and "
-    "tells which cylinder is cut). Two working cycles at least; a few seconds.",
+    "tells which cylinder is cut). Two working cycles at least; a few seconds. Without TDC "
+    "marks (no channel 'tdc') the band readings, levels and peak-to-peak a and v are still "
+    "reduced; the orders, x's peak-to-peak and the cut cylinder need the marks.",
     "Запись установившегося режима: каналы вибродатчиков (по одному на [[point]], в их "
     "порядке) и отметки ВМТ, лучше всего от датчика зажигания 1-го цилиндра (tdc = "
     "\"cycle\": спад импульса в каждой ВМТ сгорания 1-го цилиндра). Не менее двух рабочих "
-    "циклов; несколько секунд.")
+    "циклов; несколько секунд. Без отметок ВМТ (нет канала 'tdc') определяются СКЗ, уровни и "
+    "размахи a и v; гармоники, размах x и отключённый цилиндр требуют отметок.")
 READING_HELP = bi(
     "One reading of the vibration meter: the point's number, the speed, the ignition and "
     "what the meter showed (RMS a in m/s², v in mm/s, x in µm; peak-to-peak a_pp, v_pp, "
@@ -251,14 +258,26 @@ def cut_disagrees(number: int, found: int, stated: int, confidence: float) -> Cu
         "отметки ВМТ — это ВМТ сгорания 1-го цилиндра")
 
 
-def clipped(items) -> ClippedRecordWarning:
-    text = "; ".join(f"record {n}, channel '{c}': {100 * s:.2f} %" for n, c, s in items)
-    text_ru = "; ".join(f"запись {n}, канал '{c}': {100 * s:.2f} %" for n, c, s in items)
-    return ClippedRecordWarning(
-        f"clipped samples (at the channel's extremes): {text}; the readings and peaks of "
-        "these channels are low: lower the amplifier's gain or raise the recorder's range",
-        f"ограниченные отсчёты (на пределе канала): {text_ru}; показания и размахи этих "
-        "каналов занижены: уменьшите усиление или увеличьте диапазон регистратора")
+def no_marks(items) -> NoMarksWarning:
+    text = "; ".join(f"record {n}: {why['en']}" for n, why in items)
+    text_ru = "; ".join(f"запись {n}: {why['ru']}" for n, why in items)
+    return NoMarksWarning(
+        f"records without TDC marks ({text}): their band readings a, v, x, dB levels, "
+        "peak-to-peak acceleration and velocity (over the whole record, not its mean working "
+        "cycle, with a wider uncertainty) and the comparison with the meter are reduced; the "
+        "speed n_r from the marks, the peak-to-peak displacement x_pp_j, the orders a1_j and "
+        "a2_j and the cut cylinder need the marks and are left out (the free forces and the "
+        "meter's pairing take the tachometer's n where it is given): record the ignition "
+        "pickup's TDC marks beside the accelerometers and name their channel (tdc_channel = "
+        "...)",
+        f"записи без отметок ВМТ ({text_ru}): по ним определены СКЗ "
+        "a, v, x, уровни в дБ, размахи ускорения и скорости (по всей записи, а не по среднему "
+        "рабочему циклу, с большей погрешностью) и сравнение с виброметром; частота вращения "
+        "n_r по отметкам, размах перемещения x_pp_j, гармоники a1_j и a2_j и отключённый "
+        "цилиндр требуют отметок и не определены "
+        "(свободные силы и сопоставление с виброметром — по тахометру, если n указана): "
+        "записывайте отметки ВМТ датчика зажигания вместе с вибродатчиками и укажите их канал "
+        "(tdc_channel = ...)")
 
 
 def on_floor(items, share: float) -> NoiseFloorWarning:
@@ -305,7 +324,8 @@ def _readings_table(results, place, levels, reference) -> Table:
             ("pp", bi("2a, 2v, 2x", "2a, 2v, 2x")))
     rows = []
     for j, (p, d, n, ign) in sorted(place.items()):
-        row = {"j": str(j), "point": str(p), "direction": DIRECTION[d], "n": f"{n:.0f}",
+        row = {"j": str(j), "point": str(p), "direction": DIRECTION[d],
+               "n": f"{n:.0f}" if np.isfinite(n) else "—",
                "ignition": bi("cut", "откл.") if ign == "cut" else bi("all", "все")}
         for q in QUANTITIES:
             name = f"{q}_rms_{j}"
@@ -407,7 +427,7 @@ def _draw_speed(fig, results, place, lang):
         for p, d, ign in groups:
             js = sorted((j for j, v in place.items() if (v[0], v[1], v[3]) == (p, d, ign)),
                         key=lambda j: place[j][2])
-            js = [j for j in js if f"{q}_rms_{j}" in results]
+            js = [j for j in js if f"{q}_rms_{j}" in results and np.isfinite(place[j][2])]
             if not js:
                 continue
             n = [place[j][2] for j in js]
@@ -429,7 +449,7 @@ def _draw_speed(fig, results, place, lang):
 
 
 def _draw_order_map(fig, recorded, lang):
-    healthy = [r for r in recorded if r.ignition == "all"]
+    healthy = [r for r in recorded if r.ignition == "all" and r.marked]
     cols = len(healthy[0].channels) if healthy else 0
     if not cols:
         return
@@ -481,7 +501,7 @@ def figures(*, recorded, readings, results, points, phases, **_) -> list[Figure]
                               "в зависимости от частоты вращения по точкам и направлениям "
                               "(± U); штрих — цилиндр отключён; × — виброметр"),
                   lambda fig, lang: _draw_speed(fig, results, place, lang), size=(9.0, 3.4))]
-    if any(r.ignition == "all" for r in recorded):
+    if any(r.ignition == "all" and r.marked for r in recorded):
         out.append(Figure("order_map", bi("Order map: each order's acceleration amplitude "
                                           "(dB) over the speed, by point",
                                           "Карта гармоник: амплитуда виброускорения каждого "

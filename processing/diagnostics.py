@@ -240,6 +240,13 @@ class CutCylinderWarning(DynlabWarning):
     code = "cut_cylinder"
 
 
+class NoMarksWarning(DynlabWarning):
+    """A record has no usable TDC marks: what needs no crank angle is reduced, and the
+    results that need the marks are left out."""
+
+    code = "no_tdc_marks"
+
+
 class SpeedDisagreesWarning(DynlabWarning):
     """The TDC marks' speed and the tachometer's differ beyond the tachometer's error."""
 

@@ -208,7 +208,7 @@ def assess(x, rate: float) -> RecordQuality:
 
 def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
                  least_duration: float = 0.0, purpose: str = "the reduction",
-                 clip_refused: float = CLIP_REFUSED) -> RecordQuality:
+                 clip_refused: float = CLIP_REFUSED, broadband: bool = False) -> RecordQuality:
     """Refuse a record that is flat, noise only, too short or clipped beyond a limit; warn
     about a smaller clipped share.
 
@@ -229,6 +229,11 @@ def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
     clip_refused : float
         Clipped share above which the record is refused (:data:`CLIP_REFUSED`); a lab that
         leaves the clipped samples out of its fit may allow more.
+    broadband : bool
+        The signal itself may be broadband (an accelerometer's vibration, whose power may
+        lie near the Nyquist frequency, where a resolved signal's roughness reaches white
+        noise's): the roughness test is left out, and the lab tells its signal from the
+        noise its own way (a spectrum's lines above its floor).
 
     Returns
     -------
@@ -237,7 +242,8 @@ def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
     Raises
     ------
     InputError
-        Flat, noise only, shorter than ``least_duration`` or clipped beyond ``clip_refused``.
+        Flat, noise only (unless ``broadband``), shorter than ``least_duration`` or clipped
+        beyond ``clip_refused``.
 
     Examples
     --------
@@ -262,7 +268,7 @@ def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
         raise refuse(f"is flat: its {q.samples} samples stay at {level:.6g}"
                      + (f" within {q.spread:.3g}" if q.spread else "")
                      + f", nothing for {purpose} to read", sensor)
-    if q.noise_only:
+    if q.noise_only and not broadband:
         raise refuse(f"holds no oscillation above its noise: its sample-to-sample changes "
                      f"carry {100 * q.roughness:.0f} % of its variance, as white noise does (a "
                      f"record its sample rate resolves carries a few per cent)", sensor)
@@ -284,3 +290,43 @@ def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
             f"регистратора; пики срезаны, и определённое по ним занижено: уменьшите усиление "
             f"или увеличьте диапазон регистратора"))
     return q
+
+
+def irregular_marks(x, error: InputError, *, file: str, field: str | None,
+                    channel: str) -> InputError:
+    """The error for a mark channel (TDC or time marks) whose marks came out irregular.
+
+    Pulses of a few samples' width have a roughness of about one over their width; a channel
+    of noise, above :data:`NOISE_ROUGHNESS`, holds no pulses at all and is named so (its
+    "marks" are noise crossing the detector's threshold). Otherwise the marks are pulses,
+    missed or doubled, and ``error``'s problem and fix stand.
+
+    Parameters
+    ----------
+    x : array_like
+        The mark channel. [any unit]
+    error : InputError
+        What the marks' own check found.
+    file, field, channel : str
+        Where the channel is, for the message.
+
+    Returns
+    -------
+    InputError
+
+    Examples
+    --------
+    >>> noise = np.random.default_rng(0).standard_normal(4000)
+    >>> e = InputError("the marks are irregular", "check the channel")
+    >>> str(irregular_marks(noise, e, file="r.csv", field="tdc_channel", channel="tdc"))[:74]
+    "r.csv, field 'tdc_channel': channel 'tdc' holds noise, not pulses: its sam"
+    """
+    rho = roughness(x)
+    if rho > NOISE_ROUGHNESS:
+        return InputError(f"channel '{channel}' holds noise, not pulses: its sample-to-sample "
+                          f"changes carry {100 * rho:.0f} % of its variance, as white noise's "
+                          "do, and its threshold crossings are irregular",
+                          "check that the mark sensor is connected and its level set, and "
+                          "that the channel named is the marks' channel", file=file,
+                          field=field)
+    return InputError(error.problem, error.fix, file=file, field=field)
