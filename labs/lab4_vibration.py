@@ -372,7 +372,8 @@ def _timing(entry: dict, tdc, rate: float, samples: int, strokes: int, refuse, w
     try:
         revs = revolutions(times)
     except InputError as exc:
-        raise irregular_marks(x, exc, file=str(entry["signal"]), field=f"{where}.tdc_channel",
+        raise irregular_marks(x, refuse(exc.problem, exc.fix, "tdc_channel"),
+                              file=str(entry["signal"]), field=f"{where}.tdc_channel",
                               channel=name) from None
     speed = revs.angular_speed * per_mark / (2 * np.pi)
     _check_speed(entry, speed, refuse, where)

@@ -42,6 +42,7 @@ from processing.dynamics import firing_phases
 from processing.edges import detect_edges
 from processing.measurement import Field, Inputs, LabSpec, Section, bi, firing_order, image_section
 from processing.record_checks import check_tachometer, check_time_marks
+from processing.record_quality import check_record, irregular_marks
 from processing.regression import fit_line
 from processing.resonance import Resonance, SweepEdge, locate_resonances, major_orders, \
     resonance_speed
@@ -50,6 +51,7 @@ from processing.seismic import amplitude_ratio
 from processing.signals import (image_options, is_image, open_channel, open_channels,
                                 read_figures)
 from processing.torsion import natural_modes
+from processing.torsiogram import revolutions
 from processing.torsiogram_analysis import Torsiogram, analyse_trace
 from processing.uncertainty import Measured, propagate
 
@@ -90,6 +92,11 @@ DRIFT_U = 0.02
 """Relative standard uncertainty of φ_max that a large drift is warned about: beyond it φ_max
 is no longer known to 2 % (at 30 dB without drift u stays below 0.5 %; a slow drift three
 times the oscillation on records of four working cycles leaves about 1 %)."""
+
+SIGNIFICANCE = 4.0
+"""An order stands out of a record's noise when its amplitude exceeds this many of its u
+(:meth:`processing.orders.OrderFit.significant`): white noise's largest of 48 orders passes
+4 u in 2 % of records. A record where none does holds no vibration to reduce."""
 
 RESONANCE_MODEL = 0.05
 """Half-width, as a share of the largest speed step among the fitted records, of the
@@ -303,23 +310,29 @@ def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
     time = np.arange(trace.size) / rate
     settings = inputs["torsiograph"]
     strokes = inputs["engine"]["strokes"]
+    trace_field = "channel" if "channel" in entry else "signal"
+    revs = revolutions(tdc_times, per_revolution=settings["tdc_per_revolution"])
+    cycles = trace.size / rate * revs.angular_speed / (2 * np.pi) / (strokes // 2)
+    if cycles < MIN_CYCLES - CYCLE_SLACK:
+        raise refuse(f"the record spans {cycles:.1f} working cycle(s); its half orders and "
+                     f"drift need at least {MIN_CYCLES}",
+                     f"record at least {FEW_CYCLES} working cycles "
+                     f"({FEW_CYCLES * strokes // 2} revolutions)")
     try:
         result = analyse_trace(time, trace, tdc_times,
                                natural_frequency=settings["f_c"].value,
                                damping_ratio=settings["zeta"].value,
                                per_revolution=settings["tdc_per_revolution"], strokes=strokes)
     except InputError as exc:
-        raise refuse(f"channel '{trace_channel.name}': {exc.problem}", exc.fix) from None
-    cycles = trace.size / rate * result.revolution_frequency / (strokes // 2)
-    if cycles < MIN_CYCLES - CYCLE_SLACK:
-        raise refuse(f"the record spans {cycles:.1f} working cycle(s); its half orders and "
-                     f"drift need at least {MIN_CYCLES}",
-                     f"record at least {FEW_CYCLES} working cycles "
-                     f"({FEW_CYCLES * strokes // 2} revolutions)")
+        raise refuse(f"channel '{trace_channel.name}': {exc.problem}", exc.fix,
+                     trace_field) from None
+    _check_orders(result, trace_channel.name, lambda problem, fix: refuse(problem, fix,
+                                                                          trace_field))
     if not np.isfinite(result.frequency) and not result.drift_ratio > DRIFT_RATIO:
         raise refuse(f"channel '{trace_channel.name}' shows no oscillation above its noise "
                      f"(σ = {result.noise:.3g})", "check that this is the torsiograph's "
-                     "channel and that the amplifier's gain lifts the trace out of the noise")
+                     "channel and that the amplifier's gain lifts the trace out of the noise",
+                     trace_field)
     _check_speed(entry, result, where, path)
     revs = result.revolutions
     span = revs.mark_times[-1] - revs.mark_times[0]
@@ -329,9 +342,32 @@ def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
                     trace_channel)
 
 
+def _check_orders(result: Torsiogram, name: str, refuse) -> None:
+    """Refuse a record none of whose orders stands out of its noise (:data:`SIGNIFICANCE`):
+    it holds noise, or a drift that swamps the crankshaft's vibration."""
+    fit = result.fit
+    if fit.significant(factor=SIGNIFICANCE).any():
+        return
+    k = int(np.argmax(fit.amplitude / fit.u))
+    largest = (f"the largest against its u, order {fit.order[k]:g}, is "
+               f"{fit.amplitude[k]:.3g} ± {fit.u[k]:.2g} (below {SIGNIFICANCE:g} u)")
+    check = ("check that this is the torsiograph's channel and that the amplifier's gain "
+             "lifts the trace out of the noise")
+    if result.drift_ratio > DRIFT_RATIO:
+        raise refuse(f"channel '{name}': no order stands above its uncertainty ({largest}), "
+                     f"and the baseline drifts {result.drift_ratio:.0f} times the range of "
+                     "the mean working cycle: a drift swamps the crankshaft's vibration, or "
+                     "the record holds noise", f"balance the bridge, let the amplifier warm "
+                     f"up, {check}; then record again")
+    raise refuse(f"channel '{name}': no order stands above its uncertainty ({largest}): the "
+                 "record holds noise, not the crankshaft's vibration", f"{check}; then record "
+                 "again")
+
+
 def _recorded(inputs: Inputs, where: str, entry: dict, refuse):
     """The torsiograph's channel, its trace, the TDC marks' times and the sample rate of a
-    recording (with a time-mark channel checked against T_mark)."""
+    recording (the trace checked by :func:`processing.record_quality.check_record`, the TDC
+    marks by :func:`_tdc_marks`, a time-mark channel against T_mark)."""
     rate = entry["sample_rate"].value if "sample_rate" in entry else None
     names = [entry.get("channel"), entry["tdc_channel"]]
     if "marks_channel" in entry:
@@ -339,20 +375,63 @@ def _recorded(inputs: Inputs, where: str, entry: dict, refuse):
     channels = open_channels(entry["signal"], names, sample_rate=rate, field=f"{where}.signal")
     trace, tdc = (c.read().astype(float) * c.volts_per_code for c in channels[:2])
     rate = channels[0].sample_rate
+    file = str(entry["signal"])
+    check_record(trace, rate, file=file,
+                 field=f"{where}.{'channel' if 'channel' in entry else 'signal'}",
+                 channel=channels[0].name, purpose="the torsiogram's orders")
+    tdc_times = _tdc_marks(inputs, entry, tdc, rate, channels[1].name, refuse)
     if len(channels) == 3:
-        check_time_marks(inputs, "torsiograph", channels[2].name,
-                         _marks(channels[2].read().astype(float), rate), rate, refuse, "10 ms")
-    tdc_times = _marks(tdc, rate)
-    if tdc_times.size < 2:
-        raise refuse(f"channel '{channels[1].name}' holds {tdc_times.size} TDC mark(s)",
-                     "name the TDC channel (tdc_channel = ...) and check that it records a "
-                     "pulse every revolution", "tdc_channel")
+        x = channels[2].read().astype(float)
+        if np.ptp(x) == 0:
+            raise refuse(f"channel '{channels[2].name}' is constant ({x[0]:.4g}): it holds no "
+                         "time marks", "name the time-mark channel (marks_channel = ...) or "
+                         "leave it out", "marks_channel")
+        try:
+            check_time_marks(inputs, "torsiograph", channels[2].name, _marks(x, rate), rate,
+                             refuse, "10 ms")
+        except InputError as exc:
+            raise irregular_marks(x, exc, file=file, field=f"{where}.marks_channel",
+                                  channel=channels[2].name) from None
     return channels[0], trace, tdc_times, rate
+
+
+def _tdc_marks(inputs: Inputs, entry: dict, x: np.ndarray, rate: float, name: str,
+               refuse) -> np.ndarray:
+    """The TDC marks' times of a recorded channel, refused with their cause when the channel
+    is constant, holds noise, holds fewer than two marks, or marks not a steady revolution
+    apart."""
+    length = x.size / rate
+    per_revolution = inputs["torsiograph"]["tdc_per_revolution"]
+    revs = length * entry["n"].value / (2 * np.pi) if "n" in entry else np.inf
+    if revs * per_revolution < 2:
+        raise refuse(f"the record lasts {length:.4g} s ({x.size} samples), {revs:.2g} "
+                     f"revolution(s) at n = {entry['n'].value * 30 / np.pi:.0f} min⁻¹: too "
+                     "short to hold two TDC marks",
+                     f"record at least {FEW_CYCLES} working cycles "
+                     f"({FEW_CYCLES * inputs['engine']['strokes'] // 2} revolutions)")
+    if np.ptp(x) == 0:
+        raise refuse(f"channel '{name}' is constant ({x[0]:.4g}): it holds no TDC marks",
+                     "name the TDC channel (tdc_channel = ...) and check that its sensor "
+                     "records a pulse every revolution", "tdc_channel")
+    times = _marks(x, rate)
+    if times.size < 2:
+        raise refuse(f"channel '{name}' holds {times.size} TDC mark(s) over the record's "
+                     f"{length:.4g} s", f"record at least {FEW_CYCLES} working cycles, name "
+                     "the TDC channel (tdc_channel = ...) and check that it records a pulse "
+                     "every revolution", "tdc_channel")
+    try:
+        revolutions(times, per_revolution=per_revolution)
+    except InputError as exc:
+        error = refuse(exc.problem, exc.fix, "tdc_channel")
+        raise irregular_marks(x, error, file=error.file, field=error.field,
+                              channel=name) from None
+    return times
 
 
 def _photographed(inputs: Inputs, where: str, entry: dict):
     """The trace (in mm of paper, as the calibration's deflections are read) and the TDC
-    marks of a photographed torsiogram; its time marks set its time base."""
+    marks of a photographed torsiogram; its time marks set its time base. The trace read is
+    checked as a recorded one (:func:`processing.record_quality.check_record`)."""
     path, field = entry["signal"], f"{where}.signal"
     channel = open_channel(path, channel=entry.get("channel"), field=field,
                            image=image_options(inputs.sections.get("image")))
@@ -365,7 +444,15 @@ def _photographed(inputs: Inputs, where: str, entry: dict):
         raise InputError(f"{tdc_times.size} TDC mark(s) found on the photograph",
                          "photograph the torsiogram with its TDC mark line over several "
                          "revolutions", file=str(path), field=field)
-    return channel, channel.read() * 1e3, tdc_times, channel.sample_rate
+    trace = channel.read() * 1e3
+    check_record(trace, channel.sample_rate, file=str(path), field=field,
+                 channel=channel.name, purpose="the torsiogram's orders")
+    try:
+        revolutions(tdc_times, per_revolution=inputs["torsiograph"]["tdc_per_revolution"])
+    except InputError as exc:
+        raise InputError(f"the TDC marks read off the photograph: {exc.problem}", exc.fix,
+                         file=str(path), field=field) from None
+    return channel, trace, tdc_times, channel.sample_rate
 
 
 def _check_speed(entry: dict, result: Torsiogram, where: str, path) -> None:

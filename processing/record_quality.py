@@ -299,16 +299,16 @@ def irregular_marks(x, error: InputError, *, file: str, field: str | None,
     Pulses of a few samples' width have a roughness of about one over their width; a channel
     of noise, above :data:`NOISE_ROUGHNESS`, holds no pulses at all and is named so (its
     "marks" are noise crossing the detector's threshold). Otherwise the marks are pulses,
-    missed or doubled, and ``error``'s problem and fix stand.
+    missed or doubled (or the recorder's clock is wrong), and ``error`` stands.
 
     Parameters
     ----------
     x : array_like
         The mark channel. [any unit]
     error : InputError
-        What the marks' own check found.
+        What the marks' own check found (returned when the channel is not noise).
     file, field, channel : str
-        Where the channel is, for the message.
+        Where the channel is, for the noise's message.
 
     Returns
     -------
@@ -329,4 +329,4 @@ def irregular_marks(x, error: InputError, *, file: str, field: str | None,
                           "check that the mark sensor is connected and its level set, and "
                           "that the channel named is the marks' channel", file=file,
                           field=field)
-    return InputError(error.problem, error.fix, file=file, field=field)
+    return error
