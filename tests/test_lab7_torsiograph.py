@@ -86,7 +86,7 @@ def test_sample_compares_the_model_with_the_resonances(sample):
     assert all(c.agree for c in sample.comparisons)
     assert [f.name for f in sample.figures] == ["calibration", "amplitude_speed", "campbell",
                                                 "record", "orders"]
-    assert len(sample.tables) == 3
+    assert len(sample.tables) == 4       # records, resonances, modes, critical speeds
 
 
 def test_sample_reports_render_in_every_format_and_language(sample):
