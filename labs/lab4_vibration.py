@@ -72,6 +72,11 @@ processing.bench --topic vibration``)."""
 MAX_ORDER = 12.0
 """Highest order fitted in a record's order spectrum."""
 
+ORDER_NYQUIST = 0.4
+"""Highest frequency an order fit reaches, as a share of the sample rate (below the Nyquist
+frequency and a recorder's anti-alias roll-off): a record sampled too slowly for
+:data:`MAX_ORDER` is fitted up to the order there."""
+
 SAME_SPEED = 0.03
 """Records or readings within this share of each other's speed are "at the same speed"."""
 
@@ -302,6 +307,8 @@ class Recorded:
     """Number of the healthy record it was compared with."""
     unmarked: dict | None = None
     """Why the record has no usable TDC marks, in English and Russian (None: it has them)."""
+    rate: float = 0.0
+    """Sample rate. [Hz]"""
 
     @property
     def marked(self) -> bool:
@@ -414,10 +421,10 @@ def _channel(p: int, name: str, x: np.ndarray, rate: float, timing, strokes: int
         * timing.per_mark / (2 * np.pi)
     pp = {q: peaks(mean_cycle(band[q], band_angle, cycle)).peak_to_peak for q in QUANTITIES}
     step = 0.5 if strokes == 4 else 1.0     # with marks per revolution: their phase is lost
+    top = min(MAX_ORDER, ORDER_NYQUIST * rate * 2 * np.pi / timing.speed)
     try:
-        fit = order_fit(*decimate(time, timing.angle, x, rate,
-                                  MAX_ORDER * timing.speed / (2 * np.pi)),
-                        step=step, max_order=MAX_ORDER)
+        fit = order_fit(*decimate(time, timing.angle, x, rate, top * timing.speed / (2 * np.pi)),
+                        step=step, max_order=top)
     except ValueError:
         fit = None
     return Channel(0, p + 1, name, rms, pp, fit)
@@ -458,7 +465,7 @@ def _record(inputs: Inputs, i: int, entry: dict, points: int, phases) -> Recorde
     chans = [_channel(p, name, x, rate, timing, strokes, refuse, max(lowest, 0.0))
              for p, (name, x) in enumerate(zip(names, data))]
     return Recorded(i + 1, Path(path), entry["ignition"], speed, chans, entry["tdc"] == "cycle",
-                    stated, unmarked=None if isinstance(timing, Timing) else timing)
+                    stated, unmarked=None if isinstance(timing, Timing) else timing, rate=rate)
 
 
 def _check_speed(entry: dict, w: float, refuse, where: str) -> None:
@@ -762,6 +769,10 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20034) -> LabR
         unmarked = [(r.number, r.unmarked) for r in recorded if not r.marked]
         if unmarked:
             warnings.warn(report.no_marks(unmarked))
+        slow = [(r.number, r.rate) for r in recorded
+                if r.rate / 2 < max(b.high for b in BANDS.values())]
+        if slow:
+            warnings.warn(report.band_beyond_nyquist(slow))
         j = 0
         for r in recorded:
             for c in r.channels:

@@ -10,12 +10,13 @@ import math
 
 import numpy as np
 
-from processing.band_rms import QUANTITIES, REFERENCES as DB_REFERENCES
+from processing.band_rms import BANDS, QUANTITIES, REFERENCES as DB_REFERENCES
 from processing.diagnostics import (CutCylinderWarning, MethodsDisagreeWarning,
-                                    NoiseFloorWarning, NoMarksWarning, SpeedDisagreesWarning)
+                                    NoiseFloorWarning, NoMarksWarning, RecordBandwidthWarning,
+                                    SpeedDisagreesWarning)
 from processing.measurement import bi
 from processing.reporting.content import result_pm
-from processing.result import Figure, ResultValue, Table
+from processing.result import STRICTLY_POSITIVE, Figure, ResultValue, Table
 from processing.uncertainty import Estimate
 
 RPM = 30 / np.pi
@@ -63,7 +64,9 @@ def placements(recorded, readings, points) -> dict:
 
 
 def result_names(recorded, readings, forces: bool, mass: bool, points) -> dict:
-    """Labels, symbols and display units of every result the reduction may give."""
+    """Labels, symbols and display units of every result the reduction may give: the
+    readings, amplitudes and speeds above zero by their nature; the free forces and their
+    accelerations zero where the cranks cancel them (a four's first order)."""
     place = placements(recorded, readings, points)
     out = {}
     numbers = sorted({c.number for r in recorded for c in r.channels}
@@ -72,24 +75,27 @@ def result_names(recorded, readings, forces: bool, mass: bool, points) -> dict:
         w = _where(j, place)
         for q in QUANTITIES:
             label, sym, unit = NAMES[q]
-            out[f"{q}_rms_{j}"] = (_label(label, w), f"{sym}_{j}", unit)
+            out[f"{q}_rms_{j}"] = (_label(label, w), f"{sym}_{j}", unit, STRICTLY_POSITIVE)
             out[f"{q}_meter_{j}"] = (_label(bi(f"{label['en']} by the meter",
                                                f"{label['ru']} по виброметру"), w),
-                                     f"{sym}_м{j}", unit)
+                                     f"{sym}_м{j}", unit, STRICTLY_POSITIVE)
             out[f"{q}_pp_{j}"] = (_label(bi(f"peak-to-peak {label['en'][4:]}",
                                             f"размах {label['ru'][4:]}"), w), f"2{sym}_{j}",
-                                  PP[q])
+                                  PP[q], STRICTLY_POSITIVE)
             out[f"{q}_pp_meter_{j}"] = (_label(bi(f"peak-to-peak {label['en'][4:]} by the "
                                                   "meter", f"размах {label['ru'][4:]} по "
-                                                  "виброметру"), w), f"2{sym}_м{j}", PP[q])
+                                                  "виброметру"), w), f"2{sym}_м{j}", PP[q],
+                                        STRICTLY_POSITIVE)
         for k in (1, 2):
             out[f"a{k}_{j}"] = (_label(bi(f"amplitude of order {k} of the acceleration",
                                           f"амплитуда гармоники {k}-го порядка "
-                                          "виброускорения"), w), f"a_{k},{j}", "m/s^2")
+                                          "виброускорения"), w), f"a_{k},{j}", "m/s^2",
+                                STRICTLY_POSITIVE)
     for r in recorded:
         n = r.number
         out[f"n_{n}"] = (bi(f"speed from the TDC marks, record {n}",
-                            f"частота вращения по отметкам ВМТ, запись {n}"), f"n_{n}", "rpm")
+                            f"частота вращения по отметкам ВМТ, запись {n}"), f"n_{n}", "rpm",
+                         STRICTLY_POSITIVE)
         if forces:
             for k in (1, 2):
                 out[f"F{k}_{n}"] = (bi(f"free inertia force of order {k}, record {n}",
@@ -256,6 +262,21 @@ def cut_disagrees(number: int, found: int, stated: int, confidence: float) -> Cu
         f"запись {number}: найден отключённым цилиндр {found} (достоверность "
         f"{confidence:.2f}), а в файле указан {stated}: проверьте порядок работы и что "
         "отметки ВМТ — это ВМТ сгорания 1-го цилиндра")
+
+
+def band_beyond_nyquist(items) -> RecordBandwidthWarning:
+    text = ", ".join(f"{n} ({rate / 1e3:.3g} kHz)" for n, rate in items)
+    nyquist = min(rate for _, rate in items) / 2
+    edges = ", ".join(f"{q} {b.high:g} Hz" for q, b in BANDS.items() if b.high > nyquist)
+    return RecordBandwidthWarning(
+        f"records {text} hold frequencies up to half their sample rate ({nyquist:.0f} Hz at the "
+        f"least), below the meter's upper band edges ({edges}): those readings leave out "
+        "whatever vibration lies above it and are low by that much; record at twice the "
+        "highest band edge or more (e.g. 25.6 kHz)",
+        f"записи {text} содержат частоты лишь до половины частоты дискретизации "
+        f"({nyquist:.0f} Гц у наименьшей), ниже верхних краёв полос виброметра ({edges}): эти "
+        "показания не учитывают вибрацию выше и занижены на неё; записывайте с частотой не "
+        "менее удвоенного верхнего края полосы (напр. 25,6 кГц)")
 
 
 def no_marks(items) -> NoMarksWarning:

@@ -52,7 +52,7 @@ from processing.signals import (image_options, is_image, open_channel, open_chan
                                 read_figures)
 from processing.torsion import natural_modes
 from processing.torsiogram import revolutions
-from processing.torsiogram_analysis import Torsiogram, analyse_trace
+from processing.torsiogram_analysis import MAX_ORDER, ORDER_SHARE, Torsiogram, analyse_trace
 from processing.uncertainty import Measured, propagate
 
 LOADS = ("idle", "part", "full")
@@ -434,6 +434,7 @@ def _recorded(inputs: Inputs, where: str, entry: dict, refuse):
     trace, tdc = (c.read().astype(float) * c.volts_per_code for c in channels[:2])
     rate = channels[0].sample_rate
     file = str(entry["signal"])
+    _check_length(inputs, entry, trace.size, rate, refuse)
     check_record(trace, rate, file=file,
                  field=f"{where}.{'channel' if 'channel' in entry else 'signal'}",
                  channel=channels[0].name, purpose="the torsiogram's orders")
@@ -453,6 +454,21 @@ def _recorded(inputs: Inputs, where: str, entry: dict, refuse):
     return channels[0], trace, tdc_times, rate
 
 
+def _check_length(inputs: Inputs, entry: dict, samples: int, rate: float, refuse) -> None:
+    """Refuse a record too short for two TDC marks at the tachometer's n (before its few
+    samples are judged for noise)."""
+    if "n" not in entry:
+        return
+    length = samples / rate
+    revs = length * entry["n"].value / (2 * np.pi)
+    if revs * inputs["torsiograph"]["tdc_per_revolution"] < 2:
+        raise refuse(f"the record lasts {length:.4g} s ({samples} samples), {revs:.2g} "
+                     f"revolution(s) at n = {entry['n'].value * 30 / np.pi:.0f} min⁻¹: too "
+                     "short to hold two TDC marks",
+                     f"record at least {FEW_CYCLES} working cycles "
+                     f"({FEW_CYCLES * inputs['engine']['strokes'] // 2} revolutions)")
+
+
 def _tdc_marks(inputs: Inputs, entry: dict, x: np.ndarray, rate: float, name: str,
                refuse) -> np.ndarray:
     """The TDC marks' times of a recorded channel, refused with their cause when the channel
@@ -460,13 +476,6 @@ def _tdc_marks(inputs: Inputs, entry: dict, x: np.ndarray, rate: float, name: st
     apart."""
     length = x.size / rate
     per_revolution = inputs["torsiograph"]["tdc_per_revolution"]
-    revs = length * entry["n"].value / (2 * np.pi) if "n" in entry else np.inf
-    if revs * per_revolution < 2:
-        raise refuse(f"the record lasts {length:.4g} s ({x.size} samples), {revs:.2g} "
-                     f"revolution(s) at n = {entry['n'].value * 30 / np.pi:.0f} min⁻¹: too "
-                     "short to hold two TDC marks",
-                     f"record at least {FEW_CYCLES} working cycles "
-                     f"({FEW_CYCLES * inputs['engine']['strokes'] // 2} revolutions)")
     if np.ptp(x) == 0:
         raise refuse(f"channel '{name}' is constant ({x[0]:.4g}): it holds no TDC marks",
                      "name the TDC channel (tdc_channel = ...) and check that its sensor "
@@ -1001,6 +1010,12 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
     bad = [x for x in loads if x not in LOADS]
     if bad:
         raise InputError(f"unknown load {bad[0]!r}", f"use {', '.join(LOADS)}")
+    least = MAX_ORDER * speeds[1] / 60 / ORDER_SHARE
+    if not sample_rate >= least:
+        raise InputError(f"a sample rate of {sample_rate / 1e3:g} kHz does not hold the orders "
+                         f"up to {MAX_ORDER:g} at {speeds[1]:g} min⁻¹ "
+                         f"({MAX_ORDER * speeds[1] / 60:g} Hz)",
+                         f"give --sample-rate {least / 1e3:.2g} kHz or more (the default is 4)")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     shaft, f_c = _part(seed if part is None else part)
