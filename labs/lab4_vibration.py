@@ -47,7 +47,7 @@ from processing.edges import detect_edges
 from processing.measurement import Field, Inputs, LabSpec, Section, bi, firing_order
 from processing.misfire import CutCylinder, find_cut_cylinder
 from processing.orders import OrderFit, order_fit
-from processing.record_checks import check_tachometer
+from processing.record_checks import check_tachometer, whole_ratio
 from processing.result import LabResult, compare, flag_estimates, result_values
 from processing.signals import open_channels
 from processing.record_quality import check_record, irregular_marks
@@ -473,12 +473,19 @@ def _check_speed(entry: dict, w: float, refuse, where: str) -> None:
     if "n" not in entry:
         return
     n = entry["n"]
-    check_tachometer(w, n, lambda gap: refuse(
-        f"the TDC marks give {w * RPM:.0f} min⁻¹ but n = {n.value * RPM:.0f} min⁻¹ "
-        f"({100 * gap:+.0f} %): marks once per cycle taken for once per revolution (or back), "
-        "marks missed, or the wrong record",
-        "check n, the TDC channel and tdc = \"cycle\" or \"revolution\"", "n"),
-        lambda: report.speed_disagrees(where, w, n.value))
+
+    def refused(gap: float) -> InputError:
+        ratio = whole_ratio(1 + gap)
+        cause = ("marks once per cycle taken for once per revolution (or back), or marks "
+                 "missed" if ratio in ((1, 2), (2, 1)) else
+                 "a wrong sample rate (the marks' speed scales with it)" if ratio is None else
+                 "marks missed or doubled")
+        return refuse(f"the TDC marks give {w * RPM:.0f} min⁻¹ but n = {n.value * RPM:.0f} "
+                      f"min⁻¹ ({100 * gap:+.0f} %): {cause}, or the wrong record",
+                      "check n, the TDC channel, tdc = \"cycle\" or \"revolution\" and the "
+                      "recorder's sample rate", "n")
+
+    check_tachometer(w, n, refused, lambda: report.speed_disagrees(where, w, n.value))
 
 
 # ------------------------------------------------------------------------ the sweep

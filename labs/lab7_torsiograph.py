@@ -41,7 +41,7 @@ from processing.diagnostics import InputError, collect_notices
 from processing.dynamics import firing_phases
 from processing.edges import detect_edges
 from processing.measurement import Field, Inputs, LabSpec, Section, bi, firing_order, image_section
-from processing.record_checks import check_tachometer, check_time_marks
+from processing.record_checks import check_tachometer, check_time_marks, whole_ratio
 from processing.record_quality import check_record, irregular_marks
 from processing.regression import fit_line
 from processing.resonance import (Resonance, SweepEdge, locate_resonances, major_orders,
@@ -527,12 +527,18 @@ def _check_speed(entry: dict, result: Torsiogram, where: str, path) -> None:
     if "n" not in entry:
         return
     n, w, rpm = entry["n"], result.angular_speed, 30 / np.pi
-    check_tachometer(w, n, lambda gap: InputError(
-        f"the TDC marks give {w * rpm:.0f} min⁻¹ but n = {n.value * rpm:.0f} min⁻¹ "
-        f"({100 * gap:+.0f} %): a mark per revolution too many or too few, marks missed, or "
-        "the wrong record", "check n, the TDC channel and tdc_per_revolution in [torsiograph] "
-        "(marks per crankshaft revolution)", file=str(path), field=f"{where}.n"),
-        lambda: report.speed_disagrees(where, w, n.value))
+
+    def refused(gap: float) -> InputError:
+        cause = ("a wrong sample rate (the marks' speed scales with it)"
+                 if whole_ratio(1 + gap) is None else
+                 "a mark per revolution too many or too few, or marks missed")
+        return InputError(f"the TDC marks give {w * rpm:.0f} min⁻¹ but n = "
+                          f"{n.value * rpm:.0f} min⁻¹ ({100 * gap:+.0f} %): {cause}, or the "
+                          "wrong record", "check n, the TDC channel, tdc_per_revolution in "
+                          "[torsiograph] (marks per crankshaft revolution) and the recorder's "
+                          "sample rate", file=str(path), field=f"{where}.n")
+
+    check_tachometer(w, n, refused, lambda: report.speed_disagrees(where, w, n.value))
 
 
 # ------------------------------------------------------------------------ calibration

@@ -142,6 +142,18 @@ def test_lab4_refuses_marks_at_twice_the_rate_the_tachometer_contradicts(capsys,
             "cycle taken for once per revolution")
 
 
+def test_lab4_names_a_wrong_sample_rate_the_tachometer_contradicts(capsys, tmp_path):
+    """Record 1 as a CSV whose stated sample rate is 20 kHz (it was 25.6): the marks give
+    787 min⁻¹ against n = 1007, no simple ratio of marks per revolution."""
+    folder = tmp_path / "lab4"
+    toml = lab4_copy(tmp_path, toml=lambda t: only("r01.h5")(t).replace(
+        'signal = "r01.h5"', 'signal = "r01.csv"\nsample_rate = "20 kHz"'))
+    with h5py.File(folder / "r01.h5") as h:
+        write_csv(folder / "r01.csv", {k: h[k][...] * h[k].attrs["volts_per_code"] for k in h})
+    refused(capsys, tmp_path, toml, folder / "r01.csv", "record[0].n",
+            r"the TDC marks give 78\d min⁻¹ but n = 1007 min⁻¹ \(-22 %\): a wrong sample rate")
+
+
 @pytest.fixture(scope="module")
 def unmarked(tmp_path_factory):
     """The lab 4 sample with every record's TDC channel taken out."""
@@ -366,6 +378,16 @@ def test_lab7_refuses_a_bad_record_with_its_cause(capsys, tmp_path, mutate, fiel
     trace."""
     toml = lab7_copy(tmp_path, mutate)
     refused(capsys, tmp_path, toml, toml.parent / "r01.csv", field, problem)
+
+
+def test_lab7_names_a_wrong_sample_rate_the_tachometer_contradicts(capsys, tmp_path):
+    """Record 1 without its time marks and a stated 3 kHz (it was 4): the marks give
+    602 min⁻¹ against n = 803."""
+    toml = lab7_copy(tmp_path, toml=lambda t: t.replace(
+        'signal = "r01.csv"\nsample_rate = "4 kHz"\nchannel = "phi"\nmarks_channel = "marks"',
+        'signal = "r01.csv"\nsample_rate = "3 kHz"\nchannel = "phi"', 1))
+    refused(capsys, tmp_path, toml, toml.parent / "r01.csv", "record[0].n",
+            r"the TDC marks give 60\d min⁻¹ but n = 803 min⁻¹ \(-25 %\): a wrong sample rate")
 
 
 def test_lab7_warns_a_clipped_trace_with_its_share(tmp_path):
