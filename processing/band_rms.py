@@ -21,6 +21,10 @@ window-weighted mean is taken out first (a sensor's offset would otherwise leak 
 the displacement's weight is largest). Nothing is integrated in the time domain, so nothing
 drifts; the high-pass edge at 1.4 Hz is the meter's own. :func:`band_signals` gives the
 band-limited a, v and x as time signals (for the peak and peak-to-peak detectors).
+Beside each reading, what the record's broadband floor alone would read: the periodogram
+between its lines, level by level along the frequency axis (:func:`broadband_floor`), through
+the same weight, so that a floor rising with frequency is not carried down to the 1.4 Hz
+edge, where the displacement's weight is largest.
 Its edge filters have order 2 for the acceleration, 3 for the velocity, 4 for the displacement
 (:data:`FILTER_ORDER`), so that no reading passes a constant or a slow wander.
 
@@ -333,7 +337,8 @@ def band_rms(acceleration, sample_rate: float, *, bands: dict | None = None,
     power /= count
     ms = w @ power
     first = int(np.floor(lowest_line * size / sample_rate)) - HANN_LOBE
-    floor = np.sqrt(np.maximum(w @ broadband_floor(power, count, first), 0.0))
+    lines, under = _lines(power, count, first)
+    floor = np.sqrt(np.maximum(ms - w[:, lines] @ (power[lines] - under), 0.0))
     return BandRMS(*np.sqrt(np.maximum(ms, 0.0)).tolist(), floor=dict(zip(QUANTITIES,
                                                                            floor.tolist())))
 
@@ -343,10 +348,10 @@ HANN_LOBE = 2
 
 
 @lru_cache(maxsize=64)
-def _blocks(bins: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _blocks(bins: int) -> tuple[np.ndarray, np.ndarray, tuple]:
     """The blocks of :data:`FLOOR_BLOCK` over bins 1 … ``bins`` − 1 (a last block shorter than
-    the least joins the one before it): each one's first bin and size, and each bin's block
-    (bin 0 in block 0)."""
+    the least joins the one before it): each one's first bin and size, and the slice and the
+    rank that give its :data:`FLOOR_QUANTILE` quantile."""
     least, octave = FLOOR_BLOCK
     edges = [1]
     while edges[-1] < bins:
@@ -354,10 +359,27 @@ def _blocks(bins: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     if len(edges) > 2 and edges[-1] - edges[-2] < least:
         del edges[-2]
     starts, sizes = np.array(edges[:-1]), np.diff(edges)
-    index = np.r_[0, np.repeat(np.arange(starts.size), sizes)]
-    for a in (starts, sizes, index):
-        a.flags.writeable = False
-    return starts, sizes, index
+    starts.flags.writeable = sizes.flags.writeable = False
+    ranks = []
+    for a, n in zip(edges[:-1], sizes.tolist()):
+        stride = FLOOR_STRIDE if n > 256 else 1
+        ranks.append((slice(a, a + n, stride), int(FLOOR_QUANTILE * ((n - 1) // stride))))
+    return starts, sizes, tuple(ranks)
+
+
+def _lines(power: np.ndarray, segments: int, first: int) -> tuple[np.ndarray, np.ndarray]:
+    """The bins of a periodogram's lines and the floor under each (:func:`broadband_floor`)."""
+    starts, sizes, ranks = _blocks(power.size)
+    factor = FLOOR_LINE * segments / gammaincinv(segments, FLOOR_QUANTILE)
+    level = np.array([np.partition(power[part], k)[k] for part, k in ranks]) * factor
+    line = power[1:] > np.repeat(level, sizes)
+    line[:max(first - 1, 0)] = False
+    at = np.flatnonzero(line) + 1
+    block = np.searchsorted(starts, at, "right") - 1
+    kept = np.add.reduceat(power, starts) - np.bincount(block, weights=power[at],
+                                                         minlength=starts.size)
+    count = sizes - np.bincount(block, minlength=starts.size)
+    return at, (kept / np.maximum(count, 1))[block]
 
 
 def broadband_floor(power, segments: int = 1, first: int = 1) -> np.ndarray:
@@ -411,21 +433,10 @@ def broadband_floor(power, segments: int = 1, first: int = 1) -> np.ndarray:
     [1.01, 1.01]
     """
     power = np.asarray(power, dtype=float)
-    starts, sizes, block = _blocks(power.size)
-    level = np.empty(starts.size)
-    for b, (a, n) in enumerate(zip(starts, sizes)):
-        part = power[a:a + n:FLOOR_STRIDE if n > 256 else 1]
-        k = int(FLOOR_QUANTILE * (part.size - 1))
-        level[b] = np.partition(part, k)[k]
-    level *= FLOOR_LINE * segments / gammaincinv(segments, FLOOR_QUANTILE)
-    line = power > level[block]
-    line[:max(first, 1)] = False
-    at = np.flatnonzero(line)
+    lines, under = _lines(power, segments, first)
     floor = power.copy()
     floor[0] = 0.0
-    floor[at] = 0.0
-    count = sizes - np.bincount(block[at], minlength=sizes.size)
-    floor[at] = (np.add.reduceat(floor, starts) / np.maximum(count, 1))[block[at]]
+    floor[lines] = under
     return floor
 
 
