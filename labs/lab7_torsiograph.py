@@ -773,9 +773,10 @@ def _chain_model(x: dict, chain: Chain) -> dict:
     out = {f"f_model_{m}": f_m
            for m, f_m in enumerate(np.moveaxis(modes.frequency, -1, 0), 1)}
     for m, k in chain.criticals:
-        out[f"phase_sum_{m}_{k:g}"] = relative_phase_sum(
-            k, chain.phases, chain.crank_amplitudes(modes.shape, m))
-        out[f"n_crit_{m}_{k:g}"] = critical_speed(out[f"f_model_{m}"], k)
+        phase_sum, n_crit = report.critical_names(m, k)
+        out[phase_sum] = relative_phase_sum(k, chain.phases,
+                                            chain.crank_amplitudes(modes.shape, m))
+        out[n_crit] = critical_speed(out[f"f_model_{m}"], k)
     return out
 
 
@@ -838,7 +839,7 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20037) -> LabR
         ``n_res_j``, ``K_res_j`` (its order), ``f_res_j`` (the natural frequency it implies).
         With a chain: ``f_model_m`` of each of its modes, and for the reported modes m and
         orders k (:func:`_chain`) ``phase_sum_m_k`` (the relative phase sum) and
-        ``n_crit_m_k`` (the critical speed 60 f_m/k).
+        ``n_crit_m_k`` (the critical speed 60 f_m/k), a half order's k written 4_5.
     """
     _check_inputs(inputs)
     with collect_notices() as notices:

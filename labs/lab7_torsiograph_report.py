@@ -108,6 +108,13 @@ REFERENCES = [
 ]
 
 
+def critical_names(mode: int, order: float) -> tuple[str, str]:
+    """The result names of a mode's relative phase sum and critical speed for an order: a
+    half order's point written as an underscore (a result name is a TOML key in [reported])."""
+    k = f"{order:g}".replace(".", "_")
+    return f"phase_sum_{mode}_{k}", f"n_crit_{mode}_{k}"
+
+
 def result_names(recorded, found, modes, criticals=()) -> dict:
     """Labels, symbols and display units of the results of this file's records, resonances
     and chain (every one of them above zero by its nature but the phase sums)."""
@@ -151,13 +158,13 @@ def result_names(recorded, found, modes, criticals=()) -> dict:
                                       f"собственная частота {m}-й формы (эквивалентная "
                                       "система)"), f"f_{m}", "Hz", STRICTLY_POSITIVE)
     for m, k in criticals:
-        out[f"phase_sum_{m}_{k:g}"] = (bi(f"relative phase sum of order {k:g}, mode {m}",
-                                          f"относительная фазовая сумма гармоники порядка "
-                                          f"{k:g}, форма {m}"), f"Σ_{k:g}", "")
-        out[f"n_crit_{m}_{k:g}"] = (bi(f"critical speed of order {k:g}, mode {m} (60 f_{m}/k)",
-                                       f"критическая частота вращения гармоники порядка "
-                                       f"{k:g}, форма {m} (60 f_{m}/k)"), f"n_{k:g}", "rpm",
-                                    STRICTLY_POSITIVE)
+        phase_sum, n_crit = critical_names(m, k)
+        out[phase_sum] = (bi(f"relative phase sum of order {k:g}, mode {m}",
+                             f"относительная фазовая сумма гармоники порядка {k:g}, форма {m}"),
+                          f"Σ_{k:g}", "")
+        out[n_crit] = (bi(f"critical speed of order {k:g}, mode {m} (60 f_{m}/k)",
+                          f"критическая частота вращения гармоники порядка {k:g}, форма {m} "
+                          f"(60 f_{m}/k)"), f"n_{k:g}", "rpm", STRICTLY_POSITIVE)
     return out
 
 
@@ -344,8 +351,8 @@ def _critical_table(criticals, results, majors) -> Table:
         rows.append({"m": str(m), "k": f"{k:g}",
                      "major": bi("yes", "да") if np.any(np.isclose(majors, k))
                      else bi("no", "нет"),
-                     "sum": result_pm(results, f"phase_sum_{m}_{k:g}"),
-                     "n": result_pm(results, f"n_crit_{m}_{k:g}")})
+                     "sum": result_pm(results, critical_names(m, k)[0]),
+                     "n": result_pm(results, critical_names(m, k)[1])})
     cols = (("m", bi("Mode", "Форма")), ("k", bi("Order k", "Порядок k")),
             ("major", bi("Major order", "Главный порядок")),
             ("sum", bi("relative phase sum", "относительная фазовая сумма")),
@@ -429,7 +436,7 @@ def _campbell_reach(recorded, modes, majors, criticals, results):
         top = max(r.trace.fit.order.max() for r in recorded)
         step = recorded[0].trace.fit.order[0]
         return speeds.max() * 1.05, 0.0, np.arange(step, top + step / 2, step)
-    speeds = {(m, k): results[f"n_crit_{m}_{k:g}"].value for m, k in criticals}
+    speeds = {(m, k): results[critical_names(m, k)[1]].value for m, k in criticals}
     first = [w for (m, k), w in speeds.items()
              if m == 1 and np.any(np.isclose(majors, k))] or list(speeds.values())
     reach = 1.1 * max(first) if first else \
@@ -459,7 +466,7 @@ def _draw_campbell(fig, recorded, found, modes, majors, lang, results=None, crit
             ax.axhline(f, color="tab:green", lw=0.8, ls="--")
             f_top = max(f_top, f)
     for m, k in criticals:
-        w = results[f"n_crit_{m}_{k:g}"].value
+        w = results[critical_names(m, k)[1]].value
         if w <= w_top:
             ax.plot(w * RPM, k * w / (2 * np.pi), "o", ms=5, mfc="none", color="tab:green",
                     zorder=4)
@@ -627,7 +634,7 @@ def conclusion(*, recorded, found, edges, results, modes, majors, criticals=(),
                         f"Первая собственная частота эквивалентной системы {c} ± {Uc} Гц"))
         first = [k for m, k in criticals if m == 1 and np.any(np.isclose(majors, k))]
         if first:
-            text = ", ".join(f"{k:g}: {results[f'n_crit_1_{k:g}'].value * RPM:.0f}"
+            text = ", ".join(f"{k:g}: {results[critical_names(1, k)[1]].value * RPM:.0f}"
                              for k in first)
             lines.append(bi(f"Its critical speeds for the major orders (k: n, min⁻¹): {text}",
                             f"Её критические частоты вращения для главных порядков (k: n, "
