@@ -38,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from labs import catalogue, lab4_vibration_report as report
-from processing.band_rms import (QUANTITIES, BandRMS, band_rms, band_signals, level_db,
+from processing.band_rms import (BANDS, QUANTITIES, BandRMS, band_rms, band_signals, level_db,
                                  peaks)
 from processing.balance import phasor_sum
 from processing.diagnostics import InputError, collect_notices
@@ -48,12 +48,12 @@ from processing.measurement import (ENGINE_SPEED, SAMPLE_RATE, Field, Inputs, La
                                     bi, firing_order)
 from processing.misfire import CutCylinder, find_cut_cylinder
 from processing.orders import OrderFit, order_fit
-from processing.record_checks import check_tachometer
+from processing.record_checks import check_tachometer, whole_ratio
 from processing.result import LabResult, compare, flag_estimates, result_values
 from processing.signals import open_channels
-from processing.record_quality import clipped_share
+from processing.record_quality import check_record, irregular_marks
 from processing.steady_record import decimate, mean_cycle
-from processing.torsiogram import revolutions, steady_crank_angle
+from processing.torsiogram import Revolutions, revolutions, steady_crank_angle
 from processing.uncertainty import Measured, propagate
 from processing.units import parse_quantity
 
@@ -73,11 +73,35 @@ processing.bench --topic vibration``)."""
 MAX_ORDER = 12.0
 """Highest order fitted in a record's order spectrum."""
 
+ORDER_NYQUIST = 0.4
+"""Highest frequency an order fit reaches, as a share of the sample rate (below the Nyquist
+frequency and a recorder's anti-alias roll-off): a record sampled too slowly for
+:data:`MAX_ORDER` is fitted up to the order there."""
+
 SAME_SPEED = 0.03
 """Records or readings within this share of each other's speed are "at the same speed"."""
 
-CLIP_SHARE = 1e-3
-"""Share of a channel's samples at its extremes above which it is called clipped."""
+LEAST_DURATION = 1 / BANDS["a"].low
+"""Shortest record the band readings take: a period of the meter's lower band edge, 0.71 s.
+Shorter, the displacement errs beyond :data:`METHOD_LIMIT` as the window's spread nears the
+lowest orders (synthetic records at 800 min⁻¹: 0.7 % at 0.71 s, 0.9 % at 0.5 s, 4 % at
+0.3 s). [s]"""
+
+RECORD_PP_LIMIT = {"a": 0.02, "v": 0.05}
+"""Relative limit of error of a peak-to-peak value read over a whole record without TDC marks
+(not over its mean working cycle), beyond the noise's lift (:data:`PEAK_NOISE`): a tapered
+record's own low frequencies reach the peaks (:func:`processing.band_rms.band_signals`).
+Synthetic records of 0.8–2.4 s at 800–3400 min⁻¹ and 20–50 dB: a within 1.2 %, v within 3 %;
+the displacement's peaks err by up to 95 %, so without marks it has none."""
+
+PEAK_NOISE = 3.5
+"""How many of the floor's RMS the noise lifts each extreme of a record without TDC marks by,
+at most (a Gaussian noise's 3.5 σ is passed by 2·10⁻⁴ of its samples)."""
+
+NOISE_ONLY = 0.9
+"""The broadband floor's reading over the band reading above which, in all three bands, a
+channel holds no vibration above its noise (the lines carry less than a fifth of its
+power in each)."""
 
 FLOOR_SHARE = 0.3
 """The broadband floor's reading over the band reading above which the reading is said to
@@ -272,11 +296,10 @@ class Channel:
     rms: BandRMS
     """Band readings of the record in V (V·s, V·s²)."""
     pp: dict
-    """Peak-to-peak of each band signal over whole working cycles. [V, V·s, V·s²]"""
+    """Peak-to-peak of each band signal over the mean working cycle; without TDC marks, of
+    the acceleration and velocity over the whole record. [V, V·s, V·s²]"""
     fit: OrderFit | None
-    """The order spectrum in V."""
-    clipped: float
-    """Share of samples at the extremes."""
+    """The order spectrum in V (None without TDC marks)."""
 
 
 @dataclass
@@ -286,8 +309,8 @@ class Recorded:
     number: int
     source: Path
     ignition: str
-    speed: Measured
-    """From the TDC marks. [rad/s]"""
+    speed: Measured | None
+    """From the TDC marks; without them the tachometer's n, if given. [rad/s]"""
     channels: list[Channel]
     cycle_marks: bool
     cut_stated: int | None = None
@@ -295,11 +318,129 @@ class Recorded:
     """Per channel name, the :class:`CutCylinder` against the healthy record."""
     healthy: int | None = None
     """Number of the healthy record it was compared with."""
+    unmarked: dict | None = None
+    """Why the record has no usable TDC marks, in English and Russian (None: it has them)."""
+    rate: float = 0.0
+    """Sample rate. [Hz]"""
+
+    @property
+    def marked(self) -> bool:
+        return self.unmarked is None
+
+
+@dataclass(frozen=True)
+class Timing:
+    """What a record's TDC marks give: the crank angle of every sample, the speed and the
+    stretch of whole working cycles."""
+
+    revolutions: Revolutions
+    speed: float
+    """[rad/s]"""
+    u_speed: float
+    """Type A u of the speed. [rad/s]"""
+    angle: np.ndarray
+    """Crank angle of every sample. [rad]"""
+    span: slice
+    """Samples of the whole working cycles between the marks."""
+    per_mark: float
+    """Crank angle between marks. [rad]"""
 
 
 def _tdc_times(x: np.ndarray, rate: float) -> np.ndarray:
     """Times of the TDC pulses' falling edges (:func:`processing.edges.detect_edges`). [s]"""
     return detect_edges(np.asarray(x, dtype=float), "fit") / rate
+
+
+def _open(entry: dict, names: list[str], where: str):
+    """The accelerometers' channels and the TDC channel (None when the recording holds no
+    channel of the default name ``tdc``: a record without TDC marks)."""
+    path, tdc = entry["signal"], entry["tdc_channel"]
+    rate = entry["sample_rate"].value if "sample_rate" in entry else None
+    options = dict(sample_rate=rate, field=f"{where}.signal")
+    try:
+        opened = open_channels(path, [*names, tdc], **options)
+    except InputError as exc:
+        if tdc != SPEC.section("record").field("tdc_channel").default:
+            raise
+        accelerometers = open_channels(path, names, **options)
+        try:
+            open_channels(path, [tdc], **options)
+        except InputError:
+            return accelerometers, None
+        raise exc from None
+    return opened[:-1], opened[-1]
+
+
+def _timing(entry: dict, tdc, rate: float, samples: int, strokes: int, refuse, where: str):
+    """The record's :class:`Timing` from its TDC channel, or why it has none (``bi`` text).
+
+    Marks that are there but irregular, or contradict the tachometer, are refused: they are
+    marks, misread or mislabelled. A channel that is missing, flat, or holds too few marks for
+    one working cycle leaves the record without marks."""
+    name = entry["tdc_channel"]
+    if tdc is None:
+        return bi(f"the recording has no channel '{name}'", f"в файле нет канала '{name}'")
+    x = tdc.read().astype(float) * tdc.volts_per_code
+    times = _tdc_times(x, rate)
+    if times.size < 2:
+        return bi(f"its TDC channel '{name}' " + (f"is constant ({x[0]:.4g})" if np.ptp(x) == 0
+                                                   else f"holds {times.size} mark(s)"),
+                  f"канал ВМТ '{name}' " + (f"постоянен ({x[0]:.4g})" if np.ptp(x) == 0
+                                            else f"содержит отметок: {times.size}"))
+    cycle = 4 * np.pi if strokes == 4 else 2 * np.pi
+    per_mark = 4 * np.pi if entry["tdc"] == "cycle" and strokes == 4 else 2 * np.pi
+    try:
+        revs = revolutions(times)
+    except InputError as exc:
+        raise irregular_marks(x, refuse(exc.problem, exc.fix, "tdc_channel"),
+                              file=str(entry["signal"]), field=f"{where}.tdc_channel",
+                              channel=name) from None
+    speed = revs.angular_speed * per_mark / (2 * np.pi)
+    _check_speed(entry, speed, refuse, where)
+    per_cycle = int(round(cycle / per_mark))
+    last = (times.size - 1) // per_cycle * per_cycle
+    if last == 0:
+        spanned = (times.size - 1) * per_mark / cycle
+        return bi(f"its TDC marks span {spanned:.1f} working cycle(s), less than a whole one",
+                  f"отметки ВМТ охватывают {spanned:.1f} рабочего цикла, меньше целого")
+    time = np.arange(samples) / rate
+    return Timing(revs, speed, revs.u_speed * per_mark / (2 * np.pi),
+                  steady_crank_angle(time, revs) * per_mark / (2 * np.pi),
+                  slice(int(np.ceil(times[0] * rate)), int(np.ceil(times[last] * rate))),
+                  per_mark)
+
+
+def _channel(p: int, name: str, x: np.ndarray, rate: float, timing, strokes: int, refuse,
+             lowest_line: float) -> Channel:
+    """One accelerometer channel's band readings, peak-to-peak values and orders."""
+    rms = band_rms(x, rate, lowest_line=lowest_line)
+    if all(rms.floor[q] > NOISE_ONLY * rms[q] for q in QUANTITIES):
+        raise refuse(f"channel '{name}' holds no vibration above its noise: its broadband "
+                     "floor makes " + ", ".join(f"{100 * rms.floor[q] / rms[q]:.0f} %"
+                                                for q in QUANTITIES)
+                     + " of its a, v and x readings, and no engine order stands out",
+                     "check that the accelerometer is mounted, connected and powered, that "
+                     "the channel named is its channel, and that the amplifier's gain is set; "
+                     "then record again", "channels")
+    if not isinstance(timing, Timing):
+        band = band_signals(x, rate, tuple(RECORD_PP_LIMIT))
+        return Channel(0, p + 1, name, rms, {q: float(np.ptp(band[q])) for q in RECORD_PP_LIMIT},
+                       None)
+    cycle = 4 * np.pi if strokes == 4 else 2 * np.pi
+    span = timing.span
+    band = band_signals(x[span], rate, periodic=True)
+    time = np.arange(x.size) / rate
+    band_angle = steady_crank_angle(time[span.start] + band.time, timing.revolutions) \
+        * timing.per_mark / (2 * np.pi)
+    pp = {q: peaks(mean_cycle(band[q], band_angle, cycle)).peak_to_peak for q in QUANTITIES}
+    step = 0.5 if strokes == 4 else 1.0     # with marks per revolution: their phase is lost
+    top = min(MAX_ORDER, ORDER_NYQUIST * rate * 2 * np.pi / timing.speed)
+    try:
+        fit = order_fit(*decimate(time, timing.angle, x, rate, top * timing.speed / (2 * np.pi)),
+                        step=step, max_order=top)
+    except ValueError:
+        fit = None
+    return Channel(0, p + 1, name, rms, pp, fit)
 
 
 def _record(inputs: Inputs, i: int, entry: dict, points: int, phases) -> Recorded:
@@ -314,66 +455,30 @@ def _record(inputs: Inputs, i: int, entry: dict, points: int, phases) -> Recorde
         raise inputs.error(f"{len(names)} channel(s) named for {points} point(s)",
                            "name one accelerometer channel per [[point]], in their order, "
                            "e.g. channels = \"acc1, acc2, acc3\"", f"{where}.channels")
-    rate = entry["sample_rate"].value if "sample_rate" in entry else None
-    opened = open_channels(path, [*names, entry["tdc_channel"]], sample_rate=rate,
-                           field=f"{where}.signal")
-    rate = opened[0].sample_rate
-    data = [c.read().astype(float) * c.volts_per_code for c in opened]
-    tdc = _tdc_times(data[-1], rate)
-    cycle_marks = entry["tdc"] == "cycle"
-    strokes = inputs["engine"]["strokes"]
-    per_mark = 4 * np.pi if cycle_marks and strokes == 4 else 2 * np.pi
-    if tdc.size < 2:
-        revs_seen = data[0].size / rate * (entry["n"].value / (2 * np.pi)) if "n" in entry \
-            else None
-        raise refuse(f"channel '{entry['tdc_channel']}' holds {tdc.size} TDC mark(s)"
-                     + (f" over a record of {revs_seen:.2f} revolution(s)" if revs_seen else "")
-                     + ": the record is shorter than a revolution between marks, or the "
-                     "channel is not the TDC marks",
-                     "record at least two working cycles (the manual's steady regime: a few "
-                     "seconds) and name the TDC channel (tdc_channel = ...)", "tdc_channel")
-    try:
-        revs = revolutions(tdc)
-    except InputError as exc:
-        raise refuse(exc.problem, exc.fix, "tdc_channel") from None
-    speed = revs.angular_speed * per_mark / (2 * np.pi)
-    time = np.arange(data[0].size) / rate
-    angle = steady_crank_angle(time, revs) * per_mark / (2 * np.pi)
-    _check_speed(entry, speed, refuse, where)
-    cycle = 4 * np.pi if strokes == 4 else 2 * np.pi
-    per_cycle = int(round(cycle / per_mark))
-    last = (tdc.size - 1) // per_cycle * per_cycle
-    if last == 0:
-        raise refuse(f"the record spans {(tdc.size - 1) * per_mark / cycle:.1f} working "
-                     "cycle(s) between its TDC marks; a whole cycle at least is needed",
-                     "record at least two working cycles (a few seconds)", "tdc_channel")
-    span = slice(int(np.ceil(tdc[0] * rate)), int(np.ceil(tdc[last] * rate)))
-    step = 0.5 if strokes == 4 else 1.0     # with marks per revolution: their phase is lost
-    chans, band_angle = [], None
-    for p, (name, x) in enumerate(zip(names, data[:-1])):
-        rms = band_rms(x, rate)
-        band = band_signals(x[span], rate, periodic=True)
-        if band_angle is None:      # every channel's cut is as long: one grid for them all
-            band_angle = steady_crank_angle(time[span.start] + band.time, revs) \
-                * per_mark / (2 * np.pi)
-        pp = {q: peaks(mean_cycle(band[q], band_angle, cycle)).peak_to_peak
-              for q in QUANTITIES}
-        try:
-            fit = order_fit(*decimate(time, angle, x, rate, MAX_ORDER * speed / (2 * np.pi)),
-                            step=step, max_order=MAX_ORDER)
-        except ValueError:
-            fit = None
-        chans.append(Channel(0, p + 1, name, rms, pp, fit, clipped_share(x)))
     stated = entry.get("cut_cylinder")
     if stated is not None and not 1 <= stated <= len(phases):
         raise inputs.error(f"cut_cylinder = {stated}: the engine has {len(phases)} cylinders",
                            f"give a cylinder 1…{len(phases)}", f"{where}.cut_cylinder")
-    n = revs.speeds.size
-    u_speed = revs.u_speed * per_mark / (2 * np.pi)
-    return Recorded(i + 1, Path(path), entry["ignition"],
-                    Measured(speed, u_speed, max(n - 1, 1), limit=speed / (rate * (tdc[-1]
-                                                                              - tdc[0]))),
-                    chans, cycle_marks, stated)
+    accelerometers, tdc = _open(entry, names, where)
+    rate = accelerometers[0].sample_rate
+    data = [c.read().astype(float) * c.volts_per_code for c in accelerometers]
+    for name, x in zip(names, data):
+        check_record(x, rate, file=str(path), field=f"{where}.channels", channel=name,
+                     least_duration=LEAST_DURATION, purpose="the meter's band reading",
+                     broadband=True)
+    strokes = inputs["engine"]["strokes"]
+    timing = _timing(entry, tdc, rate, data[0].size, strokes, refuse, where)
+    if isinstance(timing, Timing):
+        speed = Measured(timing.speed, timing.u_speed, max(timing.revolutions.speeds.size - 1, 1),
+                         limit=timing.speed / (rate * np.ptp(timing.revolutions.mark_times)))
+    else:
+        speed = entry.get("n")
+    step = 0.5 if strokes == 4 else 1.0
+    lowest = 0.0 if speed is None else step * (speed.value - 3 * speed.u) / (2 * np.pi)
+    chans = [_channel(p, name, x, rate, timing, strokes, refuse, max(lowest, 0.0))
+             for p, (name, x) in enumerate(zip(names, data))]
+    return Recorded(i + 1, Path(path), entry["ignition"], speed, chans, entry["tdc"] == "cycle",
+                    stated, unmarked=None if isinstance(timing, Timing) else timing, rate=rate)
 
 
 def _check_speed(entry: dict, w: float, refuse, where: str) -> None:
@@ -381,21 +486,28 @@ def _check_speed(entry: dict, w: float, refuse, where: str) -> None:
     if "n" not in entry:
         return
     n = entry["n"]
-    check_tachometer(w, n, lambda gap: refuse(
-        f"the TDC marks give {w * RPM:.0f} min⁻¹ but n = {n.value * RPM:.0f} min⁻¹ "
-        f"({100 * gap:+.0f} %): marks once per cycle taken for once per revolution (or back), "
-        "marks missed, or the wrong record",
-        "check n, the TDC channel and tdc = \"cycle\" or \"revolution\"", "n"),
-        lambda: report.speed_disagrees(where, w, n.value))
+
+    def refused(gap: float) -> InputError:
+        ratio = whole_ratio(1 + gap)
+        cause = ("marks once per cycle taken for once per revolution (or back), or marks "
+                 "missed" if ratio in ((1, 2), (2, 1)) else
+                 "a wrong sample rate (the marks' speed scales with it)" if ratio is None else
+                 "marks missed or doubled")
+        return refuse(f"the TDC marks give {w * RPM:.0f} min⁻¹ but n = {n.value * RPM:.0f} "
+                      f"min⁻¹ ({100 * gap:+.0f} %): {cause}, or the wrong record",
+                      "check n, the TDC channel, tdc = \"cycle\" or \"revolution\" and the "
+                      "recorder's sample rate", "n")
+
+    check_tachometer(w, n, refused, lambda: report.speed_disagrees(where, w, n.value))
 
 
 # ------------------------------------------------------------------------ the sweep
 
 def _cut_cylinders(recorded: list[Recorded], phases) -> None:
     """Each record with the ignition cut against the healthy record nearest in speed."""
-    healthy = [r for r in recorded if r.ignition == "all"]
+    healthy = [r for r in recorded if r.ignition == "all" and r.marked]
     for r in recorded:
-        if r.ignition != "cut":
+        if r.ignition != "cut" or not r.marked:
             continue
         near = [h for h in healthy if abs(h.speed.value / r.speed.value - 1) <= SAME_SPEED
                 and h.cycle_marks == r.cycle_marks]
@@ -445,7 +557,7 @@ def _pair_readings(inputs: Inputs, recorded: list[Recorded], points: int) -> lis
         if not any(k in e for k in ("a", "v", "x", "a_pp", "v_pp", "x_pp")):
             raise inputs.error("the reading holds no value", "write at least one of a, v, x "
                                "(RMS) or a_pp, v_pp, x_pp", f"reading[{rd.index}].a")
-        match = [r for r in recorded if r.ignition == e["ignition"]
+        match = [r for r in recorded if r.ignition == e["ignition"] and r.speed is not None
                  and abs(r.speed.value / e["n"].value - 1) <= SAME_SPEED]
         if match:
             r = min(match, key=lambda r: abs(r.speed.value - e["n"].value))
@@ -465,12 +577,14 @@ def _flat(inputs: Inputs, recorded: list[Recorded], readings: list[Reading]) -> 
     if recorded:
         flat["S"] = sensitivity(inputs["sensor"]["sensitivity"], file=inputs.file)
     for r in recorded:
-        flat[f"r{r.number}.omega"] = r.speed
+        if r.speed is not None:
+            flat[f"r{r.number}.omega"] = r.speed
         for c in r.channels:
             j = c.number
             for q in QUANTITIES:
                 flat[f"c{j}.{q}"] = Measured(c.rms[q], limit=METHOD_LIMIT * c.rms[q])
-                flat[f"c{j}.{q}_pp"] = Measured(c.pp[q], limit=METHOD_LIMIT * c.pp[q])
+                if q in c.pp:
+                    flat[f"c{j}.{q}_pp"] = Measured(c.pp[q], limit=_pp_limit(c, q, r.marked))
             if c.fit is not None:
                 for k in (1, 2):
                     hit = np.flatnonzero(np.isclose(c.fit.order, k))
@@ -487,6 +601,16 @@ def _flat(inputs: Inputs, recorded: list[Recorded], readings: list[Reading]) -> 
         if k in engine:
             flat[f"engine.{k}"] = engine[k]
     return flat
+
+
+def _pp_limit(c: Channel, q: str, marked: bool) -> float:
+    """Limit of error of a channel's peak-to-peak value: the method's on the mean working
+    cycle; on a whole record without marks, the band signal's noise lifts both extremes (by
+    up to :data:`PEAK_NOISE` times the floor's RMS each) and the taper's own low frequencies
+    reach the peaks (:data:`RECORD_PP_LIMIT`)."""
+    if marked:
+        return METHOD_LIMIT * c.pp[q]
+    return RECORD_PP_LIMIT[q] * c.pp[q] + 2 * PEAK_NOISE * c.rms.floor[q]
 
 
 def free_force_factors(crank_angles) -> tuple[float, float]:
@@ -516,16 +640,18 @@ def _model(recorded: list[Recorded], readings: list[Reading], crank_angles, forc
     def model(**x):
         out = {}
         for r in recorded:
-            out[f"n_{r.number}"] = x[f"r{r.number}.omega"]
+            if r.marked:
+                out[f"n_{r.number}"] = x[f"r{r.number}.omega"]
             for c in r.channels:
                 j = c.number
                 for q in QUANTITIES:
                     out[f"{q}_rms_{j}"] = x[f"c{j}.{q}"] / x["S"]
-                    out[f"{q}_pp_{j}"] = x[f"c{j}.{q}_pp"] / x["S"]
+                    if f"c{j}.{q}_pp" in x:
+                        out[f"{q}_pp_{j}"] = x[f"c{j}.{q}_pp"] / x["S"]
                 for k in (1, 2):
                     if f"c{j}.order{k}" in x:
                         out[f"a{k}_{j}"] = x[f"c{j}.order{k}"] / x["S"]
-            if forces:
+            if forces and f"r{r.number}.omega" in x:
                 w2 = x["engine.R"] * x[f"r{r.number}.omega"] ** 2
                 out[f"F1_{r.number}"] = w2 * (x["engine.m_j"] * first + x.get("engine.m_r", 0.0)
                                               * first)
@@ -578,8 +704,8 @@ def _check_inputs(inputs: Inputs) -> np.ndarray:
 
 
 def _check_records(inputs: Inputs, recorded: list[Recorded], readings: list[Reading]) -> None:
-    """Sensitivities in the wrong unit (a g taken for a m/s²), clipped channels, readings
-    resting on the broadband floor."""
+    """Sensitivities in the wrong unit (a g taken for a m/s²), readings resting on the
+    broadband floor."""
     if not recorded:
         return
     S = sensitivity(inputs["sensor"]["sensitivity"], file=inputs.file).value
@@ -607,10 +733,6 @@ def _check_records(inputs: Inputs, recorded: list[Recorded], readings: list[Read
                         "meter's acceleration: the sensitivity is given per m/s² where the "
                         "chart gives it per g, or back", "write the sensitivity with the "
                         "chart's unit (mV/g or mV/(m/s^2))", "sensor.sensitivity")
-    clipped = [(r.number, c.name, c.clipped) for r in recorded for c in r.channels
-               if c.clipped > CLIP_SHARE]
-    if clipped:
-        warnings.warn(report.clipped(clipped))
     floor = [(c.number, q, c.rms.floor[q] / c.rms[q]) for r in recorded for c in r.channels
              for q in QUANTITIES if c.rms[q] > 0 and c.rms.floor[q] > FLOOR_SHARE * c.rms[q]]
     if floor:
@@ -664,6 +786,13 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20034) -> LabR
     with collect_notices() as notices:
         recorded = [_record(inputs, i, e, points, phases)
                     for i, e in enumerate(inputs.sections.get("record", []))]
+        unmarked = [(r.number, r.unmarked) for r in recorded if not r.marked]
+        if unmarked:
+            warnings.warn(report.no_marks(unmarked))
+        slow = [(r.number, r.rate) for r in recorded
+                if r.rate / 2 < max(b.high for b in BANDS.values())]
+        if slow:
+            warnings.warn(report.band_beyond_nyquist(slow))
         j = 0
         for r in recorded:
             for c in r.channels:

@@ -10,13 +10,13 @@ import math
 
 import numpy as np
 
-from processing.band_rms import QUANTITIES, REFERENCES as DB_REFERENCES
-from processing.diagnostics import (ClippedRecordWarning, CutCylinderWarning,
-                                    MethodsDisagreeWarning, NoiseFloorWarning,
+from processing.band_rms import BANDS, QUANTITIES, REFERENCES as DB_REFERENCES
+from processing.diagnostics import (CutCylinderWarning, MethodsDisagreeWarning,
+                                    NoiseFloorWarning, NoMarksWarning, RecordBandwidthWarning,
                                     SpeedDisagreesWarning)
 from processing.measurement import bi
 from processing.reporting.content import result_pm
-from processing.result import Figure, ResultValue, Table
+from processing.result import STRICTLY_POSITIVE, Figure, ResultValue, Table
 from processing.uncertainty import Estimate
 
 RPM = 30 / np.pi
@@ -54,7 +54,8 @@ def placements(recorded, readings, points) -> dict:
     for r in recorded:
         for c in r.channels:
             place[c.number] = (c.point, points[c.point - 1]["direction"],
-                               r.speed.value * RPM, r.ignition)
+                               r.speed.value * RPM if r.speed is not None else np.nan,
+                               r.ignition)
     for rd in readings:
         e = rd.entry
         place.setdefault(rd.number, (e["point"], points[e["point"] - 1]["direction"],
@@ -63,7 +64,9 @@ def placements(recorded, readings, points) -> dict:
 
 
 def result_names(recorded, readings, forces: bool, mass: bool, points) -> dict:
-    """Labels, symbols and display units of every result the reduction may give."""
+    """Labels, symbols and display units of every result the reduction may give: the
+    readings, amplitudes and speeds above zero by their nature; the free forces and their
+    accelerations zero where the cranks cancel them (a four's first order)."""
     place = placements(recorded, readings, points)
     out = {}
     numbers = sorted({c.number for r in recorded for c in r.channels}
@@ -72,24 +75,27 @@ def result_names(recorded, readings, forces: bool, mass: bool, points) -> dict:
         w = _where(j, place)
         for q in QUANTITIES:
             label, sym, unit = NAMES[q]
-            out[f"{q}_rms_{j}"] = (_label(label, w), f"{sym}_{j}", unit)
+            out[f"{q}_rms_{j}"] = (_label(label, w), f"{sym}_{j}", unit, STRICTLY_POSITIVE)
             out[f"{q}_meter_{j}"] = (_label(bi(f"{label['en']} by the meter",
                                                f"{label['ru']} по виброметру"), w),
-                                     f"{sym}_м{j}", unit)
+                                     f"{sym}_м{j}", unit, STRICTLY_POSITIVE)
             out[f"{q}_pp_{j}"] = (_label(bi(f"peak-to-peak {label['en'][4:]}",
                                             f"размах {label['ru'][4:]}"), w), f"2{sym}_{j}",
-                                  PP[q])
+                                  PP[q], STRICTLY_POSITIVE)
             out[f"{q}_pp_meter_{j}"] = (_label(bi(f"peak-to-peak {label['en'][4:]} by the "
                                                   "meter", f"размах {label['ru'][4:]} по "
-                                                  "виброметру"), w), f"2{sym}_м{j}", PP[q])
+                                                  "виброметру"), w), f"2{sym}_м{j}", PP[q],
+                                        STRICTLY_POSITIVE)
         for k in (1, 2):
             out[f"a{k}_{j}"] = (_label(bi(f"amplitude of order {k} of the acceleration",
                                           f"амплитуда гармоники {k}-го порядка "
-                                          "виброускорения"), w), f"a_{k},{j}", "m/s^2")
+                                          "виброускорения"), w), f"a_{k},{j}", "m/s^2",
+                                STRICTLY_POSITIVE)
     for r in recorded:
         n = r.number
         out[f"n_{n}"] = (bi(f"speed from the TDC marks, record {n}",
-                            f"частота вращения по отметкам ВМТ, запись {n}"), f"n_{n}", "rpm")
+                            f"частота вращения по отметкам ВМТ, запись {n}"), f"n_{n}", "rpm",
+                         STRICTLY_POSITIVE)
         if forces:
             for k in (1, 2):
                 out[f"F{k}_{n}"] = (bi(f"free inertia force of order {k}, record {n}",
@@ -148,9 +154,13 @@ FORMULAS = [
        "X_n² = ∫ S_a(f) |H(f)|²/(2πf)^{2n} df, n = 0, 1, 2, по спектру всей записи с окном "
        "Ханна (без интегрирования во времени — без дрейфа)"),
     bi("a = U/S (S the sensor's sensitivity); peak-to-peak of the band signal's mean working "
-       "cycle (averaged over the record's cycles against the crank angle); L = 20 lg(X/X₀) dB",
+       "cycle (averaged over the record's cycles against the crank angle; without TDC marks, "
+       "of a and v over the whole record); L = 20 lg(X/X₀) dB; the broadband floor: the "
+       "spectrum between its lines (orders, tones) through the band's weight",
        "a = U/S (S — коэффициент преобразования датчика); размах среднего рабочего цикла "
-       "сигнала в полосе (осреднение циклов записи по углу поворота); L = 20 lg(X/X₀) дБ"),
+       "сигнала в полосе (осреднение циклов записи по углу поворота; без отметок ВМТ — a и v "
+       "по всей записи); L = 20 lg(X/X₀) дБ; широкополосный фон — спектр между его линиями "
+       "(гармониками, тонами) через вес полосы"),
     bi("Orders: x(t) = Σ Re(c_k e^{ikθ}) + drift, by least squares on the crank angle θ from "
        "the TDC marks (half orders for a four-stroke engine)",
        "Гармоники: x(t) = Σ Re(c_k e^{ikθ}) + дрейф, МНК по углу поворота θ от отметок ВМТ "
@@ -186,11 +196,14 @@ RECORD_HELP = bi(
     "A record of a steady regime: the accelerometers' channels (one per [[point]], in their "
     "order) and the TDC marks, at best cylinder 1's ignition pickup (tdc = \"cycle\": a "
     "falling edge at each firing TDC of cylinder 1; it fixes the half orders' phase and "
-    "tells which cylinder is cut). Two working cycles at least; a few seconds.",
+    "tells which cylinder is cut). Two working cycles at least; a few seconds. Without TDC "
+    "marks (no channel 'tdc') the band readings, levels and peak-to-peak a and v are still "
+    "reduced; the orders, x's peak-to-peak and the cut cylinder need the marks.",
     "Запись установившегося режима: каналы вибродатчиков (по одному на [[point]], в их "
     "порядке) и отметки ВМТ, лучше всего от датчика зажигания 1-го цилиндра (tdc = "
     "\"cycle\": спад импульса в каждой ВМТ сгорания 1-го цилиндра). Не менее двух рабочих "
-    "циклов; несколько секунд.")
+    "циклов; несколько секунд. Без отметок ВМТ (нет канала 'tdc') определяются СКЗ, уровни и "
+    "размахи a и v; гармоники, размах x и отключённый цилиндр требуют отметок.")
 READING_HELP = bi(
     "One reading of the vibration meter: the point's number, the speed, the ignition and "
     "what the meter showed (RMS a in m/s², v in mm/s, x in µm; peak-to-peak a_pp, v_pp, "
@@ -251,14 +264,41 @@ def cut_disagrees(number: int, found: int, stated: int, confidence: float) -> Cu
         "отметки ВМТ — это ВМТ сгорания 1-го цилиндра")
 
 
-def clipped(items) -> ClippedRecordWarning:
-    text = "; ".join(f"record {n}, channel '{c}': {100 * s:.2f} %" for n, c, s in items)
-    text_ru = "; ".join(f"запись {n}, канал '{c}': {100 * s:.2f} %" for n, c, s in items)
-    return ClippedRecordWarning(
-        f"clipped samples (at the channel's extremes): {text}; the readings and peaks of "
-        "these channels are low: lower the amplifier's gain or raise the recorder's range",
-        f"ограниченные отсчёты (на пределе канала): {text_ru}; показания и размахи этих "
-        "каналов занижены: уменьшите усиление или увеличьте диапазон регистратора")
+def band_beyond_nyquist(items) -> RecordBandwidthWarning:
+    text = ", ".join(f"{n} ({rate / 1e3:.3g} kHz)" for n, rate in items)
+    nyquist = min(rate for _, rate in items) / 2
+    edges = ", ".join(f"{q} {b.high:g} Hz" for q, b in BANDS.items() if b.high > nyquist)
+    return RecordBandwidthWarning(
+        f"records {text} hold frequencies up to half their sample rate ({nyquist:.0f} Hz at the "
+        f"least), below the meter's upper band edges ({edges}): those readings leave out "
+        "whatever vibration lies above it and are low by that much; record at twice the "
+        "highest band edge or more (e.g. 25.6 kHz)",
+        f"записи {text} содержат частоты лишь до половины частоты дискретизации "
+        f"({nyquist:.0f} Гц у наименьшей), ниже верхних краёв полос виброметра ({edges}): эти "
+        "показания не учитывают вибрацию выше и занижены на неё; записывайте с частотой не "
+        "менее удвоенного верхнего края полосы (напр. 25,6 кГц)")
+
+
+def no_marks(items) -> NoMarksWarning:
+    text = "; ".join(f"record {n}: {why['en']}" for n, why in items)
+    text_ru = "; ".join(f"запись {n}: {why['ru']}" for n, why in items)
+    return NoMarksWarning(
+        f"records without TDC marks ({text}): their band readings a, v, x, dB levels, "
+        "peak-to-peak acceleration and velocity (over the whole record, not its mean working "
+        "cycle, with a wider uncertainty) and the comparison with the meter are reduced; the "
+        "speed n_r from the marks, the peak-to-peak displacement x_pp_j, the orders a1_j and "
+        "a2_j and the cut cylinder need the marks and are left out (the free forces and the "
+        "meter's pairing take the tachometer's n where it is given): record the ignition "
+        "pickup's TDC marks beside the accelerometers and name their channel (tdc_channel = "
+        "...)",
+        f"записи без отметок ВМТ ({text_ru}): по ним определены СКЗ "
+        "a, v, x, уровни в дБ, размахи ускорения и скорости (по всей записи, а не по среднему "
+        "рабочему циклу, с большей погрешностью) и сравнение с виброметром; частота вращения "
+        "n_r по отметкам, размах перемещения x_pp_j, гармоники a1_j и a2_j и отключённый "
+        "цилиндр требуют отметок и не определены "
+        "(свободные силы и сопоставление с виброметром — по тахометру, если n указана): "
+        "записывайте отметки ВМТ датчика зажигания вместе с вибродатчиками и укажите их канал "
+        "(tdc_channel = ...)")
 
 
 def on_floor(items, share: float) -> NoiseFloorWarning:
@@ -305,7 +345,8 @@ def _readings_table(results, place, levels, reference) -> Table:
             ("pp", bi("2a, 2v, 2x", "2a, 2v, 2x")))
     rows = []
     for j, (p, d, n, ign) in sorted(place.items()):
-        row = {"j": str(j), "point": str(p), "direction": DIRECTION[d], "n": f"{n:.0f}",
+        row = {"j": str(j), "point": str(p), "direction": DIRECTION[d],
+               "n": f"{n:.0f}" if np.isfinite(n) else "—",
                "ignition": bi("cut", "откл.") if ign == "cut" else bi("all", "все")}
         for q in QUANTITIES:
             name = f"{q}_rms_{j}"
@@ -407,7 +448,7 @@ def _draw_speed(fig, results, place, lang):
         for p, d, ign in groups:
             js = sorted((j for j, v in place.items() if (v[0], v[1], v[3]) == (p, d, ign)),
                         key=lambda j: place[j][2])
-            js = [j for j in js if f"{q}_rms_{j}" in results]
+            js = [j for j in js if f"{q}_rms_{j}" in results and np.isfinite(place[j][2])]
             if not js:
                 continue
             n = [place[j][2] for j in js]
@@ -429,7 +470,7 @@ def _draw_speed(fig, results, place, lang):
 
 
 def _draw_order_map(fig, recorded, lang):
-    healthy = [r for r in recorded if r.ignition == "all"]
+    healthy = [r for r in recorded if r.ignition == "all" and r.marked]
     cols = len(healthy[0].channels) if healthy else 0
     if not cols:
         return
@@ -481,7 +522,7 @@ def figures(*, recorded, readings, results, points, phases, **_) -> list[Figure]
                               "в зависимости от частоты вращения по точкам и направлениям "
                               "(± U); штрих — цилиндр отключён; × — виброметр"),
                   lambda fig, lang: _draw_speed(fig, results, place, lang), size=(9.0, 3.4))]
-    if any(r.ignition == "all" for r in recorded):
+    if any(r.ignition == "all" and r.marked for r in recorded):
         out.append(Figure("order_map", bi("Order map: each order's acceleration amplitude "
                                           "(dB) over the speed, by point",
                                           "Карта гармоник: амплитуда виброускорения каждого "

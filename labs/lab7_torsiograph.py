@@ -42,16 +42,18 @@ from processing.dynamics import firing_phases
 from processing.edges import detect_edges
 from processing.measurement import (ENGINE_SPEED, MARK_PERIOD, SAMPLE_RATE, Field, Inputs, LabSpec,
                                     Section, bi, firing_order, image_section)
-from processing.record_checks import check_tachometer, check_time_marks
+from processing.record_checks import check_tachometer, check_time_marks, whole_ratio
+from processing.record_quality import check_record, irregular_marks
 from processing.regression import fit_line
-from processing.resonance import Resonance, SweepEdge, locate_resonances, major_orders, \
-    resonance_speed
+from processing.resonance import (Resonance, SweepEdge, locate_resonances, major_orders,
+                                 relative_phase_sum, resonance_speed)
 from processing.result import LabResult, compare, flag_estimates, result_values
 from processing.seismic import amplitude_ratio
 from processing.signals import (image_options, is_image, open_channel, open_channels,
                                 read_figures)
 from processing.torsion import natural_modes
-from processing.torsiogram_analysis import Torsiogram, analyse_trace
+from processing.torsiogram import revolutions
+from processing.torsiogram_analysis import MAX_ORDER, ORDER_SHARE, Torsiogram, analyse_trace
 from processing.uncertainty import Measured, propagate
 
 LOADS = ("idle", "part", "full")
@@ -92,6 +94,26 @@ DRIFT_U = 0.02
 is no longer known to 2 % (at 30 dB without drift u stays below 0.5 %; a slow drift three
 times the oscillation on records of four working cycles leaves about 1 %)."""
 
+SIGNIFICANCE = 4.0
+"""An order stands out of a record's noise when its amplitude exceeds this many of its u
+(:meth:`processing.orders.OrderFit.significant`): white noise's largest of 48 orders passes
+4 u in 2 % of records. A record where none does holds no vibration to reduce."""
+
+CRITICAL_MODES = 2
+"""The chain's modes whose critical speeds are reported (the one- and two-node modes of an
+in-line engine's crankshaft)."""
+
+CRITICAL_ORDER = 12.0
+"""Highest order whose critical speed is reported."""
+
+CRITICAL_REACH = 0.05
+"""Share beyond the records' lowest and highest speed within which critical speeds are
+reported."""
+
+PHASE_SUM_SHARE = 0.1
+"""Relative phase sum below which an order's resonance with a mode is not excited enough to
+report its critical speed (its cranks' work cancels to a tenth)."""
+
 RESONANCE_MODEL = 0.05
 """Half-width, as a share of the largest speed step among the fitted records, of the
 rectangular type B uncertainty of a resonance's speed for the parabola's own error (the
@@ -120,7 +142,7 @@ SPEC = LabSpec(
                   kind="text", required=False),
         )),
         Section("torsiograph", bi("Torsiograph and recorder", "Торсиограф и регистратор"),
-                required=True, fields=(
+                help=report.TORSIOGRAPH_HELP, fields=(
             Field("f_c", bi("natural frequency of the torsiograph's inertia mass",
                             "частота собственных колебаний инерционной массы торсиографа"),
                   unit="Hz", limit="0.1 Hz", symbol="f_c", example=7.5,
@@ -135,7 +157,7 @@ SPEC = LabSpec(
                   **MARK_PERIOD, required=False, symbol="T_отм"),
         )),
         Section("calibration", bi("Static calibration", "Статическая тарировка"),
-                required=True, help=report.CALIBRATION_HELP, fields=(
+                help=report.CALIBRATION_HELP, fields=(
             Field("R", bi("lever radius", "длина рычага"), unit="mm", limit="0.5 mm",
                   symbol="R", example=200, plausible=("10 mm", "2000 mm")),
             Field("h", bi("micrometer rises", "подъёмы микрометрического винта"), unit="mm",
@@ -159,7 +181,7 @@ SPEC = LabSpec(
                   symbol="c", example="[5.2e5, 7.8e5, 7.8e5, 7.8e5, 6.1e5]", series=True,
                   plausible=("1e3 N*m/rad", "1e8 N*m/rad")),
         )),
-        Section("record", bi("Record", "Торсиограмма"), many=True, required=True,
+        Section("record", bi("Record", "Торсиограмма"), many=True,
                 help=report.RECORD_HELP, fields=(
             Field("signal", bi("torsiograph record: CSV, WAV or HDF5 file, or a photograph or "
                                "scan of the paper torsiogram ([image])",
@@ -268,6 +290,49 @@ def resonating_order(nu, omega):
     return 2 * np.pi * nu / omega
 
 
+def critical_speed(natural_frequency, order):
+    """Speed at which order k meets a natural frequency f, the manual's n_k = 60 f/k.
+
+    .. math:: \\omega_k = \\frac{2\\pi f}{k}, \\qquad n_k = \\frac{60 f}{k}
+
+    Parameters
+    ----------
+    natural_frequency : float or ndarray
+        f. [Hz]
+    order : float or ndarray
+        k. [1]
+
+    Returns
+    -------
+    float or ndarray
+        ω_k. [rad/s]
+
+    Examples
+    --------
+    >>> round(critical_speed(200.0, 8.0) * 30 / np.pi, 6)     # 200 Hz, order 8: 1500 min⁻¹
+    1500.0
+    """
+    return 2 * np.pi * natural_frequency / order
+
+
+def crank_discs(discs: int, cylinders: int) -> np.ndarray | None:
+    """The chain's discs (0-based) that carry the cranks of cylinders 1 … i, in order: after a
+    damper hub or pulley when the chain has i + 2 discs or more, from the nose when it has
+    i + 1 (cranks and the flywheel); None when it has fewer (a chain lumped below one disc a
+    crank).
+
+    Examples
+    --------
+    >>> crank_discs(6, 4).tolist(), crank_discs(5, 4).tolist(), crank_discs(3, 4)
+    ([1, 2, 3, 4], [0, 1, 2, 3], None)
+    """
+    if discs >= cylinders + 2:
+        return np.arange(1, cylinders + 1)
+    if discs == cylinders + 1:
+        return np.arange(cylinders)
+    return None
+
+
 # ------------------------------------------------------------------------ one record
 
 @dataclass
@@ -307,23 +372,29 @@ def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
     time = np.arange(trace.size) / rate
     settings = inputs["torsiograph"]
     strokes = inputs["engine"]["strokes"]
+    trace_field = "channel" if "channel" in entry else "signal"
+    revs = revolutions(tdc_times, per_revolution=settings["tdc_per_revolution"])
+    cycles = trace.size / rate * revs.angular_speed / (2 * np.pi) / (strokes // 2)
+    if cycles < MIN_CYCLES - CYCLE_SLACK:
+        raise refuse(f"the record spans {cycles:.1f} working cycle(s); its half orders and "
+                     f"drift need at least {MIN_CYCLES}",
+                     f"record at least {FEW_CYCLES} working cycles "
+                     f"({FEW_CYCLES * strokes // 2} revolutions)")
     try:
         result = analyse_trace(time, trace, tdc_times,
                                natural_frequency=settings["f_c"].value,
                                damping_ratio=settings["zeta"].value,
                                per_revolution=settings["tdc_per_revolution"], strokes=strokes)
     except InputError as exc:
-        raise refuse(f"channel '{trace_channel.name}': {exc.problem}", exc.fix) from None
-    cycles = trace.size / rate * result.revolution_frequency / (strokes // 2)
-    if cycles < MIN_CYCLES - CYCLE_SLACK:
-        raise refuse(f"the record spans {cycles:.1f} working cycle(s); its half orders and "
-                     f"drift need at least {MIN_CYCLES}",
-                     f"record at least {FEW_CYCLES} working cycles "
-                     f"({FEW_CYCLES * strokes // 2} revolutions)")
+        raise refuse(f"channel '{trace_channel.name}': {exc.problem}", exc.fix,
+                     trace_field) from None
+    _check_orders(result, trace_channel.name, lambda problem, fix: refuse(problem, fix,
+                                                                          trace_field))
     if not np.isfinite(result.frequency) and not result.drift_ratio > DRIFT_RATIO:
         raise refuse(f"channel '{trace_channel.name}' shows no oscillation above its noise "
                      f"(σ = {result.noise:.3g})", "check that this is the torsiograph's "
-                     "channel and that the amplifier's gain lifts the trace out of the noise")
+                     "channel and that the amplifier's gain lifts the trace out of the noise",
+                     trace_field)
     _check_speed(entry, result, where, path)
     revs = result.revolutions
     span = revs.mark_times[-1] - revs.mark_times[0]
@@ -333,9 +404,32 @@ def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
                     trace_channel)
 
 
+def _check_orders(result: Torsiogram, name: str, refuse) -> None:
+    """Refuse a record none of whose orders stands out of its noise (:data:`SIGNIFICANCE`):
+    it holds noise, or a drift that swamps the crankshaft's vibration."""
+    fit = result.fit
+    if fit.significant(factor=SIGNIFICANCE).any():
+        return
+    k = int(np.argmax(fit.amplitude / fit.u))
+    largest = (f"the largest against its u, order {fit.order[k]:g}, is "
+               f"{fit.amplitude[k]:.3g} ± {fit.u[k]:.2g} (below {SIGNIFICANCE:g} u)")
+    check = ("check that this is the torsiograph's channel and that the amplifier's gain "
+             "lifts the trace out of the noise")
+    if result.drift_ratio > DRIFT_RATIO:
+        raise refuse(f"channel '{name}': no order stands above its uncertainty ({largest}), "
+                     f"and the baseline drifts {result.drift_ratio:.0f} times the range of "
+                     "the mean working cycle: a drift swamps the crankshaft's vibration, or "
+                     "the record holds noise", f"balance the bridge, let the amplifier warm "
+                     f"up, {check}; then record again")
+    raise refuse(f"channel '{name}': no order stands above its uncertainty ({largest}): the "
+                 "record holds noise, not the crankshaft's vibration", f"{check}; then record "
+                 "again")
+
+
 def _recorded(inputs: Inputs, where: str, entry: dict, refuse):
     """The torsiograph's channel, its trace, the TDC marks' times and the sample rate of a
-    recording (with a time-mark channel checked against T_mark)."""
+    recording (the trace checked by :func:`processing.record_quality.check_record`, the TDC
+    marks by :func:`_tdc_marks`, a time-mark channel against T_mark)."""
     rate = entry["sample_rate"].value if "sample_rate" in entry else None
     names = [entry.get("channel"), entry["tdc_channel"]]
     if "marks_channel" in entry:
@@ -343,20 +437,72 @@ def _recorded(inputs: Inputs, where: str, entry: dict, refuse):
     channels = open_channels(entry["signal"], names, sample_rate=rate, field=f"{where}.signal")
     trace, tdc = (c.read().astype(float) * c.volts_per_code for c in channels[:2])
     rate = channels[0].sample_rate
+    file = str(entry["signal"])
+    _check_length(inputs, entry, trace.size, rate, refuse)
+    check_record(trace, rate, file=file,
+                 field=f"{where}.{'channel' if 'channel' in entry else 'signal'}",
+                 channel=channels[0].name, purpose="the torsiogram's orders")
+    tdc_times = _tdc_marks(inputs, entry, tdc, rate, channels[1].name, refuse)
     if len(channels) == 3:
-        check_time_marks(inputs, "torsiograph", channels[2].name,
-                         _marks(channels[2].read().astype(float), rate), rate, refuse, "10 ms")
-    tdc_times = _marks(tdc, rate)
-    if tdc_times.size < 2:
-        raise refuse(f"channel '{channels[1].name}' holds {tdc_times.size} TDC mark(s)",
-                     "name the TDC channel (tdc_channel = ...) and check that it records a "
-                     "pulse every revolution", "tdc_channel")
+        x = channels[2].read().astype(float)
+        if np.ptp(x) == 0:
+            raise refuse(f"channel '{channels[2].name}' is constant ({x[0]:.4g}): it holds no "
+                         "time marks", "name the time-mark channel (marks_channel = ...) or "
+                         "leave it out", "marks_channel")
+        try:
+            check_time_marks(inputs, "torsiograph", channels[2].name, _marks(x, rate), rate,
+                             refuse, "10 ms")
+        except InputError as exc:
+            raise irregular_marks(x, exc, file=file, field=f"{where}.marks_channel",
+                                  channel=channels[2].name) from None
     return channels[0], trace, tdc_times, rate
+
+
+def _check_length(inputs: Inputs, entry: dict, samples: int, rate: float, refuse) -> None:
+    """Refuse a record too short for two TDC marks at the tachometer's n (before its few
+    samples are judged for noise)."""
+    if "n" not in entry:
+        return
+    length = samples / rate
+    revs = length * entry["n"].value / (2 * np.pi)
+    if revs * inputs["torsiograph"]["tdc_per_revolution"] < 2:
+        raise refuse(f"the record lasts {length:.4g} s ({samples} samples), {revs:.2g} "
+                     f"revolution(s) at n = {entry['n'].value * 30 / np.pi:.0f} min⁻¹: too "
+                     "short to hold two TDC marks",
+                     f"record at least {FEW_CYCLES} working cycles "
+                     f"({FEW_CYCLES * inputs['engine']['strokes'] // 2} revolutions)")
+
+
+def _tdc_marks(inputs: Inputs, entry: dict, x: np.ndarray, rate: float, name: str,
+               refuse) -> np.ndarray:
+    """The TDC marks' times of a recorded channel, refused with their cause when the channel
+    is constant, holds noise, holds fewer than two marks, or marks not a steady revolution
+    apart."""
+    length = x.size / rate
+    per_revolution = inputs["torsiograph"]["tdc_per_revolution"]
+    if np.ptp(x) == 0:
+        raise refuse(f"channel '{name}' is constant ({x[0]:.4g}): it holds no TDC marks",
+                     "name the TDC channel (tdc_channel = ...) and check that its sensor "
+                     "records a pulse every revolution", "tdc_channel")
+    times = _marks(x, rate)
+    if times.size < 2:
+        raise refuse(f"channel '{name}' holds {times.size} TDC mark(s) over the record's "
+                     f"{length:.4g} s", f"record at least {FEW_CYCLES} working cycles, name "
+                     "the TDC channel (tdc_channel = ...) and check that it records a pulse "
+                     "every revolution", "tdc_channel")
+    try:
+        revolutions(times, per_revolution=per_revolution)
+    except InputError as exc:
+        error = refuse(exc.problem, exc.fix, "tdc_channel")
+        raise irregular_marks(x, error, file=error.file, field=error.field,
+                              channel=name) from None
+    return times
 
 
 def _photographed(inputs: Inputs, where: str, entry: dict):
     """The trace (in mm of paper, as the calibration's deflections are read) and the TDC
-    marks of a photographed torsiogram; its time marks set its time base."""
+    marks of a photographed torsiogram; its time marks set its time base. The trace read is
+    checked as a recorded one (:func:`processing.record_quality.check_record`)."""
     path, field = entry["signal"], f"{where}.signal"
     channel = open_channel(path, channel=entry.get("channel"), field=field,
                            image=image_options(inputs.sections.get("image")))
@@ -369,7 +515,15 @@ def _photographed(inputs: Inputs, where: str, entry: dict):
         raise InputError(f"{tdc_times.size} TDC mark(s) found on the photograph",
                          "photograph the torsiogram with its TDC mark line over several "
                          "revolutions", file=str(path), field=field)
-    return channel, channel.read() * 1e3, tdc_times, channel.sample_rate
+    trace = channel.read() * 1e3
+    check_record(trace, channel.sample_rate, file=str(path), field=field,
+                 channel=channel.name, purpose="the torsiogram's orders")
+    try:
+        revolutions(tdc_times, per_revolution=inputs["torsiograph"]["tdc_per_revolution"])
+    except InputError as exc:
+        raise InputError(f"the TDC marks read off the photograph: {exc.problem}", exc.fix,
+                         file=str(path), field=field) from None
+    return channel, trace, tdc_times, channel.sample_rate
 
 
 def _check_speed(entry: dict, result: Torsiogram, where: str, path) -> None:
@@ -377,12 +531,18 @@ def _check_speed(entry: dict, result: Torsiogram, where: str, path) -> None:
     if "n" not in entry:
         return
     n, w, rpm = entry["n"], result.angular_speed, 30 / np.pi
-    check_tachometer(w, n, lambda gap: InputError(
-        f"the TDC marks give {w * rpm:.0f} min⁻¹ but n = {n.value * rpm:.0f} min⁻¹ "
-        f"({100 * gap:+.0f} %): a mark per revolution too many or too few, marks missed, or "
-        "the wrong record", "check n, the TDC channel and tdc_per_revolution in [torsiograph] "
-        "(marks per crankshaft revolution)", file=str(path), field=f"{where}.n"),
-        lambda: report.speed_disagrees(where, w, n.value))
+
+    def refused(gap: float) -> InputError:
+        cause = ("a wrong sample rate (the marks' speed scales with it)"
+                 if whole_ratio(1 + gap) is None else
+                 "a mark per revolution too many or too few, or marks missed")
+        return InputError(f"the TDC marks give {w * rpm:.0f} min⁻¹ but n = "
+                          f"{n.value * rpm:.0f} min⁻¹ ({100 * gap:+.0f} %): {cause}, or the "
+                          "wrong record", "check n, the TDC channel, tdc_per_revolution in "
+                          "[torsiograph] (marks per crankshaft revolution) and the recorder's "
+                          "sample rate", file=str(path), field=f"{where}.n")
+
+    check_tachometer(w, n, refused, lambda: report.speed_disagrees(where, w, n.value))
 
 
 # ------------------------------------------------------------------------ calibration
@@ -464,11 +624,78 @@ def _resonances(recorded: list[Recorded]) -> tuple[list[Found], list[tuple[str, 
 
 # ------------------------------------------------------------------------ reduction
 
+@dataclass(frozen=True)
+class Chain:
+    """The equivalent chain as the model takes it: its size, the discs of the cranks, the
+    cylinders' firing phases, and which critical speeds are reported."""
+
+    discs: int
+    shafts: int
+    cranks: np.ndarray | None
+    """Disc of each cylinder's crank (:func:`crank_discs`); None: the engine's own phase
+    diagram stands for the mode's."""
+    phases: np.ndarray
+    """φ_c of the cylinders. [rad]"""
+    criticals: tuple
+    """(mode, order) pairs whose relative phase sum reaches :data:`PHASE_SUM_SHARE`."""
+
+    def crank_amplitudes(self, shape: np.ndarray, mode: int) -> np.ndarray:
+        """The mode's amplitudes at the cranks (:func:`crank_amplitudes`)."""
+        return crank_amplitudes(shape, mode, self.cranks, self.phases.size)
+
+
+def crank_amplitudes(shape: np.ndarray, mode: int, cranks, cylinders: int) -> np.ndarray:
+    """A mode's amplitudes at the cranks (…, i) from the chain's mode shapes (…, n, m); 1 each
+    where the chain has no disc per crank (``cranks`` None: the engine's own phase diagram)."""
+    if cranks is None:
+        return np.ones(shape.shape[:-2] + (cylinders,))
+    return shape[..., cranks, mode - 1]
+
+
+def _chain(inputs: Inputs, recorded) -> Chain | None:
+    """The file's [chain], with the critical speeds worth reporting: of its first
+    :data:`CRITICAL_MODES` modes, the orders up to :data:`CRITICAL_ORDER` whose relative
+    phase sum reaches :data:`PHASE_SUM_SHARE` (the others' resonances are not excited) and
+    whose critical speed lies within the records' speeds (± :data:`CRITICAL_REACH`) or,
+    without records, at or below the first mode's at the engine's lowest major order (the
+    orders below it meet the first mode above any speed the engine runs at)."""
+    chain = inputs.sections.get("chain")
+    if chain is None:
+        return None
+    engine = inputs["engine"]
+    J, c = chain["J"].readings, chain["c"].readings
+    phases = firing_phases(engine["cylinders"], strokes=engine["strokes"],
+                           firing_order=firing_order(inputs))
+    step = 0.5 if engine["strokes"] == 4 else 1.0
+    orders = step * np.arange(1, int(round(CRITICAL_ORDER / step)) + 1)
+    cranks = crank_discs(len(J), engine["cylinders"])
+    modes = natural_modes(J, c)
+    if recorded:
+        speeds = [r.speed.value for r in recorded]
+        low, high = min(speeds) / (1 + CRITICAL_REACH), max(speeds) * (1 + CRITICAL_REACH)
+    else:
+        lowest = major_orders(engine["cylinders"], strokes=engine["strokes"],
+                              firing_order=firing_order(inputs), max_order=CRITICAL_ORDER)
+        low = 0.0
+        high = critical_speed(modes.frequency[0], lowest[0] if lowest.size else step) * (
+            1 + 1e-9)
+    criticals = []
+    for m in range(1, min(CRITICAL_MODES, modes.frequency.size) + 1):
+        sums = relative_phase_sum(orders, phases,
+                                  crank_amplitudes(modes.shape, m, cranks, phases.size))
+        speed = critical_speed(modes.frequency[m - 1], orders)
+        criticals += [(m, float(k)) for k, share, w in zip(orders, sums, speed)
+                      if share >= PHASE_SUM_SHARE and low <= w <= high]
+    return Chain(len(J), len(c), cranks, phases, tuple(criticals))
+
+
 def _flat(inputs: Inputs, recorded, slope, found, amplitudes) -> dict:
     """The model's measured inputs: the file's, each record's and each resonance's."""
-    settings = inputs["torsiograph"]
-    flat = {"calibration.slope": slope, "calibration.R": inputs["calibration"]["R"],
-            "torsiograph.f_c": settings["f_c"], "torsiograph.zeta": settings["zeta"]}
+    flat = {}
+    if recorded:
+        settings = inputs["torsiograph"]
+        flat = {"calibration.slope": slope, "calibration.R": inputs["calibration"]["R"],
+                "torsiograph.f_c": settings["f_c"], "torsiograph.zeta": settings["zeta"]}
     for r in recorded:
         t = r.trace
         flat[f"r{r.number}.omega"] = r.speed
@@ -497,27 +724,14 @@ def _flat(inputs: Inputs, recorded, slope, found, amplitudes) -> dict:
     return flat
 
 
-def _model(recorded, found, chain_size: tuple[int, int] | None, f_c0: float,
-           zeta0: float):
+def _model(recorded, found, chain: Chain | None, instrument: tuple[float, float] | None):
     """The measurement model: every result from the inputs of :func:`_flat`; the records'
-    amplitudes were corrected with the instrument's nominal f_c0 and ζ0."""
+    amplitudes were corrected with the instrument's nominal ``instrument`` = (f_c0, ζ0)."""
 
     def model(**x):
-        l = trace_scale(x["calibration.slope"], x["calibration.R"])
-        out = {"l": l}
-        f_c, zeta = x["torsiograph.f_c"], x["torsiograph.zeta"]
-        phis = []
-        for r in recorded:
-            i = r.number
-            f = x[f"r{i}.f"]
-            instrument = amplitude_ratio(f, f_c0, zeta0) / amplitude_ratio(f, f_c, zeta)
-            out[f"n_{i}"] = x[f"r{i}.omega"]
-            if f"r{i}.half_period" in x:
-                out[f"nu_{i}"] = 1 / (2 * x[f"r{i}.half_period"])
-                out[f"K_{i}"] = resonating_order(out[f"nu_{i}"], out[f"n_{i}"])
-            out[f"phi_max_{i}"] = amplitude(l, x[f"r{i}.A"] * instrument)
-            phis.append(out[f"phi_max_{i}"])
-        out["phi_max"] = np.max(np.stack(np.broadcast_arrays(*phis)), axis=0)
+        out = {}
+        if recorded:
+            out.update(_records_model(x, recorded, instrument))
         for f in found:
             k = f.resonance.order
             w = np.stack(np.broadcast_arrays(*[x[f"r{n}.omega"] for n in f.records]), -1)
@@ -526,16 +740,48 @@ def _model(recorded, found, chain_size: tuple[int, int] | None, f_c0: float,
             out[f"n_res_{f.number}"] = speed
             out[f"K_res_{f.number}"] = np.full(np.shape(speed), k)
             out[f"f_res_{f.number}"] = k * speed / (2 * np.pi)
-        if chain_size is not None:
-            J = np.stack(np.broadcast_arrays(*[x[f"chain.J{j}"]
-                                               for j in range(chain_size[0])]), -1)
-            c = np.stack(np.broadcast_arrays(*[x[f"chain.c{j}"]
-                                               for j in range(chain_size[1])]), -1)
-            for m, f_m in enumerate(np.moveaxis(natural_modes(J, c).frequency, -1, 0), 1):
-                out[f"f_model_{m}"] = f_m
+        if chain is not None:
+            out.update(_chain_model(x, chain))
         return out
 
     return model
+
+
+def _records_model(x: dict, recorded, instrument: tuple[float, float]) -> dict:
+    """The trace scale and each record's speed, frequency, order and φ_max."""
+    f_c0, zeta0 = instrument
+    l = trace_scale(x["calibration.slope"], x["calibration.R"])
+    out = {"l": l}
+    f_c, zeta = x["torsiograph.f_c"], x["torsiograph.zeta"]
+    phis = []
+    for r in recorded:
+        i = r.number
+        f = x[f"r{i}.f"]
+        correction = amplitude_ratio(f, f_c0, zeta0) / amplitude_ratio(f, f_c, zeta)
+        out[f"n_{i}"] = x[f"r{i}.omega"]
+        if f"r{i}.half_period" in x:
+            out[f"nu_{i}"] = 1 / (2 * x[f"r{i}.half_period"])
+            out[f"K_{i}"] = resonating_order(out[f"nu_{i}"], out[f"n_{i}"])
+        out[f"phi_max_{i}"] = amplitude(l, x[f"r{i}.A"] * correction)
+        phis.append(out[f"phi_max_{i}"])
+    out["phi_max"] = np.max(np.stack(np.broadcast_arrays(*phis)), axis=0)
+    return out
+
+
+def _chain_model(x: dict, chain: Chain) -> dict:
+    """The chain's natural frequencies, and its reported critical speeds with their
+    relative phase sums."""
+    J = np.stack(np.broadcast_arrays(*[x[f"chain.J{j}"] for j in range(chain.discs)]), -1)
+    c = np.stack(np.broadcast_arrays(*[x[f"chain.c{j}"] for j in range(chain.shafts)]), -1)
+    modes = natural_modes(J, c)
+    out = {f"f_model_{m}": f_m
+           for m, f_m in enumerate(np.moveaxis(modes.frequency, -1, 0), 1)}
+    for m, k in chain.criticals:
+        phase_sum, n_crit = report.critical_names(m, k)
+        out[phase_sum] = relative_phase_sum(k, chain.phases,
+                                            chain.crank_amplitudes(modes.shape, m))
+        out[n_crit] = critical_speed(out[f"f_model_{m}"], k)
+    return out
 
 
 def _check_inputs(inputs: Inputs) -> None:
@@ -549,10 +795,22 @@ def _check_inputs(inputs: Inputs) -> None:
                       firing_order=firing_order(inputs))
     except InputError as exc:
         raise inputs.error(exc.problem, exc.fix, "engine.firing_order") from None
-    if not 0 < inputs["torsiograph"]["zeta"].value < 1:
-        raise inputs.error(f"ζ = {inputs['torsiograph']['zeta'].value:g}: a torsiograph's mass "
-                           "is damped below critical", "give ζ between 0 and 1 (0.2 if "
-                           "unknown)", "torsiograph.zeta")
+    if "record" not in inputs and "chain" not in inputs:
+        raise inputs.error("neither records nor the equivalent chain are given",
+                           "add [[record]] tables (the torsiograms, with [torsiograph] and "
+                           "[calibration]), or a [chain] of J and c from the nose for its "
+                           "natural frequencies and critical speeds before the test", "record")
+    if "record" in inputs:
+        for name in ("torsiograph", "calibration"):
+            if name not in inputs:
+                raise inputs.error(f"records are given but section [{name}] is missing: "
+                                   "they cannot be scaled without it",
+                                   f"add the section [{name}] ({SPEC.section(name).label['en']})"
+                                   "; 'dynlab template lab7' shows its fields", name)
+        if not 0 < inputs["torsiograph"]["zeta"].value < 1:
+            raise inputs.error(f"ζ = {inputs['torsiograph']['zeta'].value:g}: a torsiograph's "
+                               "mass is damped below critical", "give ζ between 0 and 1 (0.2 "
+                               "if unknown)", "torsiograph.zeta")
     if "chain" in inputs:
         chain = inputs["chain"]
         n, m = len(chain["J"].readings), len(chain["c"].readings)
@@ -565,7 +823,7 @@ def _check_inputs(inputs: Inputs) -> None:
 
 def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20037) -> LabResult:
     """Reduce lab 7's calibration and records to the scale, the records' amplitudes and the
-    resonances.
+    resonances; or, with the chain alone (before the test), its modes and critical speeds.
 
     Parameters
     ----------
@@ -578,39 +836,45 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20037) -> LabR
     Returns
     -------
     LabResult
-        ``l`` (the trace scale); per record i: ``n_i`` (speed from the TDC marks), ``nu_i``
-        (frequency by counting the oscillations), ``K_i`` = ν/n, ``phi_max_i`` (the largest
-        peak amplitude of the mean working cycle, corrected for the instrument); ``phi_max``,
-        the largest over the records; per resonance j: ``n_res_j``, ``K_res_j`` (its order),
-        ``f_res_j`` (the natural frequency it implies); with a chain, ``f_model_m`` of each
-        of its modes.
+        With records: ``l`` (the trace scale); per record i: ``n_i`` (speed from the TDC
+        marks), ``nu_i`` (frequency by counting the oscillations), ``K_i`` = ν/n,
+        ``phi_max_i`` (the largest peak amplitude of the mean working cycle, corrected for
+        the instrument); ``phi_max``, the largest over the records; per resonance j:
+        ``n_res_j``, ``K_res_j`` (its order), ``f_res_j`` (the natural frequency it implies).
+        With a chain: ``f_model_m`` of each of its modes, and for the reported modes m and
+        orders k (:func:`_chain`) ``phase_sum_m_k`` (the relative phase sum) and
+        ``n_crit_m_k`` (the critical speed 60 f_m/k), a half order's k written 4_5.
     """
     _check_inputs(inputs)
     with collect_notices() as notices:
-        slope, cal_fit = _calibration(inputs)
-        recorded = [_record(inputs, i, e) for i, e in enumerate(inputs["record"])]
+        records = inputs.sections.get("record", [])
+        slope, cal_fit = _calibration(inputs) if records else (None, None)
+        recorded = [_record(inputs, i, e) for i, e in enumerate(records)]
+        chain = _chain(inputs, recorded)
         found, edges, amplitudes = _resonances(recorded)
-        chain = inputs.sections.get("chain")
-        size = None if chain is None else (len(chain["J"].readings), len(chain["c"].readings))
-        settings = inputs["torsiograph"]
-        model = _model(recorded, found, size, settings["f_c"].value, settings["zeta"].value)
+        settings = inputs.sections.get("torsiograph")
+        instrument = (settings["f_c"].value, settings["zeta"].value) if recorded else None
+        model = _model(recorded, found, chain, instrument)
         prop = propagate(model, _flat(inputs, recorded, slope, found, amplitudes),
                          n_samples=n_samples, seed=seed)
         modes = None
         if chain is not None:
-            modes = natural_modes(chain["J"].readings, chain["c"].readings)
+            modes = natural_modes(inputs["chain"]["J"].readings, inputs["chain"]["c"].readings)
         pairs = report.model_pairs(found, modes)
         comparisons = compare(prop, pairs)
-        declared = report.result_names(recorded, found, modes)
+        declared = report.result_names(recorded, found, modes,
+                                       chain.criticals if chain else ())
         results = result_values(prop, declared)
-        _warn(inputs, recorded, found, edges, results)
+        if recorded:
+            _warn(inputs, recorded, found, edges, results)
         flag_estimates(results, comparisons)
     engine = inputs["engine"]
     majors = major_orders(engine["cylinders"], strokes=engine["strokes"],
                           firing_order=firing_order(inputs), max_order=24.0)
     parts = dict(recorded=recorded, found=found, edges=edges, results=results, modes=modes,
-                 majors=majors, calibration=(inputs["calibration"], cal_fit),
-                 f_c=inputs["torsiograph"]["f_c"].value)
+                 majors=majors, criticals=chain.criticals if chain else (),
+                 calibration=(inputs["calibration"], cal_fit) if recorded else None,
+                 f_c=settings["f_c"].value if recorded else None)
     return LabResult.of(inputs, results, comparisons=comparisons,
                         tables=report.tables(**parts),
                         figures=report.figures(**parts) + read_figures(
@@ -757,6 +1021,12 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
     bad = [x for x in loads if x not in LOADS]
     if bad:
         raise InputError(f"unknown load {bad[0]!r}", f"use {', '.join(LOADS)}")
+    least = MAX_ORDER * speeds[1] / 60 / ORDER_SHARE
+    if not sample_rate >= least:
+        raise InputError(f"a sample rate of {sample_rate / 1e3:g} kHz does not hold the orders "
+                         f"up to {MAX_ORDER:g} at {speeds[1]:g} min⁻¹ "
+                         f"({MAX_ORDER * speeds[1] / 60:g} Hz)",
+                         f"give --sample-rate {least / 1e3:.2g} kHz or more (the default is 4)")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     shaft, f_c = _part(seed if part is None else part)

@@ -14,7 +14,7 @@ from processing.diagnostics import (BaselineDriftWarning, InconsistentInputWarni
 from processing.measurement import bi
 from processing.reporting.content import fmt_pm, result_pm
 from processing.resonance import campbell_lines
-from processing.result import Figure, Table
+from processing.result import STRICTLY_POSITIVE, Figure, Table
 
 RPM = 30 / np.pi
 """min⁻¹ per rad/s."""
@@ -27,26 +27,38 @@ LOAD_WORDS = {"idle": bi("idle", "холостой ход"), "part": bi("part lo
 CALIBRATION_HELP = bi(
     "The case is turned against the locked inertia mass by a micrometer screw on a lever of\n"
     "radius R: φ = h/R. Write each rise h and the trace's deflection read at it, in the\n"
-    "record's own unit (V for a recorder, mm for an oscillogram's paper).",
+    "record's own unit (V for a recorder, mm for an oscillogram's paper). Needed with records.",
     "Корпус поворачивают относительно застопоренной инерционной массы микрометрическим\n"
     "винтом на рычаге длиной R: φ = h/R. Запишите каждый подъём h и отклонение записи при нём\n"
-    "в единицах записи (В для регистратора, мм для бумаги осциллографа).")
+    "в единицах записи (В для регистратора, мм для бумаги осциллографа). Нужна при записях.")
+
+TORSIOGRAPH_HELP = bi(
+    "The torsiograph's own natural frequency and damping, and the recorder's marks. Needed\n"
+    "with records.",
+    "Собственная частота и демпфирование торсиографа, отметки регистратора. Нужны при\n"
+    "записях.")
 
 CHAIN_HELP = bi(
     "The crankshaft's equivalent torsional system, from the nose (damper hub) to the\n"
     "flywheel: n moments of inertia J and n − 1 shaft stiffnesses c between them (n if the\n"
-    "flywheel is tied to a brake). Its natural frequencies are compared with the resonances.",
+    "flywheel is tied to a brake); one disc per crank, in cylinder order, after the hub.\n"
+    "Its natural frequencies are compared with the resonances; alone, without records (before\n"
+    "the test), it gives its modes, the orders' relative phase sums and the critical speeds.",
     "Эквивалентная крутильная система коленчатого вала от носка (ступицы демпфера) до\n"
     "маховика: n моментов инерции J и n − 1 жёсткостей c участков между ними (n, если маховик\n"
-    "соединён с тормозом). Её собственные частоты сравниваются с резонансами.")
+    "соединён с тормозом); по одной массе на кривошип в порядке цилиндров после ступицы.\n"
+    "Её собственные частоты сравниваются с резонансами; одна, без записей (до опыта), она даёт\n"
+    "формы колебаний, относительные фазовые суммы гармоник и критические частоты вращения.")
 
 RECORD_HELP = bi(
     "One steady regime: the torsiograph's channel and the TDC marks (and the time marks, if\n"
     "recorded) in one file; every 200 min⁻¹ from the lowest to the highest speed, finer near\n"
-    "a resonance, at each load.",
+    "a resonance, at each load. Optional: a [chain] alone gives the natural frequencies and\n"
+    "critical speeds before the test.",
     "Один установившийся режим: канал торсиографа и отметки ВМТ (и отметки времени, если\n"
     "записаны) в одном файле; через 200 мин⁻¹ от наименьшей до наибольшей частоты вращения,\n"
-    "чаще вблизи резонанса, на каждой нагрузке.")
+    "чаще вблизи резонанса, на каждой нагрузке. Необязательно: одна [chain] даёт собственные\n"
+    "частоты и критические частоты вращения до опыта.")
 
 # ------------------------------------------------------------------------ results
 
@@ -96,40 +108,63 @@ REFERENCES = [
 ]
 
 
-def result_names(recorded, found, modes) -> dict:
+def critical_names(mode: int, order: float) -> tuple[str, str]:
+    """The result names of a mode's relative phase sum and critical speed for an order: a
+    half order's point written as an underscore (a result name is a TOML key in [reported])."""
+    k = f"{order:g}".replace(".", "_")
+    return f"phase_sum_{mode}_{k}", f"n_crit_{mode}_{k}"
+
+
+def result_names(recorded, found, modes, criticals=()) -> dict:
     """Labels, symbols and display units of the results of this file's records, resonances
-    and chain."""
-    out = {"l": (bi("trace scale l (angle per unit of the trace)",
-                    "масштаб записи l (угол на единицу записи)"), "l", ""),
-           "phi_max": (bi("largest peak amplitude over the records (the design value)",
-                          "наибольшая пиковая амплитуда по всем режимам (расчётная)"),
-                       "φ_max", "rad")}
+    and chain (every one of them above zero by its nature but the phase sums)."""
+    out = {}
+    if recorded:
+        out = {"l": (bi("trace scale l (angle per unit of the trace)",
+                        "масштаб записи l (угол на единицу записи)"), "l", "",
+                     STRICTLY_POSITIVE),
+               "phi_max": (bi("largest peak amplitude over the records (the design value)",
+                              "наибольшая пиковая амплитуда по всем режимам (расчётная)"),
+                           "φ_max", "rad", STRICTLY_POSITIVE)}
     for r in recorded:
         i = r.number
         out.update({
-            f"n_{i}": (bi(f"speed, record {i}", f"частота вращения, режим {i}"), "n", "rpm"),
+            f"n_{i}": (bi(f"speed, record {i}", f"частота вращения, режим {i}"), "n", "rpm",
+                       STRICTLY_POSITIVE),
             f"nu_{i}": (bi(f"oscillation frequency by counting, record {i}",
-                           f"частота колебаний по подсчёту, режим {i}"), "ν", "Hz"),
+                           f"частота колебаний по подсчёту, режим {i}"), "ν", "Hz",
+                        STRICTLY_POSITIVE),
             f"K_{i}": (bi(f"oscillations per revolution K = ν/n, record {i}",
-                          f"число колебаний за оборот K = ν/n, режим {i}"), "K", ""),
+                          f"число колебаний за оборот K = ν/n, режим {i}"), "K", "",
+                       STRICTLY_POSITIVE),
             f"phi_max_{i}": (bi(f"largest peak amplitude, record {i}",
-                                f"наибольшая пиковая амплитуда, режим {i}"), "φ_max", "rad"),
+                                f"наибольшая пиковая амплитуда, режим {i}"), "φ_max", "rad",
+                             STRICTLY_POSITIVE),
         })
     for f in found:
         j = f.number
         out.update({
             f"n_res_{j}": (bi(f"resonance {j}: speed", f"резонанс {j}: частота вращения"),
-                           "n_res", "rpm"),
+                           "n_res", "rpm", STRICTLY_POSITIVE),
             f"K_res_{j}": (bi(f"resonance {j}: order", f"резонанс {j}: порядок гармоники"),
-                           "K", ""),
+                           "K", "", STRICTLY_POSITIVE),
             f"f_res_{j}": (bi(f"resonance {j}: natural frequency K n_res/60",
-                              f"резонанс {j}: собственная частота K n_res/60"), "f", "Hz"),
+                              f"резонанс {j}: собственная частота K n_res/60"), "f", "Hz",
+                           STRICTLY_POSITIVE),
         })
     if modes is not None:
         for m in range(1, modes.angular_frequency.shape[-1] + 1):
             out[f"f_model_{m}"] = (bi(f"natural frequency of mode {m} (equivalent system)",
                                       f"собственная частота {m}-й формы (эквивалентная "
-                                      "система)"), f"f_{m}", "Hz")
+                                      "система)"), f"f_{m}", "Hz", STRICTLY_POSITIVE)
+    for m, k in criticals:
+        phase_sum, n_crit = critical_names(m, k)
+        out[phase_sum] = (bi(f"relative phase sum of order {k:g}, mode {m}",
+                             f"относительная фазовая сумма гармоники порядка {k:g}, форма {m}"),
+                          f"Σ_{k:g}", "")
+        out[n_crit] = (bi(f"critical speed of order {k:g}, mode {m} (60 f_{m}/k)",
+                          f"критическая частота вращения гармоники порядка {k:g}, форма {m} "
+                          f"(60 f_{m}/k)"), f"n_{k:g}", "rpm", STRICTLY_POSITIVE)
     return out
 
 
@@ -310,13 +345,35 @@ def _modes_table(modes, results) -> Table:
                     "масс (1 на носке, где стоит торсиограф)"), cols, rows)
 
 
-def tables(*, recorded, found, results, modes, majors, f_c, **_) -> list[Table]:
-    """The records, the resonances and (with a chain) its modes."""
-    out = [_records_table(recorded, results, f_c)]
+def _critical_table(criticals, results, majors) -> Table:
+    rows = []
+    for m, k in criticals:
+        rows.append({"m": str(m), "k": f"{k:g}",
+                     "major": bi("yes", "да") if np.any(np.isclose(majors, k))
+                     else bi("no", "нет"),
+                     "sum": result_pm(results, critical_names(m, k)[0]),
+                     "n": result_pm(results, critical_names(m, k)[1])})
+    cols = (("m", bi("Mode", "Форма")), ("k", bi("Order k", "Порядок k")),
+            ("major", bi("Major order", "Главный порядок")),
+            ("sum", bi("relative phase sum", "относительная фазовая сумма")),
+            ("n", bi("critical speed 60 f/k, min⁻¹", "критическая частота 60 f/k, мин⁻¹")))
+    return Table(bi("Critical speeds of the equivalent system's modes: the orders whose "
+                    "relative phase sum |Σ a_c e^{ikφ_c}|/Σ|a_c| (a_c the mode's amplitude at "
+                    "crank c) reaches 0.1 (± U, k = 2)",
+                    "Критические частоты вращения по формам эквивалентной системы: гармоники, "
+                    "относительная фазовая сумма которых |Σ a_c e^{ikφ_c}|/Σ|a_c| (a_c — "
+                    "амплитуда формы на кривошипе c) не меньше 0,1 (± U, k = 2)"), cols, rows)
+
+
+def tables(*, recorded, found, results, modes, majors, f_c, criticals=(), **_) -> list[Table]:
+    """The records, the resonances and (with a chain) its modes and critical speeds."""
+    out = [_records_table(recorded, results, f_c)] if recorded else []
     if found:
         out.append(_resonance_table(found, results, majors))
     if modes is not None:
         out.append(_modes_table(modes, results))
+    if criticals:
+        out.append(_critical_table(criticals, results, majors))
     return out
 
 
@@ -370,11 +427,29 @@ def _draw_amplitude(fig, recorded, found, results, majors, lang):
     ax.legend(fontsize=7)
 
 
-def _draw_campbell(fig, recorded, found, modes, majors, lang):
+def _campbell_reach(recorded, modes, majors, criticals, results):
+    """The Campbell diagram's speed and frequency reach, and the orders it draws: the
+    records' (their speeds and orders), or without records the chain's (up to the first
+    mode's critical speed at the lowest major order reported, and its reported modes)."""
+    if recorded:
+        speeds = np.array([r.trace.angular_speed for r in recorded])
+        top = max(r.trace.fit.order.max() for r in recorded)
+        step = recorded[0].trace.fit.order[0]
+        return speeds.max() * 1.05, 0.0, np.arange(step, top + step / 2, step)
+    speeds = {(m, k): results[critical_names(m, k)[1]].value for m, k in criticals}
+    first = [w for (m, k), w in speeds.items()
+             if m == 1 and np.any(np.isclose(majors, k))] or list(speeds.values())
+    reach = 1.1 * max(first) if first else \
+        1.1 * modes.angular_frequency[0] / majors[0]
+    highest = max(k for _, k in criticals) if criticals else majors[min(5, majors.size - 1)]
+    orders = np.union1d([k for _, k in criticals], majors[majors <= highest])
+    shown = modes.frequency[:min(2, modes.frequency.size)]
+    return reach, float(shown.max()), orders
+
+
+def _draw_campbell(fig, recorded, found, modes, majors, lang, results=None, criticals=()):
     ax = fig.subplots()
-    speeds = np.array([r.trace.angular_speed for r in recorded])
-    w_top = speeds.max() * 1.05
-    f_top = 0.0
+    w_top, f_top, orders = _campbell_reach(recorded, modes, majors, criticals, results)
     for r in recorded:
         t = r.trace
         a = t.order_amplitude
@@ -390,10 +465,12 @@ def _draw_campbell(fig, recorded, found, modes, majors, lang):
         for f in modes.frequency[modes.frequency < 1.5 * f_top]:
             ax.axhline(f, color="tab:green", lw=0.8, ls="--")
             f_top = max(f_top, f)
+    for m, k in criticals:
+        w = results[critical_names(m, k)[1]].value
+        if w <= w_top:
+            ax.plot(w * RPM, k * w / (2 * np.pi), "o", ms=5, mfc="none", color="tab:green",
+                    zorder=4)
     f_top *= 1.15
-    top = max(r.trace.fit.order.max() for r in recorded)
-    step = recorded[0].trace.fit.order[0]
-    orders = np.arange(step, top + step / 2, step)
     w = np.array([0.0, w_top])
     for k, f in zip(orders, campbell_lines(orders, w)):
         major = bool(np.any(np.isclose(majors, k)))
@@ -460,9 +537,26 @@ def _draw_orders(fig, recorded, found, results, majors, lang):
     ax.grid(axis="y", alpha=0.3)
 
 
-def figures(*, recorded, found, results, modes, majors, calibration, **_) -> list[Figure]:
+def figures(*, recorded, found, results, modes, majors, calibration, criticals=(),
+            **_) -> list[Figure]:
     """The calibration, the amplitude–speed curve, the Campbell diagram, the record with the
-    largest peak amplitude and its order spectrum."""
+    largest peak amplitude and its order spectrum; without records, the chain's Campbell
+    diagram alone."""
+    campbell = Figure(
+        "campbell", bi("Campbell diagram: the orders' frequencies k n/60 (red: the major "
+                       "orders), each record's orders carrying ≥ 10 % of its largest (dots, "
+                       "size ∝ amplitude), the resonances (stars) and the natural frequencies "
+                       "they imply (dotted) and, with a chain, the model's (green dashed) and "
+                       "its critical speeds (circles)",
+                       "Диаграмма Кэмпбелла: частоты гармоник k n/60 (красные — главные "
+                       "порядки), гармоники каждого режима не менее 10 % наибольшей (точки, "
+                       "размер ∝ амплитуде), резонансы (звёзды) и их собственные частоты "
+                       "(пунктир), при заданной системе — расчётные (зелёный штрих) и её "
+                       "критические частоты вращения (кружки)"),
+        lambda fig, lang: _draw_campbell(fig, recorded, found, modes, majors, lang, results,
+                                         criticals), size=(6.4, 4.2))
+    if not recorded:
+        return [campbell]
     return [
         Figure("calibration", bi("Static calibration: the case's angle φ = h/R against the "
                                  "trace's deflection, and the line whose slope is the scale l",
@@ -476,18 +570,7 @@ def figures(*, recorded, found, results, modes, majors, calibration, **_) -> lis
                                      "амплитуда каждого режима (± U) и амплитуды главных "
                                      "порядков (штрих); пунктир — найденные резонансы"),
                lambda fig, lang: _draw_amplitude(fig, recorded, found, results, majors, lang)),
-        Figure("campbell", bi("Campbell diagram: the orders' frequencies k n/60 (red: the major "
-                              "orders), each record's orders carrying ≥ 10 % of its largest "
-                              "(dots, size ∝ amplitude), the resonances (stars) and the natural "
-                              "frequencies they imply (dotted) and, with a chain, the model's "
-                              "(green dashed)",
-                              "Диаграмма Кэмпбелла: частоты гармоник k n/60 (красные — главные "
-                              "порядки), гармоники каждого режима не менее 10 % наибольшей "
-                              "(точки, размер ∝ амплитуде), резонансы (звёзды) и их собственные "
-                              "частоты (пунктир), при заданной системе — расчётные (зелёный "
-                              "штрих)"),
-               lambda fig, lang: _draw_campbell(fig, recorded, found, modes, majors, lang),
-               size=(6.4, 4.2)),
+        campbell,
         Figure("record", bi("The record at the strongest resonance (without one: the record "
                             "with the largest peak amplitude), corrected for the torsiograph: "
                             "its single oscillations' extrema and the fitted drift",
@@ -503,22 +586,31 @@ def figures(*, recorded, found, results, modes, majors, calibration, **_) -> lis
 
 # ------------------------------------------------------------------------ conclusion
 
-def conclusion(*, recorded, found, edges, results, modes, majors, **_) -> list[dict]:
+def conclusion(*, recorded, found, edges, results, modes, majors, criticals=(),
+               **_) -> list[dict]:
     """The largest amplitude, the resonances with their orders and natural frequencies, the
-    model's frequency against the measured one."""
+    model's frequency against the measured one, its critical speeds."""
     lines = []
-    top = _showcase(recorded, results)
-    phi = results["phi_max"]
-    v, U = fmt_pm(1e3 * phi.value, 1e3 * phi.estimate.U)
-    n = top.trace.angular_speed * RPM
-    lines.append(bi(f"The largest peak amplitude is φ_max = {v} ± {U} mrad "
-                    f"({np.degrees(phi.value):.3f}°), record {top.number} at {n:.0f} min⁻¹",
-                    f"Наибольшая пиковая амплитуда φ_max = {v} ± {U} мрад "
-                    f"({np.degrees(phi.value):.3f}°), режим {top.number} при {n:.0f} мин⁻¹"))
+    if recorded:
+        top = _showcase(recorded, results)
+        phi = results["phi_max"]
+        v, U = fmt_pm(1e3 * phi.value, 1e3 * phi.estimate.U)
+        n = top.trace.angular_speed * RPM
+        lines.append(bi(f"The largest peak amplitude is φ_max = {v} ± {U} mrad "
+                        f"({np.degrees(phi.value):.3f}°), record {top.number} at {n:.0f} "
+                        "min⁻¹",
+                        f"Наибольшая пиковая амплитуда φ_max = {v} ± {U} мрад "
+                        f"({np.degrees(phi.value):.3f}°), режим {top.number} при {n:.0f} "
+                        "мин⁻¹"))
+    else:
+        lines.append(bi("No records: the equivalent system's modes and critical speeds alone "
+                        "(the resonances are found from the torsiograms)",
+                        "Записей нет: только формы и критические частоты вращения "
+                        "эквивалентной системы (резонансы находятся по торсиограммам)"))
     majors_text = ", ".join(f"{k:g}" for k in majors[:6])
     lines.append(bi(f"Major orders of this engine (all cylinders in phase): {majors_text}, …",
                     f"Главные порядки этого двигателя (все цилиндры в фазе): {majors_text}, …"))
-    if not found:
+    if recorded and not found:
         lines.append(bi("No resonance was found within the speeds recorded",
                         "В записанном диапазоне частот вращения резонансов не найдено"))
     for f in found:
@@ -540,6 +632,13 @@ def conclusion(*, recorded, found, edges, results, modes, majors, **_) -> list[d
         c, Uc = fmt_pm(f1.value, f1.estimate.U)
         lines.append(bi(f"The equivalent system's first natural frequency is {c} ± {Uc} Hz",
                         f"Первая собственная частота эквивалентной системы {c} ± {Uc} Гц"))
+        first = [k for m, k in criticals if m == 1 and np.any(np.isclose(majors, k))]
+        if first:
+            text = ", ".join(f"{k:g}: {results[critical_names(1, k)[1]].value * RPM:.0f}"
+                             for k in first)
+            lines.append(bi(f"Its critical speeds for the major orders (k: n, min⁻¹): {text}",
+                            f"Её критические частоты вращения для главных порядков (k: n, "
+                            f"мин⁻¹): {text}"))
     for load, e in edges:
         if e.side == "high":
             lines.append(bi(f"Order {e.order:g} still rises at the highest speed "

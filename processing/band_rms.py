@@ -21,6 +21,10 @@ window-weighted mean is taken out first (a sensor's offset would otherwise leak 
 the displacement's weight is largest). Nothing is integrated in the time domain, so nothing
 drifts; the high-pass edge at 1.4 Hz is the meter's own. :func:`band_signals` gives the
 band-limited a, v and x as time signals (for the peak and peak-to-peak detectors).
+Beside each reading, what the record's broadband floor alone would read: the periodogram
+between its lines, level by level along the frequency axis (:func:`broadband_floor`), through
+the same weight, so that a floor rising with frequency is not carried down to the 1.4 Hz
+edge, where the displacement's weight is largest.
 Its edge filters have order 2 for the acceleration, 3 for the velocity, 4 for the displacement
 (:data:`FILTER_ORDER`), so that no reading passes a constant or a slow wander.
 
@@ -46,6 +50,7 @@ from functools import lru_cache
 
 import numpy as np
 import scipy.fft
+from scipy.special import gammaincinv
 
 from .result import Record
 
@@ -238,10 +243,9 @@ class BandRMS(Record):
     x: float
     """Displacement, 1.4–8000 Hz. [m]"""
     floor: dict
-    """What the record's broadband floor alone would read in each band: the white level
-    under the spectral lines (the median bin over ln 2) through the band's weight. Sensor
-    noise and broadband vibration alike; where it nears a reading, the reading rests on it.
-    [m/s², m/s, m]"""
+    """What the record's broadband floor alone would read in each band: the periodogram less
+    its lines (:func:`broadband_floor`) through the band's weight. Sensor noise and broadband
+    vibration alike; where it nears a reading, the reading rests on it. [m/s², m/s, m]"""
 
     def __getitem__(self, quantity: str) -> float:
         return getattr(self, quantity)
@@ -252,15 +256,25 @@ SEGMENT = 2 ** 20
 segments whose periodograms are averaged (Welch's method without overlap; the window's
 spread is then the segment's), which keeps the transform in the processor's cache."""
 
+FLOOR_BLOCK = (8, 1 / 6)
+"""The blocks of periodogram bins in which :func:`broadband_floor` takes the floor's level: at
+least 8 bins, else 1/6 octave wide (a level that rises as f² changes by 26 % across one)."""
+
+FLOOR_QUANTILE = 0.2
+"""Quantile of a block's bins that gives its floor level: lines (orders, tones) may fill up to
+80 % of a block without lifting it."""
+
+FLOOR_LINE = 10.0
+"""A bin is a line's when its power exceeds this many times its block's floor level: a bin of
+noise alone does so with probability e⁻¹⁰ = 5·10⁻⁵ (one per 20 000 bins)."""
+
 FLOOR_STRIDE = 4
-"""Every this-many-th bin enters the floor's median (its value, not its cost, needs them)."""
-
-FLOOR_RANGE = (0.05, 0.8)
-"""Part of the spectrum (shares of the Nyquist frequency) whose median bin gives the white
-floor: above the lowest orders, below a recorder's anti-alias roll-off."""
+"""In a block of more than 256 bins every this-many-th enters the level's quantile (its
+value, not its cost, needs them)."""
 
 
-def band_rms(acceleration, sample_rate: float, *, bands: dict | None = None) -> BandRMS:
+def band_rms(acceleration, sample_rate: float, *, bands: dict | None = None,
+             lowest_line: float = 0.0) -> BandRMS:
     """RMS acceleration, velocity and displacement of an acceleration record in the meter's
     bands, integrated in the frequency domain.
 
@@ -278,6 +292,10 @@ def band_rms(acceleration, sample_rate: float, *, bands: dict | None = None) -> 
         [Hz]
     bands : dict, optional
         Band of each quantity (default :data:`BANDS`).
+    lowest_line : float, optional
+        The lowest frequency a line of the record can have (an engine's lowest order, where
+        its speed is known): what lies below it is floor (:func:`broadband_floor`); 0 when
+        unknown. [Hz]
 
     Returns
     -------
@@ -318,11 +336,108 @@ def band_rms(acceleration, sample_rate: float, *, bands: dict | None = None) -> 
         power += spectrum.real ** 2 + spectrum.imag ** 2
     power /= count
     ms = w @ power
-    lo, hi = (int(s * (power.size - 1)) for s in FLOOR_RANGE)
-    white = float(np.median(power[lo:hi:FLOOR_STRIDE])) / np.log(2) if hi > lo else 0.0
-    floor = np.sqrt(np.maximum(white * w.sum(axis=1), 0.0))
+    first = int(np.floor(lowest_line * size / sample_rate)) - HANN_LOBE
+    lines, under = _lines(power, count, first)
+    floor = np.sqrt(np.maximum(ms - w[:, lines] @ (power[lines] - under), 0.0))
     return BandRMS(*np.sqrt(np.maximum(ms, 0.0)).tolist(), floor=dict(zip(QUANTITIES,
                                                                            floor.tolist())))
+
+
+HANN_LOBE = 2
+"""Half-width of the Hann window's main lobe, in bins: a line's power lies within it."""
+
+
+@lru_cache(maxsize=64)
+def _blocks(bins: int) -> tuple[np.ndarray, np.ndarray, tuple]:
+    """The blocks of :data:`FLOOR_BLOCK` over bins 1 … ``bins`` − 1 (a last block shorter than
+    the least joins the one before it): each one's first bin and size, and the slice and the
+    rank that give its :data:`FLOOR_QUANTILE` quantile."""
+    least, octave = FLOOR_BLOCK
+    edges = [1]
+    while edges[-1] < bins:
+        edges.append(min(max(edges[-1] + least, int(edges[-1] * 2 ** octave)), bins))
+    if len(edges) > 2 and edges[-1] - edges[-2] < least:
+        del edges[-2]
+    starts, sizes = np.array(edges[:-1]), np.diff(edges)
+    starts.flags.writeable = sizes.flags.writeable = False
+    ranks = []
+    for a, n in zip(edges[:-1], sizes.tolist()):
+        stride = FLOOR_STRIDE if n > 256 else 1
+        ranks.append((slice(a, a + n, stride), int(FLOOR_QUANTILE * ((n - 1) // stride))))
+    return starts, sizes, tuple(ranks)
+
+
+def _lines(power: np.ndarray, segments: int, first: int) -> tuple[np.ndarray, np.ndarray]:
+    """The bins of a periodogram's lines and the floor under each (:func:`broadband_floor`)."""
+    starts, sizes, ranks = _blocks(power.size)
+    factor = FLOOR_LINE * segments / gammaincinv(segments, FLOOR_QUANTILE)
+    level = np.array([np.partition(power[part], k)[k] for part, k in ranks]) * factor
+    line = power[1:] > np.repeat(level, sizes)
+    line[:max(first - 1, 0)] = False
+    at = np.flatnonzero(line) + 1
+    block = np.searchsorted(starts, at, "right") - 1
+    kept = np.add.reduceat(power, starts) - np.bincount(block, weights=power[at],
+                                                         minlength=starts.size)
+    count = sizes - np.bincount(block, minlength=starts.size)
+    return at, (kept / np.maximum(count, 1))[block]
+
+
+def broadband_floor(power, segments: int = 1, first: int = 1) -> np.ndarray:
+    """The broadband floor of a Hann-windowed periodogram, bin by bin: its power less its
+    lines.
+
+    The bins (but the mean's, bin 0) are taken in blocks (:data:`FLOOR_BLOCK`, narrow enough
+    that a floor rising or falling with frequency is level across one). A block's floor
+    level is its :data:`FLOOR_QUANTILE` quantile over the quantile of the floor's own
+    distribution (a bin of Gaussian noise, averaged over m segments, is Γ(m)/m-distributed
+    about its mean: exponential for one [1]_). A bin above :data:`FLOOR_LINE` times that
+    level, at or above bin ``first``, is a line's (an engine order's, a tone's); the floor is
+    every other bin's own power and, under a line, the mean of its block's other bins. So
+    the floor is estimated where a band reading uses it, between the lines, whatever its
+    spectrum (white, rising with frequency, confined to low frequencies); below ``first``
+    everything is floor, as no line lies there.
+
+    Parameters
+    ----------
+    power : ndarray
+        |W_j|², bins 0 … N/2 of an rfft, averaged over ``segments``. [record unit² · s]
+    segments : int
+        m, the periodograms averaged.
+    first : int
+        The lowest bin a line can reach.
+
+    Returns
+    -------
+    ndarray
+        The floor's power in every bin, shaped as ``power`` (0 in bin 0).
+
+    References
+    ----------
+    .. [1] J. S. Bendat, A. G. Piersol, Random Data, 4th ed., Wiley, 2010, §8.5.4 (the
+           periodogram's χ² distribution with 2m degrees of freedom).
+
+    Examples
+    --------
+    White noise of unit variance over 2¹⁶ samples, and a 5 units sine at bin 1000.3 on it:
+    the floor is the noise's own (σ² Σw² per bin: 0.375 N for a Hann window; its mean over
+    32 768 bins within 0.6 %) with or without the sine.
+
+    >>> rng = np.random.default_rng(0)
+    >>> n = 2 ** 16
+    >>> x = rng.standard_normal(n)
+    >>> def power(y):
+    ...     return np.abs(np.fft.rfft(y * _hann(n))) ** 2
+    >>> t = np.arange(n)
+    >>> sine = x + 5 * np.cos(2 * np.pi * 1000.3 * t / n)
+    >>> [round(float(broadband_floor(power(y)).mean() / (0.375 * n)), 2) for y in (x, sine)]
+    [1.01, 1.01]
+    """
+    power = np.asarray(power, dtype=float)
+    lines, under = _lines(power, segments, first)
+    floor = power.copy()
+    floor[0] = 0.0
+    floor[lines] = under
+    return floor
 
 
 @lru_cache(maxsize=64)

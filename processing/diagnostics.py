@@ -240,6 +240,20 @@ class CutCylinderWarning(DynlabWarning):
     code = "cut_cylinder"
 
 
+class RecordBandwidthWarning(DynlabWarning):
+    """A record's sample rate does not reach a band the method reads: what lies above its
+    Nyquist frequency is missing from the reading."""
+
+    code = "record_bandwidth"
+
+
+class NoMarksWarning(DynlabWarning):
+    """A record has no usable TDC marks: what needs no crank angle is reduced, and the
+    results that need the marks are left out."""
+
+    code = "no_tdc_marks"
+
+
 class SpeedDisagreesWarning(DynlabWarning):
     """The TDC marks' speed and the tachometer's differ beyond the tachometer's error."""
 

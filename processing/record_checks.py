@@ -70,3 +70,19 @@ def check_time_marks(inputs, section: str, channel: str, times, rate: float,
                      "the marks' period is wrong",
                      "give the recorder's true sample rate (sample_rate = ...), or correct "
                      f"mark_period in [{section}]", "sample_rate")
+
+
+def whole_ratio(ratio: float, *, largest: int = 4,
+                tolerance: float = TACHOMETER_WARNED) -> tuple[int, int] | None:
+    """The ratio k/1 or 1/k (2 ≤ k ≤ ``largest``) a speed ratio lies within ``tolerance`` of,
+    if any: marks counted per cycle for per revolution give 2 or 1/2, two marks a revolution
+    taken for one give 2; a wrong sample rate gives any ratio.
+
+    Examples
+    --------
+    >>> whole_ratio(0.497), whole_ratio(2.02), whole_ratio(0.75), whole_ratio(1.28)
+    ((1, 2), (2, 1), None, None)
+    """
+    candidates = [(k, 1) for k in range(2, largest + 1)] + [(1, k) for k in range(2, largest + 1)]
+    best = min(candidates, key=lambda f: abs(ratio * f[1] / f[0] - 1))
+    return best if abs(ratio * best[1] / best[0] - 1) <= tolerance else None

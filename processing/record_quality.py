@@ -241,7 +241,8 @@ def assess(x, rate: float) -> RecordQuality:
 def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
                  least_duration: float = 0.0, purpose: str = "the reduction",
                  clip_refused: float = CLIP_REFUSED, fix: str = SENSOR_FIX,
-                 clipped_effect: tuple[str, str] = CLIPPED_EFFECT) -> RecordQuality:
+                 clipped_effect: tuple[str, str] = CLIPPED_EFFECT,
+                 broadband: bool = False) -> RecordQuality:
     """Refuse a record that is flat, noise only, too short or clipped beyond a limit; warn
     about a smaller clipped share.
 
@@ -268,6 +269,11 @@ def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
     clipped_effect : (str, str)
         What the clipped samples do to the reduction, in English and Russian, for the
         warning (default :data:`CLIPPED_EFFECT`; a fit around them says so).
+    broadband : bool
+        The signal itself may be broadband (an accelerometer's vibration, whose power may
+        lie near the Nyquist frequency, where a resolved signal's roughness reaches white
+        noise's): the roughness tests are left out, and the lab tells its signal from the
+        noise its own way (a spectrum's lines above its floor).
 
     Returns
     -------
@@ -276,8 +282,8 @@ def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
     Raises
     ------
     InputError
-        Flat, noise only (or an oscillation faster than a third of the sample rate), shorter
-        than ``least_duration``, clipped beyond ``clip_refused``, or sitting at two levels
+        Flat, noise only (or an oscillation faster than a third of the sample rate; neither
+        when ``broadband``), shorter than ``least_duration``, clipped beyond ``clip_refused``, or sitting at two levels
         (:data:`LOGIC_SHARE`) whatever the lab allows.
 
     Examples
@@ -301,13 +307,13 @@ def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
         raise refuse(f"is flat: its {q.samples} samples stay at {level:.6g}"
                      + (f" within {q.spread:.3g}" if q.spread else "")
                      + f", nothing for {purpose} to read", fix)
-    if q.noise_only and q.roughness > FAST_ROUGHNESS:
+    if q.noise_only and not broadband and q.roughness > FAST_ROUGHNESS:
         raise refuse(f"swings from sample to sample (its changes carry {100 * q.roughness:.0f} % "
                      f"of its variance): what it holds is faster than a third of its sample "
                      f"rate ({rate:.6g} Hz), too fast for {purpose}", "record at a higher "
                      "sample rate (ten or more samples a period), or give the recorder's true "
                      "sample rate")
-    if q.noise_only:
+    if q.noise_only and not broadband:
         raise refuse(f"holds no oscillation above its noise: its sample-to-sample changes "
                      f"carry {100 * q.roughness:.0f} % of its variance, as white noise does (a "
                      f"record its sample rate resolves carries a few per cent)", fix)
@@ -434,6 +440,46 @@ def check_pulses(x, rate: float, *, file: str, field: str | None, channel: str,
                          f"{repeat:.2f}; a train of pulses gives more than {PULSE_NOISE:g}), "
                          "as white noise does", fix, file=file, field=field)
     return repeat
+
+
+def irregular_marks(x, error: InputError, *, file: str, field: str | None,
+                    channel: str) -> InputError:
+    """The error for a mark channel (TDC or time marks) whose marks came out irregular.
+
+    A channel of noise, whose best correlation with itself shifted (:func:`periodicity`)
+    stays below :data:`PULSE_NOISE`, holds no pulses at all and is named so (its "marks" are
+    noise crossing the detector's threshold). Otherwise the marks are pulses, missed or
+    doubled (or the recorder's clock is wrong), and ``error`` stands.
+
+    Parameters
+    ----------
+    x : array_like
+        The mark channel. [any unit]
+    error : InputError
+        What the marks' own check found (returned when the channel is not noise).
+    file, field, channel : str
+        Where the channel is, for the noise's message.
+
+    Returns
+    -------
+    InputError
+
+    Examples
+    --------
+    >>> noise = np.random.default_rng(0).standard_normal(4000)
+    >>> e = InputError("the marks are irregular", "check the channel")
+    >>> str(irregular_marks(noise, e, file="r.csv", field="tdc_channel", channel="tdc"))[:74]
+    "r.csv, field 'tdc_channel': channel 'tdc' holds noise, not pulses: no stre"
+    """
+    repeat = periodicity(x)
+    if repeat < PULSE_NOISE:
+        return InputError(f"channel '{channel}' holds noise, not pulses: no stretch of it "
+                          f"repeats later (its best correlation with itself shifted is "
+                          f"{repeat:.2f}), and its threshold crossings are irregular",
+                          "check that the mark sensor is connected and its level set, and "
+                          "that the channel named is the marks' channel", file=file,
+                          field=field)
+    return error
 
 
 def check_frequency(frequency: float, rate: float, duration: float, *, file: str,

@@ -83,6 +83,50 @@ def phase_sum(order, phases, amplitudes=None):
     return np.abs((a * np.exp(1j * k[..., None] * phi)).sum(axis=-1))
 
 
+def relative_phase_sum(order, phases, amplitudes):
+    r"""The phase sum of order k with a mode's relative amplitudes, over its largest possible
+    value: how much of the cylinders' excitation adds up in that mode.
+
+    .. math:: \bar\Sigma_k = \frac{\big|\sum_c a_c\, e^{ik\varphi_c}\big|}{\sum_c |a_c|}
+
+    1 where every crank's excitation does work on the mode in phase (a major order of a mode
+    whose cranks swing alike), 0 where the cranks' work cancels: the resonance of that order
+    with that mode is then not excited, whatever its speed [1]_.
+
+    Parameters
+    ----------
+    order : float or ndarray
+        k. [1]
+    phases : array_like
+        φ_c of the cylinders. [rad]
+    amplitudes : array_like
+        a_c, the mode's relative amplitude at each cylinder's crank, along the last axis
+        (leading axes: a stack of modes, broadcast against ``order``). [1]
+
+    Returns
+    -------
+    float or ndarray
+        Σ̄_k, 0 … 1. [1]
+
+    References
+    ----------
+    .. [1] W. Ker Wilson, Practical Solution of Torsional Vibration Problems, vol. 2, 3rd ed.,
+           Chapman & Hall, 1963, ch. 12 (vector summation, relative amplitudes of the cranks).
+
+    Examples
+    --------
+    Four cylinders, firing 1-3-4-2 (φ = 0, 540°, 180°, 360° for cylinders 1–4), the cranks
+    swinging 1, 0.9, 0.7, 0.4: order 2 adds fully; orders 1 and ½, which cancel between equal
+    cranks, keep |1 − 0.9 − 0.7 + 0.4|/3 and |0.6 − 0.2i|/3:
+
+    >>> phi = firing_phases(4, firing_order=[1, 3, 4, 2])
+    >>> np.round(relative_phase_sum([2.0, 1.0, 0.5], phi, [1.0, 0.9, 0.7, 0.4]), 4).tolist()
+    [1.0, 0.0667, 0.2108]
+    """
+    a = np.asarray(amplitudes, dtype=float)
+    return phase_sum(order, phases, a) / np.abs(a).sum(axis=-1)
+
+
 def major_orders(cylinders: int, *, strokes: int = 4, firing_order=None,
                  max_order: float = 12.0) -> np.ndarray:
     """The engine's major orders up to ``max_order``: those all cylinders excite in phase.

@@ -31,6 +31,10 @@ MAX_ORDER = 24.0
 """Highest order :func:`analyse_trace` fits (lowered to what the sampling resolves): a
 crankshaft's orders above it carry no measurable share of its motion."""
 
+ORDER_SHARE = 0.4
+"""Highest frequency fitted, as a share of the sample rate (below the Nyquist frequency and a
+recorder's anti-alias roll-off)."""
+
 
 # ------------------------------------------------------------------------ one record
 
@@ -155,7 +159,8 @@ def analyse_trace(time, x, mark_times, *, natural_frequency: float, damping_rati
     strokes : {4, 2}, keyword-only
         Half orders for a four-stroke engine, whole orders for a two-stroke one.
     max_order : float, keyword-only
-        Highest order fitted (lowered to what the sampling resolves: 0.4 of the sample rate).
+        Highest order fitted (lowered to what the sampling resolves: :data:`ORDER_SHARE` of
+        the sample rate).
     upsample : int, keyword-only
         Fineness of the corrected record's grid.
 
@@ -181,7 +186,7 @@ def analyse_trace(time, x, mark_times, *, natural_frequency: float, damping_rati
     rate = (t.size - 1) / (t[-1] - t[0])
     f_rev = revs.angular_speed / (2 * np.pi)
     step = 0.5 if strokes == 4 else 1.0
-    top = min(max_order, 0.4 * rate / f_rev)
+    top = min(max_order, ORDER_SHARE * rate / f_rev)
     try:
         fit = order_fit(t, steady_crank_angle(t, revs), x, step=step, max_order=top)
     except ValueError:

@@ -264,7 +264,8 @@ def test_a_speed_the_record_contradicts_is_refused(bench, tmp_path):
     assert e.value.field == "record[0].n" and e.value.file.endswith("r01.h5")
 
 
-def test_a_record_shorter_than_a_revolution_is_refused(tmp_path):
+def test_a_record_shorter_than_the_band_edge_needs_is_refused(tmp_path):
+    """0.05 s: shorter than a revolution, and than a period of the meter's 1.4 Hz edge."""
     rec = record(Engine(), Block(), POINTS, Accelerometer(), 1000 * np.pi / 30, 0.05, seed=3)
     write_csv(tmp_path / "short.csv", {**rec.volts, "tdc": rec.tdc})
     path = tmp_path / "m.toml"
@@ -274,24 +275,34 @@ def test_a_record_shorter_than_a_revolution_is_refused(tmp_path):
         'direction = "longitudinal"\n')
         + '[sensor]\nsensitivity = "10.2 mV/(m/s^2)"\n[[record]]\nsignal = "short.csv"\n'
           'sample_rate = "25.6 kHz"\nchannels = "acc1, acc2, acc3"\n')
-    with pytest.raises(InputError, match="shorter than a revolution") as e:
+    with pytest.raises(InputError, match=r"lasts 0.05 s .* needs at least 0.714") as e:
         reduce(path)
-    assert e.value.field == "record[0].tdc_channel"
+    assert e.value.field == "record[0].channels"
 
 
-def test_a_clipped_record_warns_with_its_share(bench, tmp_path):
-    rec = record(Engine(), Block(), POINTS, Accelerometer(full_scale=0.06), 2000 * np.pi / 30,
-                 2.4, seed=5)
-    assert max(rec.clipped.values()) > 0.01
+def _clipped(bench, tmp_path, full_scale: float):
+    rec = record(Engine(), Block(), POINTS, Accelerometer(full_scale=full_scale),
+                 2000 * np.pi / 30, 2.4, seed=5)
     write_csv(tmp_path / "clip.csv", {**rec.volts, "tdc": rec.tdc})
     path = tmp_path / "m.toml"
     head = bench[0]["toml"].read_text().split("[[record]]")[0]
     path.write_text(head + '[[record]]\nsignal = "clip.csv"\nsample_rate = "25.6 kHz"\n'
                            'channels = "acc1, acc2, acc3"\n')
+    return rec, path
+
+
+def test_a_clipped_record_warns_with_its_share(bench, tmp_path):
+    rec, path = _clipped(bench, tmp_path, 0.11)
+    assert 0.01 < rec.clipped["acc2"] < 0.05
     res = reduce(path)
     [w] = [w for w in res.warnings if w.code == "clipped_record"]
-    share = 100 * max(rec.clipped.values())
-    assert f"{share:.2f} %" in w.message
+    assert f"{100 * rec.clipped['acc2']:.2f} %" in w.message and "'acc2'" in w.message
+
+
+def test_a_record_clipped_beyond_the_limit_is_refused(bench, tmp_path):
+    rec, path = _clipped(bench, tmp_path, 0.06)
+    with pytest.raises(InputError, match=f"'acc1' is clipped: {100 * rec.clipped['acc1']:.1f} %"):
+        reduce(path)
 
 
 def test_cli_refuses_bad_input_with_exit_2_and_writes_nothing(bench, tmp_path, capsys):

@@ -86,7 +86,7 @@ def test_sample_compares_the_model_with_the_resonances(sample):
     assert all(c.agree for c in sample.comparisons)
     assert [f.name for f in sample.figures] == ["calibration", "amplitude_speed", "campbell",
                                                 "record", "orders"]
-    assert len(sample.tables) == 3
+    assert len(sample.tables) == 4       # records, resonances, modes, critical speeds
 
 
 def test_sample_reports_render_in_every_format_and_language(sample):
@@ -239,13 +239,14 @@ def test_a_missed_tdc_mark_and_a_flat_trace_are_refused(base):
     starts = np.flatnonzero(np.diff((tdc > 0.5).astype(int)) == 1)
     tdc[starts[3]:starts[3] + 12] = 0.0
     write_csv(folder / "missed.csv", {"phi": rows["phi"], "tdc": tdc, "marks": rows["marks"]})
-    err = refused(folder, text.replace('"r01.csv"', '"missed.csv"', 1), "record[0].signal",
-                  file="missed.csv")
+    err = refused(folder, text.replace('"r01.csv"', '"missed.csv"', 1),
+                  "record[0].tdc_channel", file="missed.csv")
     assert "irregular" in err.problem
     write_csv(folder / "flat.csv", {"phi": 0 * rows["phi"] + 1e-4 * np.sin(np.arange(tdc.size)),
                                     "tdc": rows["tdc"], "marks": rows["marks"]})
-    refused(folder, text.replace('"r01.csv"', '"flat.csv"', 1), "record[0].signal",
-            file="flat.csv")
+    err = refused(folder, text.replace('"r01.csv"', '"flat.csv"', 1), "record[0].channel",
+                  file="flat.csv")
+    assert "no order stands above its uncertainty" in err.problem
 
 
 def test_a_record_shorter_than_two_working_cycles_is_refused(base):
