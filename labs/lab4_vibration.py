@@ -258,27 +258,13 @@ def sensitivity(text: str, *, file: str | None = None) -> Measured:
                           "chart as a voltage over an acceleration, e.g. \"10.2 mV/(m/s^2) "
                           "± 2 %\" or \"100 mV/g ± 2 %\"", file=file, field="sensor.sensitivity")
 
-    main, _, tol = text.partition("±")
-    main = _PER_G.sub("/g_n", main.strip())
     try:
-        value, _ = parse_quantity(main, "mV/(m/s^2)")
+        value, limit = parse_quantity(_PER_G.sub("/g_n", text), "mV/(m/s^2)")
     except ValueError as exc:
         raise refuse(f"sensitivity {text!r}: {exc}") from None
     if not value > 0:
         raise refuse(f"sensitivity {text!r} is not positive")
-    limit = 0.0
-    tol = tol.strip()
-    if tol.endswith("%"):
-        try:
-            limit = float(tol[:-1]) / 100 * value
-        except ValueError:
-            raise refuse(f"cannot read the limit {tol!r}") from None
-    elif tol:
-        try:
-            limit = parse_quantity(_PER_G.sub("/g_n", tol), "mV/(m/s^2)")[0]
-        except ValueError as exc:
-            raise refuse(f"the limit {tol!r}: {exc}") from None
-    return Measured(value, limit=limit)
+    return Measured(value, limit=limit or 0.0)
 
 
 # ------------------------------------------------------------------------ one record

@@ -306,13 +306,15 @@ def decimal_point(text: str) -> str:
 
 
 def parse_quantity(text: str, expected_unit: str) -> tuple[float, float | None]:
-    """Parse ``'850 mm'``, ``'850 ± 0.5 mm'`` or ``'850 mm ± 0.5 mm'`` into SI.
+    """Parse ``'850 mm'``, ``'850 ± 0.5 mm'``, ``'850 mm ± 0.5 mm'`` or ``'850 mm ± 0.1 %'``
+    into SI.
 
     Parameters
     ----------
     text : str
         A number with a unit, optionally followed by a ± limit with its own unit (or sharing
-        the value's unit when only one is written). A bare number takes ``expected_unit``.
+        the value's unit when only one is written), or in per cent of the value (an
+        instrument's accuracy class). A bare number takes ``expected_unit``.
         Decimal commas, units in Russian and rotational speeds as the module says.
     expected_unit : str
         The unit the field is declared in; only its dimension is checked here (and whether
@@ -334,6 +336,8 @@ def parse_quantity(text: str, expected_unit: str) -> tuple[float, float | None]:
     (0.85, 0.0005)
     >>> parse_quantity("2345 г", "kg"), parse_quantity("30,62 ± 0,05 с", "s")
     ((2.345, None), (30.62, 0.05))
+    >>> parse_quantity("850 mm ± 2 %", "mm"), parse_quantity("10,2 ± 2,5 %", "m")
+    ((0.85, 0.017), (10.2, 0.255))
     >>> [round(parse_quantity(t, "rpm")[0], 4) for t in ("1500 min^-1", "25 1/s", "25 Гц")]
     [157.0796, 157.0796, 157.0796]
     """
@@ -358,13 +362,21 @@ def read_quantity(text: str, expected_unit: str) -> tuple[float, float | None, s
     if len(parts) > 2 or not parts[0]:
         raise QuantityError(f"cannot read {written!r} as a value with a unit")
     main, tol = parts[0], parts[1] if len(parts) == 2 else None
-    if tol is not None and _is_number(main):
+    percent = tol is not None and tol.rstrip().endswith("%")
+    if percent:                           # an instrument's accuracy, relative to the value
+        tol = tol.rstrip()[:-1].strip()
+        if not _is_number(tol):
+            raise QuantityError(f"cannot read the ± limit in {written!r}: a limit in per cent "
+                                f"is a number before the % sign")
+    if tol is not None and _is_number(main) and not percent:
         unit_part = _unit_of(tol)
         main = f"{main} {unit_part}" if unit_part else main
     unit = _russian_units(_unit_of(main)) or expected_unit
     value = _to_si(main, expected_unit, written)
     limit = None
-    if tol is not None:
+    if percent:
+        limit = abs(value) * float(tol) / 100
+    elif tol is not None:
         if _is_number(tol):
             tol = f"{tol} {_unit_of(main) or expected_unit}"
         limit = _to_si(tol, expected_unit, written)

@@ -664,3 +664,18 @@ def test_check_names_a_decimal_comma_in_reported(tmp_path, capsys):
     path.write_text(text + "\n[reported]\nJ_trifilar = 0,1708\n", encoding="utf-8")
     code, out, err = run(capsys, "check", path)
     assert code == 2 and "decimal comma" in err and "reported.J_trifilar" in err, err
+
+
+@pytest.mark.parametrize("text, value, limit", [
+    ("10,2 мВ/(м/с²) ± 2,5 %", 10.2e-3, 0.255e-3),
+    ("100 mV/g ± 2 %", 0.1 / 9.80665, 0.002 / 9.80665),
+    ("10.2 mV/(m/s^2) ± 0.2 mV/(m/s^2)", 10.2e-3, 0.2e-3),
+])
+def test_lab4_sensitivity_takes_a_limit_in_per_cent_with_a_decimal_comma(text, value, limit):
+    """The accelerometer chart's accuracy as a per cent of the value, as typed in Russian
+    (the limit '± 2,5 %' went through float() and was refused)."""
+    from labs.lab4_vibration import sensitivity
+
+    s = sensitivity(text)
+    assert s.value == pytest.approx(value, rel=1e-12)
+    assert s.limit == pytest.approx(limit, rel=1e-12)
