@@ -252,6 +252,7 @@ def _check(args) -> int:
     if folders and not files:
         raise InputError("no .toml submission in the folder", "give the folder holding the "
                          "students' measurement files", file=str(folders[0]))
+    files = _unique(files)              # a file given twice is no pair of copies
     policy = read_policy(args.policy)
     if args.keys is not None and not folders:
         raise InputError("--keys goes with a class folder", "give the folder of the students' "

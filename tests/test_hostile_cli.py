@@ -643,3 +643,12 @@ def test_a_reader_that_stops_reading_is_no_internal_error():
                            stdout=write, stderr=subprocess.PIPE, text=True, timeout=60)
     os.close(write)
     assert child.returncode == 0 and child.stderr == "", child.stderr
+
+
+def test_a_submission_given_twice_is_checked_once_and_no_copy_of_itself(tmp_path, capsys):
+    path = tmp_path / "s.toml"
+    path.write_text((ROOT / "sample_data/lab2/conrod.toml").read_text("utf-8")
+                    + '\n[reported]\nm_shp_weighing = "0.5 kg"\n', encoding="utf-8")
+    code, out, err = run(capsys, "check", path, path)
+    assert code == 0, err
+    assert "given more than once" in err and "same readings" not in out, out + err
