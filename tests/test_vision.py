@@ -360,7 +360,7 @@ def test_not_an_image(tmp_path):
 
 
 def test_missing_file(tmp_path):
-    with pytest.raises(InputError, match="does not exist") as err:
+    with pytest.raises(InputError, match="file not found") as err:
         read_paper_record(tmp_path / "nope.png", mark_period=0.01, field="decay.signal")
     assert err.value.field == "decay.signal" and err.value.fix
 
