@@ -1,4 +1,7 @@
-"""Shared fixtures: build a lab's inputs from a plain dict, as a parsed TOML file would be."""
+"""Shared fixtures: build a lab's inputs from a plain dict, as a parsed TOML file would be;
+fail a case that hangs."""
+import signal
+
 import numpy as np
 import pytest
 
@@ -14,6 +17,23 @@ def make_inputs(tmp_path):
             inputs = load(tmp_path / f"{spec.id}.toml", spec, {"lab": spec.id, **data})
         return inputs, notices
     return make
+
+
+HANG = 60
+"""Seconds after which a case of the hostile corpora counts as hung."""
+
+
+@pytest.fixture
+def no_hang():
+    """An alarm fails the test after :data:`HANG` s (a hang), instead of hanging the suite."""
+    def hung(signum, frame):
+        raise TimeoutError(f"the case ran for {HANG} s: a hang")
+
+    old = signal.signal(signal.SIGALRM, hung)
+    signal.alarm(HANG)
+    yield
+    signal.alarm(0)
+    signal.signal(signal.SIGALRM, old)
 
 
 # ----------------------------------------------------------------------------- an ideal engine's edges

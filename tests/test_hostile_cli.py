@@ -17,7 +17,6 @@ import json
 import os
 import re
 import shutil
-import signal
 import tomllib
 from pathlib import Path
 
@@ -28,26 +27,13 @@ from processing import files
 from processing.diagnostics import InputError
 from processing.toml_writer import dumps
 
-HANG = 60
-"""Seconds after which a case counts as hung."""
+pytestmark = pytest.mark.usefixtures("no_hang")
 
 LAB2 = ROOT / "sample_data" / "lab2" / "conrod.toml"
 LAB3 = ROOT / "sample_data" / "lab3" / "engine_2regimes.toml"
 LAB9 = ROOT / "sample_data" / "lab9" / "synthetic_damper.toml"
 LAB9_PHOTO = ROOT / "sample_data" / "lab9-photo" / "photographed_decay.toml"
 LAB1_FILM = ROOT / "sample_data" / "lab1-film" / "flywheel_filmed.toml"
-
-
-@pytest.fixture(autouse=True)
-def no_hang():
-    def hung(signum, frame):
-        raise TimeoutError(f"the case ran for {HANG} s: a hang")
-
-    old = signal.signal(signal.SIGALRM, hung)
-    signal.alarm(HANG)
-    yield
-    signal.alarm(0)
-    signal.signal(signal.SIGALRM, old)
 
 
 # ------------------------------------------------------------------------- hostile paths

@@ -9,7 +9,6 @@ near; the corpus takes seconds).
 """
 import os
 import re
-import signal
 import struct
 import tomllib
 from pathlib import Path
@@ -40,20 +39,7 @@ SAMPLES = {
     "dyncalc": ROOT / "sample_data" / "dyncalc" / "car_petrol.toml",
     "dyncalc-diesel": ROOT / "sample_data" / "dyncalc" / "marine_diesel.toml",
 }
-HANG = 60
-"""Seconds after which a case counts as hung."""
-
-
-@pytest.fixture(autouse=True)
-def no_hang():
-    def hung(signum, frame):
-        raise TimeoutError(f"the case ran for {HANG} s: a hang")
-
-    old = signal.signal(signal.SIGALRM, hung)
-    signal.alarm(HANG)
-    yield
-    signal.alarm(0)
-    signal.signal(signal.SIGALRM, old)
+pytestmark = pytest.mark.usefixtures("no_hang")
 
 
 def parsed(sample: str) -> dict:
