@@ -173,8 +173,10 @@ def _lab_separation(sweep: Sweep) -> Answer:
     from .registry import evaluate
 
     with tempfile.TemporaryDirectory() as folder:
+        # the scene's own drive (part 0), whose separation speed is the truth; a seed's
+        # readings and noise on it
         written = write_synthetic(folder, seed=sweep.seed, speeds=(1000.0, 1500.0, 1800.0),
-                                  clearances=(0.8e-3,), valves=("in",))
+                                  clearances=(0.8e-3,), valves=("in",), part=0)
         result = evaluate(written["toml"], n_samples=4000)
     r = result["n_sep_in_800"]
     lo, hi = r.estimate.interval95
