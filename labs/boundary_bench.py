@@ -409,7 +409,7 @@ def _records() -> list[Case]:
         Case("lab7 records clipped", "record", _recorded(LAB7, "*", "phi", _clip(0.5)),
              Expect(None, cause=r"clipped", warns=("clipped_record",))),
         Case("lab7 a white-noise torsiogram", "record", _recorded(LAB7, "r05.csv", "phi", _noise),
-             Expect(2, cause=r"noise", field="record[4].signal")),
+             Expect(2, cause=r"noise", field="record[4].channel")),
         Case("lab6 record flat", "record",
              _recorded(LAB6, "r03.csv", "in", lambda x: np.full_like(x, x[0])),
              Expect(2, cause=r"flat", field="record[2].signal")),
