@@ -12,7 +12,7 @@ import numpy as np
 from processing.diagnostics import InconsistentInputWarning, TableCurvatureWarning
 from processing.measurement import bi
 from processing.reporting.content import fmt_pm, result_pm
-from processing.result import STRICTLY_POSITIVE, Figure, Table
+from processing.result import STRICTLY_POSITIVE, Figure, Table, Within
 from processing.diagnostics import ContactLossWarning, FreeOscillationWarning
 
 RPM_SI = math.pi / 30
@@ -81,11 +81,20 @@ def _mm(clearance: float) -> str:
     return f"{1e3 * clearance:g}"
 
 
-POSITIVE_PER_VALVE = {name: (STRICTLY_POSITIVE,) for name in ("P_max", "nu", "phi", "phi_crank")}
+TIMING = Within(-math.pi / 2, math.pi / 2, "a valve opens and closes within 90° of crank of "
+                "its dead centres (the manual's engines: 10–80°); check that the TDC marks are "
+                "the cylinder's own, one a revolution at its TDC, and that each valve's channel "
+                "is its own; a photograph taken as a mirror image (a front camera's mirror "
+                "mode) reads backwards in time: flip it left to right")
+"""Where a valve's opening advance and closing lag lie."""
+
+POSITIVE_PER_VALVE = {**{name: (STRICTLY_POSITIVE,) for name in ("P_max", "nu", "phi",
+                                                                 "phi_crank")},
+                      "advance": (TIMING,), "lag": (TIMING,)}
 """A valve's results above zero by nature: its largest force (above the springs' preload),
-the drive's frequency and the opening's duration. P_min falls to zero where contact is lost,
-the timing may lead or lag its dead centre, and the angle without contact is zero with
-contact kept."""
+the drive's frequency and the opening's duration; and its timing, which may lead or lag its
+dead centre, but by less than :data:`TIMING`. P_min falls to zero where contact is lost, and
+the angle without contact is zero with contact kept."""
 
 
 def result_names(recorded, valves, seps) -> dict:

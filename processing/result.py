@@ -34,6 +34,17 @@ shares its dimension with a torque, which may be negative, and is left to the la
 SIGNED = "signed"
 """Marks a declared result of a :data:`POSITIVE` dimension that may be negative (a residual)."""
 
+@dataclass(frozen=True)
+class Within:
+    """Marks a declared result that lies between ``low`` and ``high`` (SI) by its nature, and
+    says what to check (``fix``) when it comes out beyond them: a valve's timing within 90° of
+    its dead centre."""
+
+    low: float
+    high: float
+    fix: str
+
+
 STRICTLY_POSITIVE = "strictly positive"
 """Marks a declared result that is > 0 by its nature whatever its dimension: a speed
 irregularity δ, an amplitude, a decrement, a natural frequency, a stiffness."""
@@ -56,6 +67,8 @@ class ResultValue:
     """A difference or residual: may be negative whatever its dimension."""
     positive: bool = False
     """> 0 by its nature (:data:`STRICTLY_POSITIVE`)."""
+    within: Within | None = None
+    """The interval it lies in by its nature, if declared."""
 
     @property
     def value(self) -> float:
@@ -167,8 +180,9 @@ class LabResult:
         """Raise :class:`~processing.diagnostics.InputError` if a result is not a finite
         number, is a mass, a moment of inertia, a linear stiffness or a density below zero
         (:data:`POSITIVE`, unless declared :data:`SIGNED`; zero may mean "none", e.g. no
-        flywheel needed), or is declared :data:`STRICTLY_POSITIVE` and is not above zero: its
-        inputs lie where the lab's formulas do not hold, or a record was misread."""
+        flywheel needed), is declared :data:`STRICTLY_POSITIVE` and is not above zero, or lies
+        outside the interval it is declared :class:`Within`: its inputs lie where the lab's
+        formulas do not hold, or a record was misread."""
         from .diagnostics import InputError
 
         fix = ("check the inputs' values and units against the template "
@@ -186,6 +200,12 @@ class LabResult:
                                  f"{r.unit}".rstrip() + ", but it is above zero by its nature: "
                                  "the inputs or a record were read wrongly", fix,
                                  file=self.source)
+            if r.within is not None and not r.within.low <= r.value <= r.within.high:
+                low, high, value = (r.shown(x) for x in (r.within.low, r.within.high, r.value))
+                unit = unit_text(r.display_unit)
+                raise InputError(f"{name} ({r.label['en']}) comes out {value:.4g} {unit}, "
+                                 f"outside {low:.4g}…{high:.4g} {unit} where it lies by its "
+                                 "nature", r.within.fix, file=self.source)
 
     def __contains__(self, name: str) -> bool:
         return name in self.results
@@ -227,12 +247,14 @@ def result_values(prop: Propagation, declared: Mapping[str, tuple]) -> dict[str,
 
     ``declared`` maps output name → ``(label dict, symbol, display unit)``, with
     :data:`SIGNED` as a fourth element for a difference or residual that may be negative
-    although its dimension is a mass's or an inertia's, or :data:`STRICTLY_POSITIVE` for a
-    result that must come out above zero; outputs not declared are left out (they are
+    although its dimension is a mass's or an inertia's, :data:`STRICTLY_POSITIVE` for a
+    result that must come out above zero, or a :class:`Within` for one that lies in an
+    interval; outputs not declared are left out (they are
     internal, e.g. intermediate quantities).
     """
     return {name: ResultValue(name, prop[name], si_unit(disp) if disp else "", label, symbol,
-                              disp, signed=SIGNED in rest, positive=STRICTLY_POSITIVE in rest)
+                              disp, signed=SIGNED in rest, positive=STRICTLY_POSITIVE in rest,
+                              within=next((r for r in rest if isinstance(r, Within)), None))
             for name, (label, symbol, disp, *rest) in declared.items() if name in prop}
 
 

@@ -234,6 +234,18 @@ def test_mirrored_decay_named_as_such(tmp_path, capsys, flip):
                            tmp_path / "out")
 
 
+def test_mirrored_valve_forces_refused_by_their_timing(lab6_folder, tmp_path, capsys):
+    """Lab 6's oscillogram photographed as a mirror image reads backwards in time: its valve
+    opens 180° before its dead centre, where valves open within 90° of it (it was reported,
+    with only free_oscillation_poor). Refused, the fix naming the mirror image."""
+    folder = copy_with_images(lab6_folder, tmp_path / "in", lambda image: cv2.flip(image, 1))
+    toml = the_toml(folder)
+    code, out, err = run(capsys, "run", toml, "--out", tmp_path / "out")
+    assert_one_clear_error(code, out, err, toml, None,
+                           r"advance_in_1 .* outside -90…90 deg.*Fix:.*mirror image.*flip it",
+                           tmp_path / "out")
+
+
 def test_marks_pointing_down_from_the_lower_line_are_refused(tmp_path, capsys):
     """A sheet whose marks point down from a time-mark line below the TDC line (a layout
     neither upright nor upside down): refused, "rotate the photograph", naming the image."""

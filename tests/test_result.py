@@ -42,6 +42,25 @@ def test_a_strictly_positive_result_at_or_below_zero_is_refused(value, unit):
     assert info.value.file == "in.toml" and "template" in info.value.fix
 
 
+@pytest.mark.parametrize("value, refused", [(1.58, True), (-1.58, True), (0.3, False),
+                                            (-0.2, False)])
+def test_a_result_declared_within_an_interval_is_refused_outside_it(value, refused):
+    """A valve's timing (±90° of crank about its dead centre): outside, refused with the
+    declaration's own fix; inside, reported."""
+    from processing.result import Within
+
+    label = {"en": "x", "ru": "x"}
+    rv = ResultValue("x", Estimate(value, 0.0, math.inf), "", label, display_unit="rad",
+                     within=Within(-math.pi / 2, math.pi / 2, "check the TDC marks"))
+    result = LabResult("lab0", "0", label, label, {}, [], {"x": rv}, source="in.toml")
+    if not refused:
+        result.check_sense()
+        return
+    with pytest.raises(InputError, match=r"outside -1.571…1.571 rad") as info:
+        result.check_sense()
+    assert info.value.fix == "check the TDC marks"
+
+
 def test_a_strictly_positive_result_above_zero_passes():
     _result(1e-12, "", positive=True).check_sense()
 
