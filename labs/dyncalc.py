@@ -44,7 +44,7 @@ from processing.diagnostics import (DynlabWarning, FlywheelNotNeededWarning,
 from processing.kinematics import (mean_piston_speed, relative_displacement, relative_velocity,
                                    rod_angle)
 from processing.measurement import Field, Inputs, LabSpec, Section, bi
-from processing.result import Figure, LabResult, Record, Table, flag_estimates, result_values
+from processing.result import KEY, Figure, LabResult, Record, Table, flag_estimates, result_values
 from processing.uncertainty import Measured, propagate
 
 from . import catalogue
@@ -676,7 +676,7 @@ SPEC = LabSpec(
 )
 
 # name: (label, symbol, display unit)
-RESULTS = {
+_DECLARED = {
     "V_s": (bi("swept volume of one cylinder", "рабочий объём цилиндра"), "V_s", "L"),
     "V_c": (bi("clearance volume", "объём камеры сгорания"), "V_c", "L"),
     "F_p": (bi("piston area", "площадь поршня"), "F_p", "cm^2"),
@@ -742,6 +742,11 @@ RESULTS = {
     "delta_integrated": (bi("speed irregularity δ from the equation of motion",
                             "неравномерность хода δ по уравнению движения"), "δ'", ""),
 }
+KEY_RESULTS = ("p_i", "P_max", "M_mean", "N_i", "I_flywheel", "m_flywheel", "delta_integrated")
+"""What the coursework comes to: the cycle's pressure, the largest force, the torque and
+power, the flywheel and the δ it gives."""
+RESULTS = {name: (*declared, *((KEY,) if name in KEY_RESULTS else ()))
+           for name, declared in _DECLARED.items()}
 
 FORMULAS = [
     bi("Volumes: V_c = V_s/(ε − 1), V_a = V_s + V_c, V_z = ρV_c; V(α) = V_c + F_p S(α) with the "

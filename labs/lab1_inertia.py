@@ -25,7 +25,7 @@ from processing.oscillation import (check_amplitude, pendulum_period_factor, per
                                     period_from_total)
 from processing.reporting.content import fmt_pm
 from processing.reporting.figures import method_chart
-from processing.result import (STRICTLY_POSITIVE, Figure, LabResult, Table, compare,
+from processing.result import (KEY, STRICTLY_POSITIVE, Figure, LabResult, Table, compare,
                                flag_estimates, result_values)
 from processing.uncertainty import Measured, propagate
 from processing.vision.video import film_figures, filmed_times
@@ -397,7 +397,8 @@ FILMS = {"trifilar": {"video": "t", "video_p": "t_p"}, "pendulum": {"video": "t"
          "unifilar": {"video": "t", "video_0": "t_0", "video_ref": "t_ref"}}
 """The films that may stand for the stopwatch (:func:`processing.vision.video.filmed_times`)."""
 
-RESULTS = {name: (label, symbol, unit, STRICTLY_POSITIVE) for name, (label, symbol, unit) in {
+RESULTS = {name: (label, symbol, unit, STRICTLY_POSITIVE, *((KEY,) if unit == "kg*m^2" else ()))
+           for name, (label, symbol, unit) in {
     "J_analytic": (bi("analytic (sum of regular bodies)", "расчётный (сумма простых тел)"),
                    "J_an", "kg*m^2"),
     "J_trifilar": (bi("trifilar suspension", "трёхнитяный подвес"), "J_tr", "kg*m^2"),
@@ -411,7 +412,8 @@ RESULTS = {name: (label, symbol, unit, STRICTLY_POSITIVE) for name, (label, symb
     "m_analytic": (bi("mass of the analytic model", "масса расчётной модели"), "m_an", "kg"),
     "m_measured": (bi("mass, weighed", "масса, взвешиванием"), "m", "kg"),
 }.items()}
-"""Every result of the lab, each above zero by its nature."""
+"""Every result of the lab, each above zero by its nature; the moments of inertia are its
+key results."""
 CENTRAL = ("J_analytic", "J_trifilar", "J_unifilar", "J_unifilar_wire", "J_pendulum_cm")
 
 FORMULAS = [

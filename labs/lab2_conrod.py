@@ -27,7 +27,7 @@ from processing.measurement import (AMPLITUDE, COUNT, GRAVITY, LENGTH, MASS, STO
 from processing.oscillation import check_amplitude, pendulum_period_factor, period_from_total
 from processing.reporting.content import fmt_pm
 from processing.reporting.figures import histogram, method_chart
-from processing.result import (SIGNED, STRICTLY_POSITIVE, Figure, LabResult, Table, compare,
+from processing.result import (KEY, SIGNED, STRICTLY_POSITIVE, Figure, LabResult, Table, compare,
                                flag_estimates, result_values)
 from processing.uncertainty import Measured, propagate
 from processing.vision.video import film_figures, filmed_times
@@ -242,13 +242,13 @@ METHODS = {"weighing": bi("weighing", "взвешивание"), "swinging": bi(
            "statistics": bi("statistics", "статистика")}
 RESULTS = {
     f"{q}_{m}": ({k: f"{lab[k]} ({mlab[k]})" for k in ("en", "ru")}, sym, unit,
-                 STRICTLY_POSITIVE)
+                 STRICTLY_POSITIVE, *((KEY,) if q.startswith("m_") else ()))
     for m, mlab in METHODS.items() for q, (lab, sym, unit) in _QUANTITIES.items()
 }
 RESULTS.update({
     "J_cm_swinging": (bi("moment of inertia about the centre of mass (swinging)",
                          "момент инерции относительно центра масс (качание)"), "J_c", "kg*m^2",
-                      STRICTLY_POSITIVE),
+                      STRICTLY_POSITIVE, KEY),
     "dJ_third_condition": (bi("third condition residual J_c − m_sh l_shp l_shk",
                               "невязка третьего условия J_c − m_ш l_шп l_шк"), "ΔJ", "kg*m^2",
                            SIGNED),

@@ -40,13 +40,27 @@ from processing.edges import stream_edges
 from processing.measurement import (ENGINE_SPEED, SAMPLE_RATE, Field, Inputs, LabSpec, Section,
                                     bi, image_section)
 from processing.record_quality import check_pulse_channel, check_record
-from processing.result import STRICTLY_POSITIVE, LabResult, compare, flag_estimates, result_values
+from processing.result import (KEY, STRICTLY_POSITIVE, LabResult, Typical, compare,
+                               flag_estimates, result_values)
 from processing.signals import image_options, open_channel, read_edge_times, read_figures
 from processing.toothwheel import ToothTrack, calibrate_pitch, recurring_gap, track_teeth
 from processing.uncertainty import Measured, propagate
 
 REFERENCE_RANGES = {"automotive": (0.01, 0.02), "tractor": (0.003, 0.01)}
 """The manual's typical δ (lab 3): automotive 0.01–0.02, tractor 0.003–0.01."""
+
+ENGINE_KINDS = {"automotive": bi("automotive engines", "автомобильные двигатели"),
+                "tractor": bi("tractor engines", "тракторные двигатели"),
+                None: bi("automotive and tractor engines",
+                         "автомобильные и тракторные двигатели")}
+"""Whose typical δ a report compares with: the engine's kind, or both kinds' where the file
+does not say it."""
+
+
+def typical_delta(kind: str | None) -> Typical:
+    """The manual's typical δ for an engine of ``kind`` (None: either kind's)."""
+    lows, highs = zip(*(v for k, v in REFERENCE_RANGES.items() if kind in (None, k)))
+    return Typical(min(lows), max(highs), ENGINE_KINDS[kind])
 
 MIN_SAMPLES_PER_TOOTH = 12.0
 """Below this the edges' sub-sample timing degrades fast (the benchmark's stability map)."""
@@ -519,9 +533,10 @@ def _pitch_bias(track, fourier, tooth, calibration, orders, revolutions) -> dict
 
 # ------------------------------------------------------------------------ results
 
-def _result_names(r: int) -> dict:
+def _result_names(r: int, kind: str | None) -> dict:
     """Labels, symbols and display units of regime r's results: speeds and δ, every one
-    above zero by nature (:data:`~processing.result.STRICTLY_POSITIVE`)."""
+    above zero by nature (:data:`~processing.result.STRICTLY_POSITIVE`); δ and the mean speed
+    are the key results, δ compared with the typical δ of an engine of ``kind``."""
     names = {
         f"omega_mean_{r}": (bi(f"mean speed, regime {r} (signal)", f"средняя частота вращения, "
                               f"режим {r} (сигнал)"), "n", "rpm"),
@@ -544,7 +559,11 @@ def _result_names(r: int) -> dict:
                               f"режим {r}"), "n_osc", "rpm"),
         f"omega_tach_{r}": (bi(f"tachometer, regime {r}", f"тахометр, режим {r}"), "n_t", "rpm"),
     }
-    return {name: (*declared, STRICTLY_POSITIVE) for name, declared in names.items()}
+    key = {f"delta_{r}": typical_delta(kind), f"delta_osc_{r}": typical_delta(kind),
+           f"omega_mean_{r}": None, f"omega_osc_{r}": None}
+    return {name: (*declared, STRICTLY_POSITIVE,
+                   *(() if name not in key else (KEY,) if key[name] is None else (KEY, key[name])))
+            for name, declared in names.items()}
 
 
 def _jack(value, u, n, u_b: float = 0.0, limit: float = 0.0) -> Measured:
@@ -665,7 +684,8 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
             _check_tachometer(reg, entries[reg.number - 1])
             _check_pitch(reg)
         prop = propagate(_model(regimes, entries), flat, n_samples=n_samples, seed=seed)
-        declared = {k: v for reg in regimes for k, v in _result_names(reg.number).items()}
+        kind = inputs["engine"].get("kind")
+        declared = {k: v for reg in regimes for k, v in _result_names(reg.number, kind).items()}
         results = result_values(prop, declared)
         pairs = [(f"delta_{m}_{r.number}", f"delta_{r.number}") for r in regimes
                  for m in ("tooth", "osc")] + [(f"omega_osc_{r.number}", f"omega_mean_{r.number}")
@@ -674,7 +694,6 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
         # the tooth method is biased up by timing noise by design: only the student's
         # oscillogram reading is flagged when it disagrees with the signal
         flag_estimates(results, [c for c in comparisons if "_osc_" in c.a])
-    kind = inputs["engine"].get("kind")
     ranges = {k: v for k, v in REFERENCE_RANGES.items() if kind in (None, k)}
     return LabResult.of(inputs, results, comparisons=comparisons,
                         tables=[report.regime_table(regimes, results, _scales(entries)),

@@ -16,7 +16,7 @@ from processing.diagnostics import (CutCylinderWarning, MethodsDisagreeWarning,
                                     SpeedDisagreesWarning)
 from processing.measurement import bi
 from processing.reporting.content import result_pm
-from processing.result import STRICTLY_POSITIVE, Figure, ResultValue, Table
+from processing.result import KEY, STRICTLY_POSITIVE, Figure, ResultValue, Table
 from processing.uncertainty import Estimate
 
 RPM = 30 / np.pi
@@ -66,7 +66,9 @@ def placements(recorded, readings, points) -> dict:
 def result_names(recorded, readings, forces: bool, mass: bool, points) -> dict:
     """Labels, symbols and display units of every result the reduction may give: the
     readings, amplitudes and speeds above zero by their nature; the free forces and their
-    accelerations zero where the cranks cancel them (a four's first order)."""
+    accelerations zero where the cranks cancel them (a four's first order). The RMS
+    vibration velocity of each measurement, the quantity the vibration norms judge, is the
+    key result."""
     place = placements(recorded, readings, points)
     out = {}
     numbers = sorted({c.number for r in recorded for c in r.channels}
@@ -75,7 +77,8 @@ def result_names(recorded, readings, forces: bool, mass: bool, points) -> dict:
         w = _where(j, place)
         for q in QUANTITIES:
             label, sym, unit = NAMES[q]
-            out[f"{q}_rms_{j}"] = (_label(label, w), f"{sym}_{j}", unit, STRICTLY_POSITIVE)
+            out[f"{q}_rms_{j}"] = (_label(label, w), f"{sym}_{j}", unit, STRICTLY_POSITIVE,
+                                   *((KEY,) if q == "v" else ()))
             out[f"{q}_meter_{j}"] = (_label(bi(f"{label['en']} by the meter",
                                                f"{label['ru']} по виброметру"), w),
                                      f"{sym}_м{j}", unit, STRICTLY_POSITIVE)

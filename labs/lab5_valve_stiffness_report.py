@@ -16,7 +16,7 @@ from processing.diagnostics import (GaugeBackwardsWarning, InconsistentInputWarn
 from processing.load_cycle import BRANCHES, LoadCycle
 from processing.measurement import bi
 from processing.reporting.content import fmt_pm, result_pm
-from processing.result import STRICTLY_POSITIVE, Figure, Table
+from processing.result import KEY, STRICTLY_POSITIVE, Figure, Table
 
 PARTS = ("rocker", "shaft", "rod", "cam")
 """The chain's links, from the valve to the cam."""
@@ -49,14 +49,15 @@ def _branch_label(label: dict, branch: str) -> dict:
 RESULTS = {
     **{result_name(f"c_{p}", b): (_branch_label(bi(f"stiffness: {lab['en']}",
                                                      f"жесткость: {lab['ru']}"), b), sym,
-                                  "kN/mm", STRICTLY_POSITIVE)
+                                  "kN/mm", STRICTLY_POSITIVE, *((KEY,) if b == "mean" else ()))
        for b in BRANCHES for p, (lab, sym) in _PART.items()},
     **{f"dl{j}_0": (bi(f"gauge {j}: elastic zero, the level at no load (settling, lash)",
                        f"индикатор {j}: упругий нуль, уровень без нагрузки (усадка, зазоры)"),
                     f"Δl{_SUB[j - 1]}(0)", "mm") for j in range(1, 5)},
     **{result_name("c_spring", b): (_branch_label(bi("valve springs' stiffness",
                                                      "жесткость клапанных пружин"), b), "c_n",
-                                    "N/mm", STRICTLY_POSITIVE) for b in BRANCHES},
+                                    "N/mm", STRICTLY_POSITIVE, *((KEY,) if b == "mean" else ()))
+       for b in BRANCHES},
     "P_preload": (bi("spring force with the valve closed (the elastic zero of the "
                      "characteristic)", "усилие пружин при закрытом клапане (упругий нуль "
                      "характеристики)"), "P_0", "N", STRICTLY_POSITIVE),
@@ -68,10 +69,10 @@ RESULTS = {
                       "низшая собственная круговая частота привода"), "ν", "rad/s",
                    STRICTLY_POSITIVE),
     "f_natural": (bi("lowest natural frequency of the drive",
-                     "низшая собственная частота привода"), "f", "Hz", STRICTLY_POSITIVE),
+                     "низшая собственная частота привода"), "f", "Hz", STRICTLY_POSITIVE, KEY),
     "cam_order": (bi("natural frequency in camshaft orders at n",
                      "собственная частота в порядках вращения распредвала при n"), "k", "",
-                  STRICTLY_POSITIVE),
+                  STRICTLY_POSITIVE, KEY),
 }
 """Labels, symbols and display units of the lab's results."""
 

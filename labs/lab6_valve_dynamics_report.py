@@ -12,7 +12,7 @@ import numpy as np
 from processing.diagnostics import InconsistentInputWarning, TableCurvatureWarning
 from processing.measurement import bi
 from processing.reporting.content import fmt_pm, result_pm
-from processing.result import STRICTLY_POSITIVE, Figure, Table, Within
+from processing.result import KEY, STRICTLY_POSITIVE, Figure, Table, Within
 from processing.diagnostics import ContactLossWarning, FreeOscillationWarning
 
 RPM_SI = math.pi / 30
@@ -98,7 +98,10 @@ the angle without contact is zero with contact kept."""
 
 
 def result_names(recorded, valves, seps) -> dict:
-    """Labels, symbols and display units of this file's results."""
+    """Labels, symbols and display units of this file's results. The speeds at which the
+    drive separates are the key results; without them, the drive's oscillation frequency in
+    the last record (the fastest, as the manual orders them)."""
+    last = recorded[-1].number if recorded and not seps else None
     out = {f"k_{v}": (bi(f"trace scale k, {VALVE_WORDS[v]['en']} valve (N per unit of "
                          "the trace)", f"масштаб записи k, {VALVE_WORDS[v]['ru']} клапан "
                          "(Н на единицу записи)"), "k", "", STRICTLY_POSITIVE) for v in valves}
@@ -126,13 +129,14 @@ def result_names(recorded, valves, seps) -> dict:
                     ("loss", "cam angle without contact", "угол р. вала без силового "
                      "замыкания", "φ_разр", "deg")):
                 out[f"{name}_{v}_{i}"] = (bi(f"{en}, {where['en']}", f"{ru}, {where['ru']}"),
-                                          sym, unit, *POSITIVE_PER_VALVE.get(name, ()))
+                                          sym, unit, *POSITIVE_PER_VALVE.get(name, ()),
+                                          *((KEY,) if name == "nu" and i == last else ()))
     for s in seps:
         w = VALVE_WORDS[s.valve]
         out[s.name] = (bi(f"speed at which the drive separates, {w['en']} valve, δ = "
                           f"{_mm(s.clearance)} mm", f"частота вращения разрыва цепи, "
                           f"{w['ru']} клапан, δ = {_mm(s.clearance)} мм"), "n_разр", "rpm",
-                   STRICTLY_POSITIVE)
+                   STRICTLY_POSITIVE, KEY)
     return out
 
 

@@ -14,7 +14,7 @@ from processing.diagnostics import (BaselineDriftWarning, InconsistentInputWarni
 from processing.measurement import bi
 from processing.reporting.content import fmt_pm, result_pm
 from processing.resonance import campbell_lines
-from processing.result import STRICTLY_POSITIVE, Figure, Table
+from processing.result import KEY, STRICTLY_POSITIVE, Figure, Table
 
 RPM = 30 / np.pi
 """min⁻¹ per rad/s."""
@@ -117,7 +117,8 @@ def critical_names(mode: int, order: float) -> tuple[str, str]:
 
 def result_names(recorded, found, modes, criticals=()) -> dict:
     """Labels, symbols and display units of the results of this file's records, resonances
-    and chain (every one of them above zero by its nature but the phase sums)."""
+    and chain (every one of them above zero by its nature but the phase sums); the design
+    amplitude φ_max and the resonances found are the key results."""
     out = {}
     if recorded:
         out = {"l": (bi("trace scale l (angle per unit of the trace)",
@@ -125,7 +126,7 @@ def result_names(recorded, found, modes, criticals=()) -> dict:
                      STRICTLY_POSITIVE),
                "phi_max": (bi("largest peak amplitude over the records (the design value)",
                               "наибольшая пиковая амплитуда по всем режимам (расчётная)"),
-                           "φ_max", "rad", STRICTLY_POSITIVE)}
+                           "φ_max", "rad", STRICTLY_POSITIVE, KEY)}
     for r in recorded:
         i = r.number
         out.update({
@@ -145,12 +146,12 @@ def result_names(recorded, found, modes, criticals=()) -> dict:
         j = f.number
         out.update({
             f"n_res_{j}": (bi(f"resonance {j}: speed", f"резонанс {j}: частота вращения"),
-                           "n_res", "rpm", STRICTLY_POSITIVE),
+                           "n_res", "rpm", STRICTLY_POSITIVE, KEY),
             f"K_res_{j}": (bi(f"resonance {j}: order", f"резонанс {j}: порядок гармоники"),
                            "K", "", STRICTLY_POSITIVE),
             f"f_res_{j}": (bi(f"resonance {j}: natural frequency K n_res/60",
                               f"резонанс {j}: собственная частота K n_res/60"), "f", "Hz",
-                           STRICTLY_POSITIVE),
+                           STRICTLY_POSITIVE, KEY),
         })
     if modes is not None:
         for m in range(1, modes.angular_frequency.shape[-1] + 1):

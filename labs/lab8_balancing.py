@@ -39,7 +39,7 @@ from processing.diagnostics import ImbalanceWarning, InconsistentInputWarning, c
 from processing.measurement import (ENGINE_SPEED, LENGTH, MASS, Field, Inputs, LabSpec, Section,
                                     bi)
 from processing.reporting.content import fmt_pm
-from processing.result import Figure, LabResult, Table, flag_estimates, result_values
+from processing.result import KEY, Figure, LabResult, Table, flag_estimates, result_values
 from processing.uncertainty import Measured, propagate
 
 from . import catalogue
@@ -360,7 +360,12 @@ SPEC = LabSpec(
     ),
 )
 
-RESULTS = {
+KEY_RESULTS = ("xi_stechkin", "D", "D_2", "m_x", "F_j1", "F_j2", "M_r_free", "M_j1_free",
+               "M_j2_free")
+"""What the balancing comes to: the criterion, the masses it asks for, the forces and moments
+left free."""
+
+_DECLARED = {
     "M_r": (bi("moment of the centrifugal forces", "момент центробежных сил"), "M_r", "N*m"),
     "M_j1_max": (bi("largest moment of the first-order forces",
                     "максимальный момент сил инерции первого порядка"), "M_j1 max", "N*m"),
@@ -396,6 +401,9 @@ RESULTS = {
                      "(амплитуда)"), "M_j2 free", "N*m"),
     "omega": (bi("crankshaft angular speed", "угловая скорость коленчатого вала"), "ω", "rad/s"),
 }
+RESULTS = {name: (*declared, *((KEY,) if name in KEY_RESULTS else ()))
+           for name, declared in _DECLARED.items()}
+
 
 FORMULAS = [
     bi("Rotating mass per crank m_k = m_pin + m_web1 + m_web2; centrifugal force "

@@ -16,7 +16,7 @@ from processing.diagnostics import (AmplitudeDependentDampingWarning, BaselineDr
                                     StiffnessRatioWarning, UnclosedLoopWarning)
 from processing.measurement import bi
 from processing.reporting.content import result_pm
-from processing.result import STRICTLY_POSITIVE, Figure, Table
+from processing.result import KEY, STRICTLY_POSITIVE, Figure, Table
 
 # ------------------------------------------------------------------------ result labels
 
@@ -39,7 +39,7 @@ STATIC = tuple(_STATIC)
 inverted loop come out negative: a reading set beside the wrong moment, warned about by
 name rather than refused.)"""
 
-RESULTS = {
+_DECLARED = {
     **{q: ({"en": f"{lab['en']} (mean of the runs)", "ru": f"{lab['ru']} (среднее по опытам)"},
            *rest) for q, (lab, *rest) in _STATIC.items()},
     "log_decrement": (bi("logarithmic decrement δ", "логарифмический декремент δ"), "δ", "",
@@ -62,8 +62,14 @@ RESULTS = {
     "mu_phi": (bi("scale of the record μ_φ (twist per unit of the record)",
                   "масштаб записи μ_φ (угол на единицу записи)"), "μ_φ", "", STRICTLY_POSITIVE),
 }
+KEY_RESULTS = ("C_static", "xi_static", "log_decrement", "T_d", "C_dynamic", "C_ratio")
+"""What the lab comes to: the static stiffness and damping, the decay's decrement and
+period, the dynamic stiffness and its ratio to the static one."""
+RESULTS = {name: (*declared, *((KEY,) if name in KEY_RESULTS else ()))
+           for name, declared in _DECLARED.items()}
 """Labels, symbols and display units of the lab's results (the runs' means and the decay),
-with :data:`~processing.result.STRICTLY_POSITIVE` on those above zero by nature."""
+with :data:`~processing.result.STRICTLY_POSITIVE` on those above zero by nature and
+:data:`~processing.result.KEY` on :data:`KEY_RESULTS`."""
 
 
 def run_results(numbers) -> dict:

@@ -10,6 +10,8 @@ import contextlib
 import warnings
 from dataclasses import dataclass
 
+from .numerals import localize_numbers
+
 
 class DynlabWarning(UserWarning):
     """Base of the toolkit's warnings: suspect data or a method near its limits.
@@ -330,7 +332,7 @@ def collect_notices():
     for w in caught:
         if isinstance(w.message, DynlabWarning):
             m = w.message
-            notice = Notice(type(m).code, m.message, m.ru)
+            notice = Notice(type(m).code, m.message, localize_numbers(m.ru, "ru"))
             if notice not in notices:
                 notices.append(notice)
         else:

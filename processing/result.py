@@ -45,6 +45,26 @@ class Within:
     fix: str
 
 
+KEY = "key"
+"""Marks a declared result the lab's summary opens with: what the student writes as the
+lab's answer (δ of each regime, the moments of inertia, the stiffnesses)."""
+
+
+@dataclass(frozen=True)
+class Typical:
+    """Marks a declared result that the manual gives a typical range for (``low``…``high``,
+    SI; ``source`` says whose range, e.g. {"en": "automotive engines", "ru": …}): the report's
+    summary says whether the result lies in it."""
+
+    low: float
+    high: float
+    source: Mapping[str, str]
+
+    def verdict(self, value: float) -> str:
+        """"below", "within" or "above" the range."""
+        return "below" if value < self.low else "above" if value > self.high else "within"
+
+
 STRICTLY_POSITIVE = "strictly positive"
 """Marks a declared result that is > 0 by its nature whatever its dimension: a speed
 irregularity δ, an amplitude, a decrement, a natural frequency, a stiffness."""
@@ -69,6 +89,10 @@ class ResultValue:
     """> 0 by its nature (:data:`STRICTLY_POSITIVE`)."""
     within: Within | None = None
     """The interval it lies in by its nature, if declared."""
+    key: bool = False
+    """One of the lab's key results (:data:`KEY`): the report's summary shows it."""
+    typical: Typical | None = None
+    """The manual's typical range for it, if declared."""
 
     @property
     def value(self) -> float:
@@ -88,7 +112,11 @@ class ResultValue:
                 "relative_U": _finite(e.relative_U),
                 "interval95": [_finite(x) for x in e.interval95],
                 "dof": _finite(e.dof), "nonlinear": e.nonlinear,
-                "symbol": self.symbol, "label": dict(self.label)}
+                "symbol": self.symbol, "label": dict(self.label), "key": self.key,
+                **({"typical": {"low": self.typical.low, "high": self.typical.high,
+                                "source": dict(self.typical.source),
+                                "verdict": self.typical.verdict(e.value)}}
+                   if self.typical else {})}
 
 
 def _finite(x: float) -> float | None:
@@ -245,16 +273,21 @@ def _input_json(row: dict) -> dict:
 def result_values(prop: Propagation, declared: Mapping[str, tuple]) -> dict[str, ResultValue]:
     """Wrap a propagation's outputs as :class:`ResultValue` s.
 
-    ``declared`` maps output name → ``(label dict, symbol, display unit)``, with
-    :data:`SIGNED` as a fourth element for a difference or residual that may be negative
-    although its dimension is a mass's or an inertia's, :data:`STRICTLY_POSITIVE` for a
-    result that must come out above zero, or a :class:`Within` for one that lies in an
-    interval; outputs not declared are left out (they are
-    internal, e.g. intermediate quantities).
+    ``declared`` maps output name → ``(label dict, symbol, display unit)``, followed by any of
+    the markers: :data:`SIGNED` for a difference or residual that may be negative although
+    its dimension is a mass's or an inertia's, :data:`STRICTLY_POSITIVE` for a result that
+    must come out above zero, a :class:`Within` for one that lies in an interval, :data:`KEY`
+    for one of the lab's key results, a :class:`Typical` for one the manual gives a typical
+    range for. Outputs not declared are left out (they are internal, e.g. intermediate
+    quantities).
     """
+    def marker(rest, kind):
+        return next((r for r in rest if isinstance(r, kind)), None)
+
     return {name: ResultValue(name, prop[name], si_unit(disp) if disp else "", label, symbol,
                               disp, signed=SIGNED in rest, positive=STRICTLY_POSITIVE in rest,
-                              within=next((r for r in rest if isinstance(r, Within)), None))
+                              within=marker(rest, Within), key=KEY in rest,
+                              typical=marker(rest, Typical))
             for name, (label, symbol, disp, *rest) in declared.items() if name in prop}
 
 

@@ -22,7 +22,7 @@ LAB2 = ROOT / "sample_data" / "lab2" / "conrod.toml"
 A4 = (595.28, 841.89)  # pt
 TITLE = {"en": "Moments of inertia", "ru": "Определение моментов инерции"}
 GOAL = {"en": "Goal", "ru": "Цель работы"}
-WARNINGS = {"en": "Warnings", "ru": "Предупреждения"}
+WARNINGS = {"en": "What to check", "ru": "На что обратить внимание"}
 
 
 def dynlab(*argv):

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 
+from processing.numerals import localize_numbers
 from processing.units import unit_text
 
 from .i18n import text
@@ -71,8 +72,45 @@ def _cell(value, lang: str) -> str:
     return value[lang] if isinstance(value, dict) else str(value)
 
 
+PM = "\u00a0±\u00a0"
+"""Between a value and its U: no-break spaces keep ``0.01815 ± 0.00084`` on one line."""
+
+def _localized(x, lang: str):
+    """Every string in ``x`` (nested lists, tuples, dicts' values) through
+    :func:`localize_numbers`."""
+    if isinstance(x, str):
+        return localize_numbers(x, lang)
+    if isinstance(x, dict):
+        return {k: _localized(v, lang) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return type(x)(_localized(v, lang) for v in x)
+    return x
+
+
+def _summary(res, results: list[dict], lang: str) -> list[dict]:
+    """The lab's key results (:data:`~processing.result.KEY`) as the summary's rows, each with
+    its verdict against the manual's typical range where one is declared."""
+    t = text(lang)
+    rows = []
+    for row in results:
+        r = res.results[row["name"]]
+        if not r.key:
+            continue
+        verdict, ok = "", True
+        if r.typical is not None:
+            lo, hi = (f"{r.shown(x):.4g}" for x in (r.typical.low, r.typical.high))
+            kind = r.typical.verdict(r.value)
+            ok = kind == "within"
+            verdict = t[f"typical_{kind}"].format(range=f"{lo}–{hi}",
+                                                  source=r.typical.source[lang])
+        rows.append({**row, "pm": row["value"] if row["exact"] else
+                     f"{row['value']}{PM}{row['U']}", "verdict": verdict, "ok": ok})
+    return rows
+
+
 def build(res, lang: str = "en") -> dict:
-    """Every piece of the report, in ``lang``, as strings and rows."""
+    """Every piece of the report, in ``lang``, as strings and rows (numbers written as
+    ``lang`` writes them, :func:`localize_numbers`; the names the student typed as typed)."""
     t = text(lang)
     meta = dict(res.meta)
     results = []
@@ -84,7 +122,7 @@ def build(res, lang: str = "en") -> dict:
         results.append({
             "name": name, "label": r.label[lang], "symbol": r.symbol, "value": v,
             "U": "—" if exact else U, "exact": exact,
-            "unit": unit_text(r.display_unit, lang), "rel": f"{100 * e.relative_U:.2g} %"
+            "unit": unit_text(r.display_unit, lang), "rel": f"{100 * e.relative_U:.2g}\u00a0%"
             if math.isfinite(e.relative_U) and not exact else "—",
             "interval": f"[{lo:.5g}, {hi:.5g}]" if math.isfinite(lo) and not exact else "—",
             "budget": _budget(r, lang), "nonlinear": e.nonlinear})
@@ -94,7 +132,7 @@ def build(res, lang: str = "en") -> dict:
         d, U = fmt_pm(a.shown(c.difference.value) - a.shown(0.0),
                       a.shown(c.difference.U) - a.shown(0.0))
         comparisons.append({
-            "a": a.label[lang], "b": b.label[lang], "diff": f"{d} ± {U}",
+            "a": a.label[lang], "b": b.label[lang], "diff": f"{d}{PM}{U}",
             "unit": unit_text(a.display_unit, lang), "rel": f"{100 * c.relative_to(b.value):+.2f} %",
             "agree": t["yes"] if c.agree else t["no"], "ok": c.agree})
     inputs = []
@@ -110,13 +148,12 @@ def build(res, lang: str = "en") -> dict:
     tables = [{"title": tb.title[lang], "columns": [h[lang] for _, h in tb.columns],
                "rows": [[_cell(r.get(k, ""), lang) for k, _ in tb.columns] for r in tb.rows]}
               for tb in res.tables]
-    return {
-        "t": t, "lang": lang,
+    return _localized({
+        "summary": _summary(res, results, lang),
         "university": meta.pop("university", UNIVERSITY[lang]),
         "department": meta.pop("department", DEPARTMENT[lang]),
         "lab_heading": f"{t['lab']} {res.number}" if res.number else t["coursework"], "title": res.title[lang],
         "goal": res.goal[lang],
-        "meta": [(t.get(k, k), v) for k, v in meta.items() if v],
         "inputs": inputs, "results": results,
         "uncertain": any(not r["exact"] for r in results),
         "inputs_uncertain": any(row.get("u", 0) for row in res.inputs), "comparisons": comparisons, "tables": tables,
@@ -126,5 +163,5 @@ def build(res, lang: str = "en") -> dict:
         "warning_codes": [w.code for w in res.warnings],
         "conclusion": [c[lang] for c in res.conclusion],
         "figures": [(f.name, f.caption[lang]) for f in res.figures],
-        "source": res.source,
-    }
+    }, lang) | {"t": t, "lang": lang, "source": res.source,
+                "meta": [(t.get(k, k), v) for k, v in meta.items() if v]}

@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from processing.units import unit_text
+
 
 def method_chart(fig, results, lang: str = "en") -> None:
     """One quantity estimated by several methods: value, k = 2 bar and Monte Carlo 95 % ticks.
@@ -24,7 +26,7 @@ def method_chart(fig, results, lang: str = "en") -> None:
         ax.plot([lo, hi], [yi, yi], "|", color="C3", markersize=14)
     ax.set_yticks(y, [r.label[lang] for r in results])
     unit = results[0].display_unit if results else ""
-    ax.set_xlabel(f"{results[0].symbol.split('_')[0] if results else ''}, {unit.replace('*', '·')}")
+    ax.set_xlabel(f"{results[0].symbol.split('_')[0] if results else ''}, {unit_text(unit, lang)}")
     ax.grid(axis="x", alpha=0.3)
     fig.tight_layout()
 

@@ -7,7 +7,7 @@ _TEXT = {
         "formulas": "Formulas", "results": "Results", "comparisons": "Comparison of methods",
         "warnings": "Warnings", "conclusion": "Conclusion", "references": "References",
         "figures": "Figures", "quantity": "Quantity", "value": "Value", "unit": "Unit",
-        "readings": "Readings", "U": "U (k = 2)", "u": "u", "rel": "U rel.",
+        "readings": "Readings", "U": "U (k\u00a0=\u00a02)", "u": "u", "rel": "U rel.",
         "interval": "95 % interval (MC)", "budget": "Main contributions to u²",
         "method_a": "Method", "method_b": "against", "diff": "Difference",
         "agree": "Agree within U", "yes": "yes", "no": "NO", "student": "Student",
@@ -18,6 +18,13 @@ _TEXT = {
         "exact_note": "Every input is taken as exact (a design calculation), so no "
                       "uncertainty is stated.",
         "generated": "Made with dynlab",
+        "summary": "Summary", "key_results": "Key results (± U, k = 2)",
+        "verdict": "Against the manual",
+        "typical_within": "within the manual's {range} for {source}",
+        "typical_below": "below the manual's {range} for {source}",
+        "typical_above": "above the manual's {range} for {source}",
+        "see_warnings": "What to check", "all_results": "All results",
+        "appendix": "Appendix. The inputs as entered",
     },
     "ru": {
         "lab": "Лабораторная работа №", "coursework": "Курсовая работа", "report": "Отчёт по лабораторной работе", "goal": "Цель работы",
@@ -25,7 +32,7 @@ _TEXT = {
         "comparisons": "Сравнение методов", "warnings": "Предупреждения",
         "conclusion": "Выводы", "references": "Литература", "figures": "Графики",
         "quantity": "Величина", "value": "Значение", "unit": "Ед.", "readings": "Отсчёты",
-        "U": "U (k = 2)", "u": "u", "rel": "U отн.", "interval": "Интервал 95 % (МК)",
+        "U": "U (k\u00a0=\u00a02)", "u": "u", "rel": "U отн.", "interval": "Интервал 95 % (МК)",
         "budget": "Основные вклады в u²", "method_a": "Метод", "method_b": "против",
         "diff": "Разность", "agree": "Согласуются в пределах U", "yes": "да", "no": "НЕТ",
         "student": "Студент", "group": "Группа", "date": "Дата", "rig": "Стенд",
@@ -36,6 +43,13 @@ _TEXT = {
         "exact_note": "Все исходные данные приняты точными (проектный расчёт), поэтому "
                       "неопределённости не указываются.",
         "generated": "Подготовлено в dynlab",
+        "summary": "Итоги работы", "key_results": "Основные результаты (± U, k = 2)",
+        "verdict": "Сравнение с пособием",
+        "typical_within": "в пределах {range} по пособию ({source})",
+        "typical_below": "ниже {range} по пособию ({source})",
+        "typical_above": "выше {range} по пособию ({source})",
+        "see_warnings": "На что обратить внимание", "all_results": "Все результаты",
+        "appendix": "Приложение. Исходные данные, как они введены",
     },
 }
 

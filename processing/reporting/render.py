@@ -32,8 +32,11 @@ def figure_png(fig_spec, lang: str, dpi: int = 150) -> bytes:
     """Draw one :class:`~processing.result.Figure` to PNG bytes."""
     from matplotlib.figure import Figure
 
+    from .legibility import make_legible
+
     fig = Figure(figsize=fig_spec.size)
     fig_spec.draw(fig, lang)
+    make_legible(fig, lang)
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight", pad_inches=0.1)
     return buf.getvalue()

@@ -1,0 +1,135 @@
+"""Reports as a person sees them: the answer on the first page, numbers whole, Russian
+written the Russian way, figures whose labels and legends stand clear.
+
+Every sample measurement file is reduced once and rendered in both languages; the PDF's text
+is extracted page by page (pypdf) and the figures are measured on their canvas
+(:mod:`processing.reporting.legibility`).
+"""
+import functools
+import re
+import warnings
+from pathlib import Path
+
+import pytest
+from matplotlib.figure import Figure
+
+from labs.registry import evaluate
+from processing.reporting.content import build
+from processing.reporting.legibility import legend_overlap, make_legible, overlapping_ticks
+from processing.reporting.pdf import column_widths
+from processing.reporting.render import to_html
+
+pypdf = pytest.importorskip("pypdf")
+
+ROOT = Path(__file__).resolve().parents[1]
+SAMPLES = sorted((ROOT / "sample_data").glob("*/*.toml"))
+LANGS = ("en", "ru")
+
+ENGINE_WORDS_EN = ("Summary", "What to check", "Goal", "Formulas", "All results",
+                   "Conclusion", "References", "Appendix", "Warnings", "None.", "Quantity",
+                   "Value", "Unit")
+"""The report engine's own English words: none may appear in a Russian report."""
+
+NUMBER = re.compile(r"[-−+]?\d+(?:[.,]\d+)?")
+
+
+@functools.cache
+def reduced(path: Path):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return evaluate(path, n_samples=400)
+
+
+@functools.cache
+def pdf_pages(path: Path, lang: str) -> list[str]:
+    import io
+
+    from processing.reporting.render import render
+
+    blob = render(reduced(path), ("pdf",), lang)["pdf"]
+    return [" ".join(p.extract_text().split()) for p in pypdf.PdfReader(io.BytesIO(blob)).pages]
+
+
+def ids(paths):
+    return [f"{p.parent.name}/{p.stem}" for p in paths]
+
+
+def test_every_lab_declares_its_key_results():
+    labs = {reduced(p).lab: any(r.key for r in reduced(p).results.values()) for p in SAMPLES}
+    assert all(labs.values()), f"labs without key results: {[k for k, v in labs.items() if not v]}"
+
+
+@pytest.mark.parametrize("lang", LANGS)
+@pytest.mark.parametrize("path", SAMPLES, ids=ids(SAMPLES))
+def test_key_results_stand_whole_on_the_first_page(path, lang):
+    """The summary's value ± U of every key result is on page 1, each number unbroken."""
+    first = pdf_pages(path, lang)[0]
+    for row in build(reduced(path), lang)["summary"]:
+        for number in NUMBER.findall(row["pm"]):
+            assert number in first, f"{row['name']}: {number} not whole on page 1"
+
+
+@pytest.mark.parametrize("lang", LANGS)
+@pytest.mark.parametrize("path", SAMPLES, ids=ids(SAMPLES))
+def test_no_number_of_the_results_splits_across_lines(path, lang):
+    text = " ".join(pdf_pages(path, lang))
+    c = build(reduced(path), lang)
+    for r in c["results"]:
+        for number in NUMBER.findall(f"{r['value']} {r['U']}"):
+            assert number in text, f"{r['name']}: {number} broken in the PDF"
+    assert not re.search(r"\bnan\b", text, flags=re.I), "nan printed"
+
+
+@pytest.mark.parametrize("path", SAMPLES, ids=ids(SAMPLES))
+def test_russian_reports_write_decimal_commas_and_no_engine_english(path):
+    text = " ".join(pdf_pages(path, "ru"))
+    html = to_html(reduced(path), "ru", pngs=[])
+    for word in ENGINE_WORDS_EN:
+        assert word not in text and f">{word}<" not in html, f"{word!r} in a Russian report"
+    c = build(reduced(path), "ru")
+    for r in c["results"]:
+        assert not re.search(r"\d\.\d", f"{r['value']} {r['U']}"), r
+
+
+@pytest.mark.parametrize("path", SAMPLES, ids=ids(SAMPLES))
+def test_figures_keep_their_labels_apart_and_their_legends_off_the_data(path):
+    for spec in reduced(path).figures:
+        for lang in LANGS:
+            fig = Figure(figsize=spec.size)
+            spec.draw(fig, lang)
+            make_legible(fig, lang)
+            assert overlapping_ticks(fig) == [], f"{spec.name} ({lang}): tick labels touch"
+            covered = [legend_overlap(ax) for ax in fig.axes]
+            assert not any(covered), f"{spec.name} ({lang}): the legend covers data {covered}"
+
+
+def test_a_crowded_axis_is_thinned_and_a_legend_over_the_data_moved():
+    """The checks themselves: a narrow axis of long numbers, a legend put on the curve."""
+    import numpy as np
+    from matplotlib.ticker import MaxNLocator
+
+    fig = Figure(figsize=(2.0, 2.0))
+    ax = fig.add_subplot()
+    x = np.linspace(0.16250, 0.17500, 200)
+    ax.plot(x, np.ones_like(x), label="a curve across the whole axes")
+    ax.xaxis.set_major_locator(MaxNLocator(nbins=12))
+    ax.legend(loc="center")
+    assert overlapping_ticks(fig) and legend_overlap(ax) > 0
+    make_legible(fig, "ru")
+    assert overlapping_ticks(fig) == [] and legend_overlap(ax) == 0
+    labels = [t.get_text() for t in ax.get_xticklabels() if t.get_text()]
+    assert labels and all("." not in s for s in labels), labels
+
+
+def test_columns_are_as_wide_as_their_longest_number():
+    from reportlab.pdfbase.pdfmetrics import stringWidth
+
+    from processing.reporting.pdf import PADDING, _FONT, _register_fonts
+
+    _register_fonts()
+    columns = [["Quantity", "a long description of a quantity that may wrap"],
+               ["U", "0.000069"], ["Value", "0.01815\u00a0±\u00a00.00084"]]
+    widths = column_widths(columns, 200.0, _FONT, 8)
+    assert widths[1] >= stringWidth("0.000069", _FONT, 8) + PADDING
+    assert widths[2] >= stringWidth("0.01815\u00a0±\u00a00.00084", _FONT, 8) + PADDING
+    assert sum(widths) == pytest.approx(200.0)
