@@ -23,6 +23,7 @@ from processing.measurement import (AMPLITUDE, COUNT, GRAVITY, LENGTH, MASS, STO
                                     Inputs, LabSpec, Section, bi)
 from processing.oscillation import (check_amplitude, pendulum_period_factor, period_factor,
                                     period_from_total)
+from processing.numerals import plural
 from processing.reporting.content import fmt_pm
 from processing.reporting.figures import method_chart
 from processing.result import (KEY, STRICTLY_POSITIVE, Figure, LabResult, Table, compare,
@@ -671,9 +672,12 @@ def _conclusion(results, comparisons) -> list[dict]:
                         f"Наиболее точный метод в этом опыте: {results[best].label['ru']}."))
         bad = [c for c in comparisons if not c.agree and c.a.startswith("J")]
         lines.append(bi("All methods agree within their uncertainties." if not bad else
-                        f"{len(bad)} pair(s) of methods disagree: see the warnings.",
+                        f"{plural(len(bad), ('pair', 'pairs'), 'en')} of methods disagree: "
+                        "see the warnings.",
                         "Все методы согласуются в пределах погрешностей." if not bad else
-                        f"Расхождение у {len(bad)} пар(ы) методов: см. предупреждения."))
+                        "Не согласуются "
+                        f"{plural(len(bad), ('пара', 'пары', 'пар'), 'ru')} методов: "
+                        "см. предупреждения."))
     return lines
 
 

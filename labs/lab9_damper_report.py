@@ -15,6 +15,7 @@ from processing.diagnostics import (AmplitudeDependentDampingWarning, BaselineDr
                                     ShortRecordWarning, SingleReadingWarning,
                                     StiffnessRatioWarning, UnclosedLoopWarning)
 from processing.measurement import bi
+from processing.numerals import plural
 from processing.reporting.content import result_pm
 from processing.result import KEY, STRICTLY_POSITIVE, Figure, Table
 
@@ -494,9 +495,11 @@ def conclusion(runs, dec, results, rubber_ratio, kind) -> list[dict]:
     dampers and the rubber's typical ratio."""
     lines = []
     if runs:
-        lines.append(_line(results, "C_static", f"Static stiffness over {len(runs)} run(s): "
-                           "C·10⁻⁴ =", f"Статическая жёсткость по {len(runs)} опыт(ам): "
-                           "C·10⁻⁴ =", 1e-4, (" N·m/rad", " Н·м/рад")))
+        lines.append(_line(results, "C_static", "Static stiffness, mean of "
+                           f"{plural(len(runs), ('run', 'runs'), 'en')}: C =",
+                           "Статическая жёсткость, среднее "
+                           f"{plural(len(runs), ('опыта', 'опытов', 'опытов'), 'ru')}: C =",
+                           1.0, (" N·m/rad", " Н·м/рад")))
         lines.append(_line(results, "xi_static", "Relative damping of one loop ξ′_d =",
                            "Относительный коэффициент демпфирования одной петли ξ′_d ="))
     if dec is not None:

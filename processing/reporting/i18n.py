@@ -18,7 +18,7 @@ _TEXT = {
         "exact_note": "Every input is taken as exact (a design calculation), so no "
                       "uncertainty is stated.",
         "generated": "Made with dynlab",
-        "summary": "Summary", "key_results": "Key results (± U, k = 2)",
+        "nonlinear": "nonlinear", "summary": "Summary", "key_results": "Key results (± U, k = 2)",
         "verdict": "Against the manual",
         "typical_within": "within the manual's {range} for {source}",
         "typical_below": "below the manual's {range} for {source}",
@@ -43,7 +43,7 @@ _TEXT = {
         "exact_note": "Все исходные данные приняты точными (проектный расчёт), поэтому "
                       "неопределённости не указываются.",
         "generated": "Подготовлено в dynlab",
-        "summary": "Итоги работы", "key_results": "Основные результаты (± U, k = 2)",
+        "nonlinear": "нелинейно", "summary": "Итоги работы", "key_results": "Основные результаты (± U, k = 2)",
         "verdict": "Сравнение с пособием",
         "typical_within": "в пределах {range} по пособию ({source})",
         "typical_below": "ниже {range} по пособию ({source})",

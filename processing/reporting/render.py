@@ -79,11 +79,12 @@ def to_terminal(res, lang: str = "en") -> str:
         value = r["value"] if r["exact"] else f"{r['value']} ± {r['U']}"
         rel = "" if r["exact"] else f"  ({r['rel']})"
         lines.append(f"  {r['label']:<{width}}  {value} {r['unit']}{rel}"
-                     f"{'  [nonlinear]' if r['nonlinear'] else ''}")
+                     f"{'  [' + c['t']['nonlinear'] + ']' if r['nonlinear'] else ''}")
     for cm in c["comparisons"]:
         if cm["ok"]:
             continue
-        lines.append(f"  ≠ {cm['a']} vs {cm['b']}: {cm['diff']} {cm['unit']} ({cm['rel']})")
+        lines.append(f"  ≠ {cm['a']} {c['t']['method_b']} {cm['b']}: {cm['diff']} {cm['unit']} "
+                     f"({cm['rel']})")
     for w, code in zip(c["warnings"], c["warning_codes"]):
         lines.append(f"  ! [{code}] {w}")
     return "\n".join(lines)
