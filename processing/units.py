@@ -59,6 +59,9 @@ RU_UNITS = {"kg": "кг", "mm": "мм", "m": "м", "s": "с", "g": "г", "deg": 
             "mV": "мВ", "kgf": "кгс", "kPa": "кПа", "kJ": "кДж", "rps": "об/с"}
 """How a Russian report prints a unit's symbols (:func:`unit_text`)."""
 
+EN_UNITS = {"um": "µm", "us": "µs", "rpm": "min⁻¹", "deg": "°", "uV": "µV"}
+"""The symbols an English report prints otherwise than pint spells them (:func:`unit_text`)."""
+
 RU_WORDS = {**{ru: en for en, ru in RU_UNITS.items() if ru.isalpha()},
             "сек": "s", "мкс": "us", "ч": "h", "мг": "mg", "т": "t", "дм": "dm", "км": "km",
             "мН": "mN", "МН": "MN", "Нм": "N*m", "бар": "bar", "атм": "atm", "мкВ": "uV",
@@ -474,9 +477,9 @@ def likely_slip(number: float, written: str, declared: str, least: float,
 def unit_text(unit: str, lang: str = "en") -> str:
     """A unit as printed: ``kg*m^2`` → ``kg·m²`` (``кг·м²`` in Russian).
 
-    >>> unit_text("kg*m^2", "ru")
-    'кг·м²'
+    >>> unit_text("kg*m^2", "ru"), unit_text("um"), unit_text("rpm")
+    ('кг·м²', 'µm', 'min⁻¹')
     """
-    if lang == "ru":
-        unit = re.sub(r"[A-Za-z]+", lambda m: RU_UNITS.get(m.group(0), m.group(0)), unit)
+    table = RU_UNITS if lang == "ru" else EN_UNITS
+    unit = re.sub(r"[A-Za-z]+", lambda m: table.get(m.group(0), m.group(0)), unit)
     return unit.replace("*", "·").replace("^2", "²").replace("^3", "³").replace("^-1", "⁻¹")
