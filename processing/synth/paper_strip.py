@@ -26,7 +26,7 @@ Then the capture, which adds the geometry and the light the reader must see thro
   dark line against a light lid); a line sensor's column gain, little blur, noise,
   PNG or JPEG.
 * :class:`Photo`: a phone over a table: a pinhole camera tilted and turned over the sheet
-  (perspective), barrel distortion, a wooden table around the sheet, uneven light (a lamp's
+  (perspective), a residual barrel distortion (a phone corrects most of its lens's), a wooden table around the sheet, uneven light (a lamp's
   falloff, the phone's shadow, vignetting, a colour cast), defocus and a little motion blur,
   signal-dependent noise, the phone's sharpening and JPEG.
 
@@ -140,7 +140,7 @@ class Marks:
     duration: float = 0.001
     rise: float = 0.15
     width: float = 0.00025
-    exposure: float = 6.0
+    exposure: float = 10.0
     role: str = "time"
 
     def __post_init__(self):
@@ -354,7 +354,7 @@ class Photo:
     yaw: float = 1.0
     tilt: tuple[float, float] = (4.0, -3.0)
     shift: tuple[float, float] = (0.0, 0.0)
-    distortion: float = -0.03
+    distortion: float = -0.008
     table: tuple[int, int, int] = (60, 95, 140)
     light: float = 0.25
     shade: float = 0.2
@@ -368,17 +368,18 @@ class Photo:
 
     @classmethod
     def draw(cls, rng: np.random.Generator, *, size: tuple[int, int] | None = None) -> Photo:
-        """A random phone photograph: 12 MP (or ``size``), the strip filling 75–92 % of the
-        width, turned up to 4°, tilted up to 8°, a wooden or grey table, a lamp's falloff,
+        """A random phone photograph: 12 MP (or ``size``), the strip filling 68–85 % of the
+        width (the whole strip in the frame), turned up to 3°, tilted up to 6°, a wooden or
+        grey table, a lamp's falloff,
         sometimes the phone's shadow, blur σ 0.6–2 px, motion up to 3 px, JPEG 70–92."""
         wood = rng.random() < 0.6
         table = (rng.uniform([40, 70, 110], [80, 120, 170]) if wood
                  else np.full(3, rng.uniform(70, 170)) + rng.uniform(-8, 8, 3))
         return cls(size=size or (4000, 3000), fov=float(rng.uniform(60, 75)),
-                   fill=float(rng.uniform(0.75, 0.92)), yaw=float(rng.uniform(-4, 4)),
-                   tilt=tuple(float(v) for v in rng.uniform(-8, 8, 2)),
-                   shift=tuple(float(v) for v in rng.uniform(-0.03, 0.03, 2)),
-                   distortion=float(rng.uniform(-0.06, 0.01)),
+                   fill=float(rng.uniform(0.68, 0.85)), yaw=float(rng.uniform(-3, 3)),
+                   tilt=tuple(float(v) for v in rng.uniform(-6, 6, 2)),
+                   shift=tuple(float(v) for v in rng.uniform(-0.02, 0.02, 2)),
+                   distortion=float(rng.uniform(-0.012, 0.004)),
                    table=tuple(int(v) for v in table), light=float(rng.uniform(0.05, 0.4)),
                    shade=float(rng.uniform(0.15, 0.45) if rng.random() < 0.4 else 0.0),
                    vignetting=float(rng.uniform(0.1, 0.35)),
