@@ -453,7 +453,7 @@ def test_a_wrong_mark_period_shows_against_the_tachometer(photograph_alone, tmp_
     wrong = folder / path.name
     wrong.write_text(path.read_text(encoding="utf-8").replace(
         'mark_period = "10 ms"', 'mark_period = "20 ms"'), encoding="utf-8")
-    with pytest.raises(InputError, match=r"TDC marks .* 9\d\d min⁻¹, the tachometer 1\d{3} "
+    with pytest.raises(InputError, match=r"TDC marks .* \d{3} min⁻¹, the tachometer 1\d{3} "
                        r"min⁻¹ \(-50 %\).*time marks' period") as exc:
         evaluate(wrong, **FAST)
     assert "mark_period" in exc.value.fix and exc.value.field == "regime[0].oscillogram"
