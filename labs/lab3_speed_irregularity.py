@@ -79,6 +79,19 @@ UNEQUAL_CYCLES = 0.01
 PITCH_BIAS = 0.02
 """Relative bias of the tooth-by-tooth δ from pitch errors above which a warning is given."""
 
+PLAUSIBLE = {"automotive": (0.002, 0.1), "tractor": (0.0006, 0.05)}
+"""δ a photographed oscillogram may report, by the engine's kind: five times beyond the manual's
+typical range either way (automotive 0.01–0.02, tractor 0.003–0.01; a worn engine at a low
+speed lies well above it). Outside, the zero or the scale taken is not the trace's: refused."""
+
+ENGINE_KINDS = {"automotive": "an automotive engine", "tractor": "a tractor engine"}
+"""The engine's kind in messages."""
+
+TACH_REFUSE = 0.15
+"""Relative disagreement of the oscillogram's TDC marks' mean speed with the tachometer beyond
+which the marks read are not the TDC marks (a lid's edge or a trace taken for their line, a
+wrong mark period): refused instead of warned."""
+
 PHOTO_FIX = ("photograph the oscillogram again, sharp and whole, with its speed trace, zero line "
              "and marks in the frame")
 """What to do about a flat or noise-only trace read off a photograph."""
@@ -154,15 +167,28 @@ SPEC = LabSpec(
                                "осциллограмма: средний уровень (по умолчанию (h_max + h_min)/2)"),
                   **ORDINATE, required=False, symbol="h_cp"),
             Field("oscillogram", bi("or: a photograph or scan of the oscillogram, with its zero "
-                                    "line and TDC marks ([image])",
-                                    "или: снимок осциллограммы с нулевой линией и отметками ВМТ "
-                                    "([image])"),
+                                    "line (or the converter's scale) and TDC marks ([image])",
+                                    "или: снимок осциллограммы с нулевой линией (или с масштабом "
+                                    "преобразователя) и отметками ВМТ ([image])"),
                   kind="file", required=False, example="regime1.jpg"),
+            Field("converter_scale", bi("the frequency-to-voltage converter's scale on the "
+                                        "paper (calibration), for an oscillogram without its "
+                                        "zero line", "масштаб преобразователя «частота-"
+                                        "напряжение» на ленте (тарировка) — для осциллограммы "
+                                        "без нулевой линии"),
+                  unit="mm/rpm", required=False, symbol="μ",
+                  plausible=("0.0005 mm/rpm", "5 mm/rpm")),
             Field("trace", bi("the speed trace on the photograph (0: the topmost)",
                               "линия скорости на снимке (0 — верхняя)"),
                   kind="count", allow_zero=True, required=False),
         )),
-        image_section(),
+        image_section(zero_default=None, zero_help=bi(
+            "the speed trace's zero: \"line\" (its zero line on the paper) or \"mean\" (the "
+            "converter's scale or h_mean scales it); default: the zero line if one is on the "
+            "paper, else the converter's scale",
+            "ноль линии скорости: \"line\" (нулевая линия на ленте) или \"mean\" (масштаб "
+            "преобразователя или h_mean); по умолчанию — нулевая линия, если она есть, иначе "
+            "масштаб преобразователя")),
     ),
 )
 
@@ -217,6 +243,43 @@ def oscillogram_scale(h_mean, n_tach):
     return h_mean / n_tach
 
 
+def delta_scaled(swing, scale=None, n_tach=None, h_mean=None):
+    """δ of a speed trace whose zero is not on the paper, the manual's other scaling (lab 3,
+    step 6: the oscillogram's scale in mm per min⁻¹).
+
+    .. math:: \\delta = \\frac{h_{max} - h_{min}}{\\mu\\,\\omega_{cp}}
+              \\quad\\text{or}\\quad \\frac{h_{max} - h_{min}}{h_{cp}}
+
+    μ the frequency-to-voltage converter's scale (its calibration), ω_cp = πn/30 from the
+    tachometer; or h_cp, the trace's mean height above the converter's zero, read.
+
+    Parameters
+    ----------
+    swing : float or ndarray
+        h_max − h_min of the mean cycle. [m]
+    scale : float or ndarray, optional
+        μ. [m per rad/s]
+    n_tach : float or ndarray, optional
+        The tachometer's speed. [rad/s]
+    h_mean : float or ndarray, optional
+        h_cp, used when no scale is given. [m]
+
+    Returns
+    -------
+    float or ndarray
+        δ. [1]
+
+    Examples
+    --------
+    >>> mu = 0.05e-3 / (np.pi / 30)          # 0.05 mm per min⁻¹
+    >>> round(delta_scaled(1.35e-3, mu, 1800 * np.pi / 30), 5)
+    0.015
+    """
+    if scale is None:
+        return swing / h_mean
+    return swing / (scale * n_tach)
+
+
 FORMULAS = [
     bi("Tooth frequency f = n z/60; instantaneous speed over a pitch ω_k = Δθ_k/Δt_k",
        "Частота следования зубьев f = n z/60; мгновенная скорость на шаге ω_k = Δθ_k/Δt_k"),
@@ -228,8 +291,10 @@ FORMULAS = [
        "δ′ = (ω_max − ω_min)/ω_cp = (ω_max² − ω_min²)/(2ω_cp²), ω_cp = (ω_max + ω_min)/2",
        "δ = (ω_max − ω_min)/ω_ср, ω_ср = угол цикла / время цикла; по методичке "
        "δ′ = (ω_max − ω_min)/ω_cp = (ω_max² − ω_min²)/(2ω_cp²), ω_cp = (ω_max + ω_min)/2"),
-    bi("Oscillogram: δ = (h_max − h_min)/h_cp; scale μ = h_cp/n (mm per min⁻¹)",
-       "Осциллограмма: δ = (h_max − h_min)/h_cp; масштаб μ = h_cp/n (мм/мин⁻¹)"),
+    bi("Oscillogram: δ = (h_max − h_min)/h_cp; scale μ = h_cp/n (mm per min⁻¹); without its "
+       "zero line δ = (h_max − h_min)/(μ·n) with the converter's scale μ",
+       "Осциллограмма: δ = (h_max − h_min)/h_cp; масштаб μ = h_cp/n (мм/мин⁻¹); без нулевой "
+       "линии δ = (h_max − h_min)/(μ·n) по масштабу преобразователя μ"),
     bi("Uncertainty of the mean cycle: jackknife over the cycles (type A, n − 1 degrees of freedom)",
        "Неопределённость среднего цикла: метод складного ножа по циклам (тип A, n − 1 степеней свободы)"),
 ]
@@ -252,9 +317,13 @@ class Oscillogram:
     channel: object
     cycles: object
     """:class:`processing.cycle_range.CycleRange` of the working cycles between TDC marks."""
-    delta: Measured
+    delta: Measured | None
+    """δ from the trace's height above its zero line (None: scaled by the converter)."""
     omega_mean: Measured
     """Cycle angle over the mean time between the cycles' TDC marks. [rad/s]"""
+    swing: Measured | None = None
+    """h_max − h_min of the mean cycle on the paper, where the trace has no zero line: δ is
+    then the swing over the converter's scale times the speed, or over h_mean. [m]"""
 
 
 def mean_speed(starts, cycle_angle: float, time_scale: Measured) -> Measured:
@@ -309,8 +378,7 @@ def _oscillogram(inputs: Inputs, i: int, entry: dict, revolutions: int) -> Oscil
         raise inputs.error("both a photograph of the oscillogram and readings off it are given",
                            "give the photograph (oscillogram) or the readings (h_max, h_min), "
                            "not both", field)
-    options = {**image_options(inputs.sections.get("image")), "zero": "line"}
-    channel = open_channel(path, channel=entry.get("trace"), field=field, image=options)
+    channel = _speed_trace(inputs, i, entry)
     check_record(channel.value[np.isfinite(channel.value)], channel.sample_rate, file=str(path),
                  field=field, channel=str(channel.name), purpose="δ", fix=PHOTO_FIX)
     tdc = channel.marks.get("tdc", np.array([]))
@@ -325,15 +393,112 @@ def _oscillogram(inputs: Inputs, i: int, entry: dict, revolutions: int) -> Oscil
     except ValueError as exc:
         raise InputError(str(exc), "photograph the trace sharply, its whole length",
                          file=str(path), field=field) from None
+    inside = starts[(starts >= channel.time[0]) & (starts <= channel.time[-1])]
+    omega = mean_speed(inside, 2 * np.pi * revolutions, channel.time_scale)
+    _check_tdc_speed(omega, entry, tdc, channel, path, field)
     # the camera's blur low-passed the ripple by an amount between none and what the stroke's
     # whole width allows: δ between the two, u of that rectangle (type B)
     sigma = channel.stroke_blur
-    full = cycles.deblurred(sigma)
-    span = abs(full.swing / full.level - cycles.swing / cycles.level)
-    delta, u = cycles.deblurred(sigma / np.sqrt(2)).relative_swing()
-    inside = starts[(starts >= channel.time[0]) & (starts <= channel.time[-1])]
-    return Oscillogram(channel, cycles, _jack(delta, u, cycles.cycles, u_b=span / (2 * np.sqrt(3))),
-                       mean_speed(inside, 2 * np.pi * revolutions, channel.time_scale))
+    full, half = cycles.deblurred(sigma), cycles.deblurred(sigma / np.sqrt(2))
+    if channel.overlay.taken is None:            # no zero on the paper: the swing alone
+        # each extreme is read within ± half the stroke (rectangular), and the blur's range
+        swing, u = half.absolute_swing()
+        swing = _jack(swing, u, cycles.cycles,
+                      u_b=np.hypot(abs(full.swing - cycles.swing) / (2 * np.sqrt(3)),
+                                   channel.stroke_value / np.sqrt(6)))
+        osc = Oscillogram(channel, cycles, None, omega, swing)
+        nominal = swing.value / _converter_level(entry)
+    else:
+        span = abs(full.swing / full.level - cycles.swing / cycles.level)
+        delta, u = half.relative_swing()
+        osc = Oscillogram(channel, cycles, _jack(delta, u, cycles.cycles,
+                                                 u_b=span / (2 * np.sqrt(3))), omega)
+        nominal = delta
+    _check_plausible(inputs, entry, nominal, channel, path, field)
+    return osc
+
+
+def _speed_trace(inputs: Inputs, i: int, entry: dict):
+    """The speed trace read off the photograph, its deflection from its zero line, or from its
+    mean level where the file scales it otherwise (the converter's scale or h_mean): as the
+    file says (``zero`` in [image]), else the zero line if one is on the paper, else the
+    scale."""
+    field, path = f"regime[{i}].oscillogram", entry["oscillogram"]
+    options = image_options(inputs.sections.get("image"))
+    scaled = "converter_scale" in entry or "h_mean" in entry
+    zero = options.pop("zero", None)
+    if zero == "mean" and not scaled:
+        raise InputError("zero = \"mean\" measures the speed trace from its own mean level, "
+                         "so nothing scales its swing to a speed", SCALE_FIX,
+                         file=inputs.file, field="image.zero")
+    if zero is None and "converter_scale" in entry:
+        zero = "mean"                 # the calibration scales the trace; any line is not needed
+    try:
+        channel = open_channel(path, channel=entry.get("trace"), field=field,
+                               image={**options, "zero": zero or "line"})
+    except InputError as exc:
+        if zero is None and scaled and (exc.field or "").endswith("zero"):
+            return open_channel(path, channel=entry.get("trace"), field=field,
+                                image={**options, "zero": "mean"})
+        if (exc.field or "").endswith("zero"):
+            raise InputError(exc.problem, SCALE_FIX, file=exc.file, field=field) from None
+        raise
+    if channel.overlay.taken is None and channel.unit != "m":
+        raise InputError("the converter's scale is in mm of paper, but the photograph has no "
+                         "length scale", "give dpi (a scan), paper_width or grid in [image]",
+                         file=inputs.file, field="image")
+    return channel
+
+
+SCALE_FIX = ("give the frequency-to-voltage converter's scale from its calibration "
+             "(converter_scale = \"… mm/rpm\" in the regime) or the trace's mean height above "
+             "the converter's zero (h_mean), and zero = \"mean\" in [image]; or photograph the "
+             "record with its zero line")
+"""What to do about a speed trace that nothing on the paper or in the file scales."""
+
+
+def _converter_level(entry: dict) -> float:
+    """The trace's mean height above the converter's zero: μ·ω from the converter's scale and
+    the tachometer, or h_mean as read. [m]"""
+    if "converter_scale" in entry:
+        return entry["converter_scale"].value * entry["n_tach"].value
+    return entry["h_mean"].value
+
+
+def _check_tdc_speed(omega: Measured, entry: dict, tdc, channel, path, field: str) -> None:
+    """The TDC marks' mean speed against the tachometer: far apart, the marks read are not
+    the TDC marks (a lid's edge, a trace or the time marks taken for them) or the mark
+    period is wrong; refused, naming the lines found."""
+    n_t = entry["n_tach"]
+    gap = omega.value / n_t.value - 1
+    if abs(gap) > TACH_REFUSE + 2 * np.hypot(n_t.u / n_t.value, omega.u / omega.value):
+        raise InputError(
+            f"the {tdc.size} TDC marks read off the oscillogram give a mean speed of "
+            f"{omega.value * 30 / np.pi:.0f} min⁻¹, the tachometer {n_t.value * 30 / np.pi:.0f} "
+            f"min⁻¹ ({100 * gap:+.0f} %): what was read as the TDC marks is not them, or the "
+            f"time marks' period is wrong; {channel.lines}",
+            "check mark_period in [image] and the tachometer reading, and photograph the record "
+            "with its TDC mark line (a mark each revolution) whole and sharp",
+            file=str(path), field=field)
+
+
+def _check_plausible(inputs: Inputs, entry: dict, delta: float, channel, path,
+                     field: str) -> None:
+    """δ read off a photograph must be positive and plausible for the engine
+    (:data:`PLAUSIBLE`): else the zero or the scale taken is not the trace's."""
+    kind = inputs["engine"].get("kind")
+    lo = min(PLAUSIBLE[k][0] for k in PLAUSIBLE if kind in (None, k))
+    hi = max(PLAUSIBLE[k][1] for k in PLAUSIBLE if kind in (None, k))
+    if lo <= delta <= hi:
+        return
+    zero = ("its zero line" if channel.overlay.taken is not None
+            else "the converter's scale" if "converter_scale" in entry else "h_mean")
+    raise InputError(
+        f"δ = {delta:.4g} read off the oscillogram, measured from {zero}, is not plausible for "
+        f"{ENGINE_KINDS.get(kind, 'an engine')} ({lo:g}…{hi:g}): the zero or "
+        f"scale taken is not the trace's; {channel.lines}",
+        "look at the overlay: if the zero line taken is the paper's edge, a grid line or "
+        "another beam's, " + SCALE_FIX[0].lower() + SCALE_FIX[1:], file=str(path), field=field)
 
 
 @dataclass
@@ -591,7 +756,11 @@ def _signal_inputs(reg: Regime) -> dict[str, Measured]:
                f"s{r}.delta_tooth": _jack(rec.tooth.mean_cycle.delta, rec.u_tooth.delta,
                                           rec.tooth.cycles)}
     if osc is not None:
-        out |= {f"s{r}.delta_osc": osc.delta, f"s{r}.omega_osc": osc.omega_mean}
+        out[f"s{r}.omega_osc"] = osc.omega_mean
+        if osc.delta is not None:
+            out[f"s{r}.delta_osc"] = osc.delta
+        else:
+            out[f"s{r}.swing_osc"] = osc.swing
     return out
 
 
@@ -644,8 +813,12 @@ def _model(regimes: list[Regime], entries: list[dict]):
                 mean = x.get(f"regime[{r - 1}].h_mean")
                 out[f"delta_osc_{r}"] = delta_oscillogram(x[f"regime[{r - 1}].h_max"],
                                                           x[f"regime[{r - 1}].h_min"], mean)
-            elif reg.oscillogram is not None:
+            elif reg.oscillogram is not None and reg.oscillogram.delta is not None:
                 out[f"delta_osc_{r}"] = x[f"s{r}.delta_osc"]
+            elif reg.oscillogram is not None:
+                out[f"delta_osc_{r}"] = delta_scaled(
+                    x[f"s{r}.swing_osc"], x.get(f"regime[{r - 1}].converter_scale"),
+                    x[f"regime[{r - 1}].n_tach"], x.get(f"regime[{r - 1}].h_mean"))
             if reg.oscillogram is not None:
                 out[f"omega_osc_{r}"] = x[f"s{r}.omega_osc"]
         return out

@@ -115,16 +115,24 @@ class CycleRange:
 
         .. math:: u^2 = \\frac{n-1}{n} \\sum_k (r_{(-k)} - \\bar r_{(\\cdot)})^2
         """
-        value = self.swing / self.level
+        return self._jackknife(lambda curve, level: (curve.max() - curve.min()) / level)
+
+    def absolute_swing(self) -> tuple[float, float]:
+        """high − low and its standard uncertainty by the jackknife over the cycles (NaN with
+        fewer than three cycles): the swing alone, for a trace whose zero is not on the
+        record (its scale comes from elsewhere)."""
+        return self._jackknife(lambda curve, level: curve.max() - curve.min())
+
+    def _jackknife(self, stat) -> tuple[float, float]:
+        """``stat(mean cycle, level)`` and its jackknife standard uncertainty over the
+        cycles."""
+        value = stat(self.mean_cycle, self.level)
         n = self.cycles
         if n < 3:
             return value, float("nan")
         total = self.coefficients.sum(axis=0)
-        loo = []
-        for row in self.coefficients:
-            curve = self.curve((total - row) / (n - 1))
-            loo.append((curve.max() - curve.min()) / ((total[0] - row[0]) / (n - 1)))
-        loo = np.asarray(loo)
+        loo = np.asarray([stat(self.curve((total - row) / (n - 1)), (total[0] - row[0]) / (n - 1))
+                          for row in self.coefficients])
         return value, float(np.sqrt((n - 1) / n * np.sum((loo - loo.mean()) ** 2)))
 
 

@@ -171,11 +171,14 @@ class LabSpec:
         return next(s for s in self.sections if s.name == name)
 
 
-def image_section(name: str = "image") -> Section:
+def image_section(name: str = "image", *, zero_default: str | None = "mean",
+                  zero_help: dict | None = None) -> Section:
     """The ``[image]`` table of a lab whose records may be photographs or scans of paper:
     how to read them (:func:`processing.vision.read_paper_records`), for every image the file
     names. The time base needs ``mark_period`` (or ``paper_speed`` with a length scale); a
     length scale (``paper_width``, ``grid`` or ``dpi``) gives the deflection in mm of paper.
+    A lab that chooses the zero itself when the file does not say (``zero_default`` None:
+    ``zero`` is then absent from the table) describes its choice in ``zero_help``.
     """
     return Section(name, bi("Reading photographed or scanned paper records",
                             "Считывание сфотографированных или отсканированных записей"), fields=(
@@ -196,9 +199,11 @@ def image_section(name: str = "image") -> Section:
         Field("traces", bi("how many traces the sheet carries (default: as found)",
                            "сколько линий записи на ленте (по умолчанию — по снимку)"),
               kind="count", required=False),
-        Field("zero", bi("deflection from the trace's mean level or from its zero line",
-                         "отклонение от среднего уровня линии или от её нулевой линии"),
-              kind="choice", choices=("mean", "line"), default="mean"),
+        Field("zero", zero_help or bi("deflection from the trace's mean level or from its "
+                                      "zero line", "отклонение от среднего уровня линии или "
+                                      "от её нулевой линии"),
+              kind="choice", choices=("mean", "line"), default=zero_default,
+              required=False),
         Field("bridge", bi("longest gap in a trace to interpolate across",
                            "наибольший разрыв линии, заполняемый интерполяцией"),
               unit="ms", allow_zero=True, required=False, plausible=("0.01 ms", "1000 ms")),

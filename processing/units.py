@@ -211,7 +211,9 @@ def cycles_factor(unit: str, declared: str) -> float:
     declared in ``declared``: a speed written as a count per time (``Hz``, ``1/s``,
     ``1/min``) where an angle per time is declared (``rpm``, ``rad/s``) counts revolutions
     (2π rad each); an angle per time written where a count per time is declared (a frequency
-    in ``Hz``) counts cycles the same way (÷ 2π). pint would take ``1/s`` for ``rad/s``.
+    in ``Hz``) counts cycles the same way (÷ 2π). pint would take ``1/s`` for ``rad/s``. The
+    same holds for a speed inside a compound unit (a converter's scale in ``mm/rpm`` written
+    ``мм/мин⁻¹``): whatever carries time to the power ±1 (not ``N*m/rad``).
 
     Examples
     --------
@@ -219,8 +221,11 @@ def cycles_factor(unit: str, declared: str) -> float:
     (6.283185, 0.159155)
     >>> cycles_factor("rad/s", "rpm"), cycles_factor("Hz", "kHz"), cycles_factor("mm", "m")
     (1.0, 1.0, 1.0)
+    >>> round(cycles_factor("mm/min^-1", "mm/rpm"), 6), cycles_factor("N*m", "N*m/rad")
+    (0.159155, 1.0)
     """
-    if _dimensionality(unit) != _PER_TIME or _dimensionality(declared) != _PER_TIME:
+    dims = _dimensionality(unit)
+    if dims != _dimensionality(declared) or abs(dims["[time]"]) != 1:
         return 1.0
     return (2 * math.pi) ** (_radians(declared) - _radians(unit))
 

@@ -413,7 +413,7 @@ def test_bad_options(decay_scene, options, field, match):
 
 def test_zero_line_missing():
     scene = render(LAYOUT, [Beam(decay, 0.06, 0.03)], PHOTO, seed=1)
-    with pytest.raises(InputError, match="no straight line without marks") as err:
+    with pytest.raises(InputError, match=r"no zero line \(a long straight line") as err:
         read_paper_record(scene.image, mark_period=0.01, zero="line")
     assert err.value.field == "image.zero"
 

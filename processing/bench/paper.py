@@ -31,21 +31,37 @@ Families
     printed 5 mm grid: the error over confident samples of each trace and their coverage
     (where two traces merge, the reader leaves gaps or lowers the confidence).
 
+``foreign records``
+    A lab whole (:func:`labs.registry.evaluate`: the measurement file, the lab's ``reduce``)
+    on paper records drawn by the second family of renderers
+    (:mod:`processing.synth.paper_strip`: a light-beam oscillograph's strip, scanned with its
+    lid or photographed over a table), one scene per lab (:data:`labs.foreign_records.SCENES`,
+    imported when run: the scenes know the labs). Lab 3: the speed trace with or without its
+    zero line, a grid on half the strips, the converter's scale given or not; per result
+    named by the scene's truth, the relative error and whether its 95 % interval holds the
+    truth (``covered``); a refusal (InputError) is judged against the scene's own cause
+    (``refused_rightly``); ``silent_wrong`` marks a result off by more than the lab's target
+    with no warning.
+
 Targets: the trace at SNR ≥ 30 dB (relative RMS error ≤ 3 %) in every scene of the target
 region (σ_blur ≤ 2 px, noise ≤ 6 grey levels, skew ≤ 3°, every width), the time base within
 0.1 % there, the 4000 × 1500 photograph read in ≤ 1 s (median, one core), no scene outside
 the region read wrong without a warning, and no scene raising anything but an
-:class:`~processing.diagnostics.InputError`.
+:class:`~processing.diagnostics.InputError`. On the foreign records, per lab: no result wrong
+(beyond :data:`FOREIGN_TARGETS`) without a warning, none refused where the scene is readable
+for a cause that is not its own, the results within their target in ≥ 90 % of the records
+reduced, and their 95 % intervals holding the truth in ≥ 90 %.
 """
 from __future__ import annotations
 
+import importlib
 import itertools
 import logging
 import math
 import tempfile
 import warnings
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -93,7 +109,8 @@ SINE = Beam(slow_sine, 0.055, 0.02)
 
 @dataclass(frozen=True)
 class Plan:
-    """The grid of scenes, the image size and the timed runs per call."""
+    """The grid of scenes, the image size and the timed runs per call; the foreign records:
+    seeds per lab, the scans' dpi and the photographs' size."""
 
     size: tuple[int, int]
     blur: tuple[float, ...]
@@ -103,13 +120,31 @@ class Plan:
     seeds: tuple[int, ...]
     crossing_seeds: tuple[int, ...]
     repeat: int
+    foreign: dict = field(default_factory=dict)
+    foreign_dpi: float = 300.0
+    foreign_photo: tuple[int, int] = (3000, 2000)
 
 
 FULL = Plan(size=(4000, 1500), blur=(0.7, 1.2, 2.0, 3.0, 4.5), noise=(2.0, 6.0, 12.0),
             skew=(0.0, 1.5, 3.0, 5.0), width=(0.0002, 0.00035, 0.0006), seeds=(1,),
-            crossing_seeds=(1, 2, 3), repeat=2)
+            crossing_seeds=(1, 2, 3), repeat=2, foreign={"lab3": tuple(range(24))})
 QUICK = Plan(size=(2000, 750), blur=(0.7, 2.0, 4.5), noise=(2.0, 12.0), skew=(0.0, 3.0),
-             width=(0.0002, 0.0006), seeds=(1,), crossing_seeds=(1,), repeat=1)
+             width=(0.0002, 0.0006), seeds=(1,), crossing_seeds=(1,), repeat=1,
+             foreign={"lab3": tuple(range(6))}, foreign_dpi=200.0,
+             foreign_photo=(2400, 1600))
+
+FOREIGN_SCENES = "labs.foreign_records"
+"""The module of the labs' scenes on foreign records (:data:`labs.foreign_records.SCENES`),
+imported when run: a scene writes a lab's measurement file, which only the labs reduce."""
+
+FOREIGN_TARGETS = {"delta_osc": 0.03, "omega_osc": 0.01}
+"""Largest relative error of each result the foreign records are judged on (the issue's
+targets: δ of lab 3 within 3 %; the mean speed from the TDC marks within 1 %), by result name
+without its regime number."""
+
+FOREIGN_SHARE = 0.9
+"""Share of the records reduced that must be within their targets, and of the stated 95 %
+intervals that must hold the truth."""
 
 MAP_AXES = MapAxes(x="blur", y="noise", column="skew", row="width_mm",
                    labels={"blur": "blur σ [px]", "noise": "noise σ [grey levels]",
@@ -285,6 +320,78 @@ def crossing_family() -> Family:
                   "relative RMS error of the worse trace", failures=(InputError,))
 
 
+def foreign_cases(plan: Plan, folder: Path) -> Iterator[Case]:
+    """Every lab scene of the plan, scanned and photographed, each seed (written to
+    ``folder``)."""
+    scenes = importlib.import_module(FOREIGN_SCENES).SCENES
+    for lab, seeds in plan.foreign.items():
+        for seed, capture in itertools.product(seeds, ("scan", "photo")):
+            case = scenes[lab](seed, folder / lab, capture=capture, dpi=plan.foreign_dpi,
+                               size=plan.foreign_photo)
+            params = {k: v for k, v in case.params.items() if np.isscalar(v)}
+            yield Case(params, case, case, 1)
+
+
+def foreign_family() -> Family:
+    """The labs on foreign records: the measurement file evaluated as ``dynlab run`` does."""
+    from labs.registry import evaluate
+
+    def call(case):
+        return evaluate(case.toml, n_samples=4000)
+
+    return Family("foreign records", [Method("dynlab", call, "dynlab run")], foreign_error,
+                  "worst relative error of the results judged",
+                  failures=(InputError,))
+
+
+def foreign_error(result, case) -> dict:
+    """Each result the scene knows: its relative error, its target, whether its 95 % interval
+    holds the truth; the worst relative error is ``error``."""
+    out, worst = {}, 0.0
+    covered, within = True, True
+    for name, truth in case.truth.items():
+        r = result.results[name]
+        rel = r.value / truth - 1
+        lo, hi = r.estimate.interval95
+        out[f"{name}_error"] = rel
+        covered &= bool(lo <= truth <= hi)
+        within &= abs(rel) <= FOREIGN_TARGETS[name.rsplit("_", 1)[0]]
+        worst = max(worst, abs(rel))
+    return {**out, "error": worst, "covered": covered, "within": within}
+
+
+def _foreign_silent(rows: pd.DataFrame) -> pd.DataFrame:
+    """Foreign records reduced outside their targets with no warning at all."""
+    done = rows["failed"].fillna("") == ""
+    return rows[done & ~rows["within"].fillna(True).astype(bool)
+                & (rows["warnings"].fillna("") == "")]
+
+
+def foreign_targets(frame: pd.DataFrame) -> list[Target]:
+    """Per lab: no wrong result without a warning, no readable record refused for the scene's
+    own cause missing, the results within their targets and the intervals' coverage."""
+    rows = frame[frame["family"] == "foreign records"]
+    out = []
+    for lab, part in rows.groupby("lab", sort=False):
+        done = part[part["failed"].fillna("") == ""]
+        expected = part["expected_refusal"].fillna("") != ""
+        wrongly = part[(part["failed"].fillna("") == "") & expected]
+        out.append(Target(f"{lab} foreign records: reduced wrong (beyond target) without a "
+                          "warning, or reduced where they must be refused",
+                          float(len(_foreign_silent(part)) + len(wrongly)), 0, unit="records",
+                          detail=f"of {len(part)}; reduced {len(done)}, refused "
+                                 f"{len(part) - len(done)} ({int(expected.sum())} of them by "
+                                 "the scene's design)"))
+        if not done.empty:
+            out.append(Target(f"{lab} foreign records: share reduced within target",
+                              float(done["within"].astype(bool).mean()), FOREIGN_SHARE,
+                              kind="min", detail=f"{len(done)} reduced"))
+            out.append(Target(f"{lab} foreign records: 95 % intervals holding the truth",
+                              float(done["covered"].astype(bool).mean()), FOREIGN_SHARE,
+                              kind="min", detail=f"{len(done)} reduced"))
+    return out
+
+
 def _silent(frame: pd.DataFrame) -> pd.DataFrame:
     """Rows read wrong (error above the target) without a low-confidence or blurred-marks
     warning."""
@@ -357,13 +464,14 @@ def run(out, *, quick: bool = False,
         warnings.simplefilter("ignore", RuntimeWarning)
         rows = run_family(trace_family(), scenes(plan, Path(folder)), repeat=plan.repeat)
         rows += run_family(crossing_family(), crossing_cases(plan, Path(folder)), repeat=1)
+        rows += run_family(foreign_family(), foreign_cases(plan, Path(folder)), repeat=1)
     frame = write_rows(rows, out / "bench.csv")
     plot_error_time(frame, out / "error_vs_time.png",
                     {"paper trace": "relative RMS error of the trace",
                      "crossing traces": "relative RMS error, worse trace"})
     ours = frame[(frame["family"] == "paper trace") & (frame["method"] == "dynlab")]
     plot_map(ours, out / "stability_map.png", MAP_AXES, threshold=ERROR_TARGET)
-    found = targets(frame)
+    found = targets(frame) + foreign_targets(frame)
     write_targets(found, out / "targets.json", environment())
     return frame, found
 
@@ -381,7 +489,12 @@ def summary_lines(frame: pd.DataFrame) -> list[str]:
     cross = frame[frame["family"] == "crossing traces"][
         ["grid_mm", "seed", "error", "snr_db", "coverage", "low_share"]]
     silent = _silent(ours[ours["method"] == "dynlab"])
-    return ["Summary (median over scenes):",
+    foreign = frame[frame["family"] == "foreign records"]
+    columns = [c for c in ("lab", "seed", "capture", "lid", "zero_line", "scale_given", "grid",
+                           "error", "covered", "warnings", "failed") if c in foreign]
+    return ["Foreign records (each lab's measurement on a strip of the second family):",
+            foreign[columns].to_string(index=False, float_format=fmt, max_colwidth=70), "",
+            "Summary (median over scenes):",
             summary(frame).to_string(index=False, float_format=fmt), "",
             "Worst SNR [dB] by blur (rows) and noise (columns), over skews and widths:",
             by_blur.to_string(float_format=fmt), "",

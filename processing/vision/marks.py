@@ -37,6 +37,12 @@ from .lines import Line
 MIN_PIPS = 2
 """Fewest pips that make a mark line."""
 
+ROOT_SHARE = 0.12
+"""Least density of a pip's sides next to its line, as a share of the line's: a marker's
+galvanometer swings out fast, so the sides of a short tick are far fainter than its line and
+its tip (a spot's exposure goes as one over its speed); a trace passing by leaves nothing
+there."""
+
 MIN_TIME_MARKS = 3
 """Fewest time marks a time base is fitted to."""
 
@@ -188,11 +194,12 @@ def _tops_wander(strip: np.ndarray, offsets: np.ndarray, rising: np.ndarray,
 
 def _rooted(rows: np.ndarray, rising: np.ndarray, line: Line) -> bool:
     """Whether the pulses' sides rise from the line: in the rows next to it, the density near
-    the rising edges (± the line's width) reaches a quarter of the line's, for most pulses."""
+    the rising edges (± the line's width) reaches :data:`ROOT_SHARE` of the line's, for most
+    pulses."""
     profile = rows.mean(axis=0)
     reach = int(np.ceil(line.width)) + 1
     peaks = [profile[max(int(x) - reach, 0):int(x) + reach + 2].max() for x in rising]
-    return float(np.median(peaks)) > 0.25 * line.strength
+    return float(np.median(peaks)) > ROOT_SHARE * line.strength
 
 
 def _capped(rows: np.ndarray, rising: np.ndarray, falling: np.ndarray, line: Line,

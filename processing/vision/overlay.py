@@ -15,10 +15,12 @@ OVERLAY_WIDTH = 1600
 _TEXT = {
     "en": {"trace": "trace read", "other": "other traces", "low": "low confidence",
            "time": "time marks", "tdc": "TDC marks", "zero": "zero line",
+           "taken": "zero line taken", "untaken": "other zero line candidates",
            "column": "column along the sheet [px]", "row": "row [px]",
            "t": "time [s]", "value": "value", "gap": "not read"},
     "ru": {"trace": "считанная линия", "other": "другие линии", "low": "низкая достоверность",
            "time": "отметки времени", "tdc": "отметки ВМТ", "zero": "нулевая линия",
+           "taken": "принятая нулевая линия", "untaken": "другие возможные нулевые линии",
            "column": "столбец вдоль ленты [пкс]", "row": "строка [пкс]",
            "t": "время [с]", "value": "величина", "gap": "не считано"},
 }
@@ -43,7 +45,10 @@ class Overlay:
     marks : dict
         ``"time"`` / ``"tdc"`` → (columns, row of the line) of the marks timed.
     zero_lines : tuple of float
-        Rows of the straight lines without marks at the sheet's middle. [px]
+        Rows of the lines that pass for zero lines, at the sheet's middle. [px]
+    taken : float or None
+        Row of the zero line the values were measured from (None: from the trace's mean).
+        [px]
     """
 
     image: np.ndarray
@@ -53,15 +58,16 @@ class Overlay:
     chosen: int
     marks: dict
     zero_lines: tuple[float, ...]
+    taken: float | None = None
 
     @classmethod
     def of(cls, grey: np.ndarray, rows, confidence, chosen: int, marks: dict,
-           zero_lines) -> Overlay:
+           zero_lines, *, taken: float | None = None) -> Overlay:
         h, w = grey.shape
         f = min(1.0, OVERLAY_WIDTH / w)
         small = cv2.resize(grey, (max(int(w * f), 1), max(int(h * f), 1)),
                            interpolation=cv2.INTER_AREA) if f < 1 else grey.copy()
-        return cls(small, (h, w), rows, confidence, chosen, marks, tuple(zero_lines))
+        return cls(small, (h, w), rows, confidence, chosen, marks, tuple(zero_lines), taken)
 
     def plot(self, ax, *, lang: str = "en", low: float = 0.5) -> None:
         """Draw the sheet and what was read on a matplotlib axis."""
@@ -82,10 +88,15 @@ class Overlay:
         weak = np.where(self.confidence[self.chosen] < low, row, np.nan)
         if np.isfinite(weak).any():
             ax.plot(x, weak, color="red", lw=1.6, label=text["low"])
-        for y in self.zero_lines:
+        others = [y for y in self.zero_lines if y != self.taken]
+        for y in others:
             ax.axhline(y, color="C2", lw=0.6, ls="--")
-        if self.zero_lines:
-            ax.plot([], [], color="C2", lw=0.6, ls="--", label=text["zero"])
+        if others:
+            ax.plot([], [], color="C2", lw=0.6, ls="--",
+                    label=text["zero" if self.taken is None else "untaken"])
+        if self.taken is not None:
+            ax.axhline(self.taken, color="C2", lw=1.4,
+                       label=f"{text['taken']} ({self.taken:.0f})")
         for key, marker, colour in (("time", "|", "C4"), ("tdc", "v", "C3")):
             if key in self.marks:
                 cols, y = self.marks[key]

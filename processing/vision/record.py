@@ -18,11 +18,12 @@ traces followed (:func:`~.traces.find_runs`, :func:`~.traces.follow`), then the 
   when no length scale is known.
 
 The sheet is turned upright by what the oscillograph draws on it: the time runs along the
-mark lines, a marker lifts its line (a pip points up), and the time-mark line runs below the
-TDC line. A photograph taken upside down, in portrait either way or at any angle on the desk
-is read turned upright (``turns`` of each record says how); one whose signs disagree (one
-line's pips up, the other's down, or the time-mark line above the TDC line with its pips
-up: a layout the reader does not know) is refused ("rotate the photograph"). A sheet with no
+mark lines, and the time-mark line runs below the TDC line (a lone one in the lower half). A
+photograph taken upside down, in portrait either way or at any angle on the desk
+is read turned upright (``turns`` of each record says how): with both mark lines on it, the
+time-mark line runs below the TDC line, whichever way their pips point (a marker's ticks point
+up or down as it is wired); a lone time-mark line lies in the sheet's lower half, a lone TDC
+line in its upper half. A sheet with no
 mark line at all is read as its edges lay it out (nothing on it tells up from
 down). A mirror image cannot be told from a turned one: the time marks are evenly spaced
 rectangles, the same read forwards or backwards, so a sheet flipped top to bottom looks
@@ -85,6 +86,31 @@ BLURRED_MARKS = 0.5
 
 ZERO_CHOICES = ("mean", "line")
 
+ZERO_LINE_SHARE = 0.9
+"""Share of the longest line's length a zero line runs along: a beam at rest exposes it end to
+end, as the markers their lines (the frame may hold more than the sheet)."""
+
+EDGE_STEP = 0.025
+"""Relative difference of the bare background's brightness on the two sides of a straight line
+above which it is the sheet's edge against a scanner's lid or a table (a zero line has paper
+on both sides)."""
+
+INK_SHARE = 0.5
+"""Least density of a zero line as a share of the darkest line's: a beam at rest exposes it
+fully, as the traces are; a printed grid line or the shadow of the paper's edge is fainter."""
+
+MARK_INK = 0.2
+"""Least density of a line bearing marks as a share of the darkest line's (a marker's line is
+broken where its pips lift it, so it reads fainter than a zero line, but far darker than a
+printed grid line or an edge's shadow)."""
+
+GRID_INK = 4.0
+"""A line on a printed grid's pitch this many times darker than the grid's lines (their median)
+was exposed there, not printed."""
+
+PARALLEL = 2.0
+"""Largest drift of a zero line from the time base's direction over the sheet's length. [px]"""
+
 
 @dataclass(frozen=True)
 class PaperRecord:
@@ -133,6 +159,9 @@ class PaperRecord:
     turns : int
         Quarter turns, counter-clockwise, that brought the sheet upright (the photograph
         turned: 2 upside down, 1 or 3 in portrait).
+    lines : str
+        The straight lines found along the sheet and what each was taken for (the zero line
+        measured from marked ``taken``), for messages.
     """
 
     path: str
@@ -152,6 +181,7 @@ class PaperRecord:
     stroke: float
     overlay: Overlay = field(repr=False)
     turns: int = 0
+    lines: str = ""
 
     @property
     def stroke_time(self) -> float:
@@ -415,19 +445,94 @@ def read_paper_records(source, *, traces: int | None = None, mark_period=None,
         raise where.error(f"{exc} (after the straight lines and marks were set aside)",
                           "photograph the record so that the traces fill the frame, sharp and "
                           "evenly lit; check that the file is the oscillogram") from None
-    printed = grid_spacing(plain)
-    zero_lines = [line for line in plain if printed is None or line not in printed.lines]
-    value_scale, unit = _value_scale(where, given, metres, unit)
     found_pips = {k: p for k, p in (("time", time_pips), ("tdc", tdc_pips)) if p is not None}
+    judged = judge_lines(sheet.grey, lines, plain, found_pips)
+    zero_lines = [line for line, kind in judged if kind == "zero line"]
+    value_scale, unit = _value_scale(where, given, metres, unit)
     overlay_marks = {k: (p.rising, float(p.line.at(density.shape[1] / 2) + p.side * p.offset))
                      for k, p in (("time", time_pips), ("tdc", tdc_pips)) if p is not None}
     records = []
     for j in range(found.count):
-        overlay = Overlay.of(sheet.grey, found.row, found.confidence, j, overlay_marks,
-                             [line.position for line in zero_lines])
         records.append(_record(where, found, j, seconds, value_scale, unit, zero, zero_lines,
-                               lines, found_pips, bridge, overlay, sheet.turns))
+                               lines, found_pips, bridge, sheet, overlay_marks, judged,
+                               metres))
     return records
+
+
+def judge_lines(grey: np.ndarray, lines: list[Line], plain: list[Line],
+                marked: dict[str, Pips]) -> list[tuple[Line, str]]:
+    """What each straight line along the sheet is: ``"time marks"`` / ``"TDC marks"`` (the
+    lines the pips rise from), ``"grid"`` (a printed grid's), ``"edge"`` (the sheet's edge
+    against a lid or table: bare background of different brightness on its two sides, or
+    the frame's edge beside it), ``"beside marks"`` (along the pips' tops), ``"faint"`` (fainter than ink: an edge's shadow, a printed
+    line), ``"short"``, ``"skewed"`` (not parallel to the time base), or ``"zero line"``:
+    long, straight, parallel to the time base, inside the sheet, exposed like the marks.
+
+    Parameters
+    ----------
+    grey : numpy.ndarray
+        The squared-up sheet's brightness image (:attr:`~.paper.Sheet.grey`).
+    lines : list of Line
+        Every straight line found along the rows.
+    plain : list of Line
+        Those without pips.
+    marked : dict
+        The pips found, with their lines: ``"time"`` and ``"tdc"`` → Pips.
+
+    Returns
+    -------
+    list of (Line, str)
+        Top to bottom.
+    """
+    printed = grid_spacing(plain)
+    grid = set()
+    if printed is not None:
+        # a line exposed on a grid line's place is far darker than the print
+        typical = float(np.median([line.strength for line in printed.lines]))
+        grid = {id(line) for line in printed.lines if line.strength < GRID_INK * typical}
+    reference = max(line.strength for line in lines)
+    slope = float(np.median([p.line.slope for p in marked.values()])) if marked else 0.0
+    w = grey.shape[1]
+    longest = max(line.share for line in lines)
+    owner = {id(p.line): ("time marks" if k == "time" else "TDC marks") for k, p in marked.items()}
+    out = []
+    for line in lines:
+        if id(line) in owner:
+            kind = owner[id(line)]
+        elif line not in plain:
+            kind = "beside marks"
+        elif id(line) in grid:
+            kind = "grid"
+        elif _edge_step(grey, line) > EDGE_STEP:
+            kind = "edge"
+        elif line.strength < INK_SHARE * reference:
+            kind = "faint"
+        elif line.share < ZERO_LINE_SHARE * longest:
+            kind = "short"
+        elif abs(line.slope - slope) * w > max(PARALLEL, line.width):
+            kind = "skewed"
+        else:
+            kind = "zero line"
+        out.append((line, kind))
+    return out
+
+
+def _edge_step(grey: np.ndarray, line: Line) -> float:
+    """Relative difference of the median brightness in two bands beside a line, clear of its
+    stroke (1 where a band leaves the frame: the line runs along the frame's edge)."""
+    h, w = grey.shape
+    cols = np.arange(0, w, max(1, w // 600))
+    centre = line.at(cols)
+    near = line.width + 3
+    offsets = np.arange(near, near + max(6.0, 0.01 * h))
+    sides = []
+    for side in (-1, 1):
+        rows = np.round(centre[None, :] + side * offsets[:, None]).astype(int)
+        if np.mean((rows >= 0) & (rows < h)) < 0.9:
+            return 1.0
+        band = grey[np.clip(rows, 0, h - 1), cols[None, :]].astype(float)
+        sides.append(float(np.median(np.median(band, axis=0))))
+    return abs(sides[0] - sides[1]) / max(max(sides), 1.0)
 
 
 @dataclass(frozen=True)
@@ -447,13 +552,17 @@ class _Laid:
         """The pips the orientation is told by: the time marks', else the TDC marks'."""
         return self.time_pips if self.time_pips is not None else self.tdc_pips
 
-    def upright(self) -> bool | None:
-        """Whether the sheet lies upright, by every sign it shows: each mark line's pips
-        point up, and the time-mark line runs below the TDC line; None when they disagree."""
-        signs = [p.side < 0 for p in (self.time_pips, self.tdc_pips) if p is not None]
+    def upright(self) -> bool:
+        """Whether the sheet lies upright: the time-mark line runs below the TDC line where
+        both are on it, else a lone time-mark line in the sheet's lower half (a lone TDC line
+        in its upper half). A marker's pips point up or down as it is wired, so they do not
+        tell."""
+        middle = self.density.shape[0] / 2
         if self.time_pips is not None and self.tdc_pips is not None:
-            signs.append(self.time_pips.line.position > self.tdc_pips.line.position)
-        return signs[0] if len(set(signs)) == 1 else None
+            return self.time_pips.line.position > self.tdc_pips.line.position
+        if self.time_pips is not None:
+            return self.time_pips.line.position > middle
+        return self.tdc_pips.line.position < middle
 
 
 def _laid_out(grey: np.ndarray, corners, turns: int) -> _Laid:
@@ -472,16 +581,16 @@ def _upright(where: _Where, grey: np.ndarray) -> _Laid:
     below the TDC line.
 
     The sheet is read as its edges (or the frame) lay it out, its long side along the rows;
-    if it has no mark line along the rows, it is read turned a quarter. Lying upside down,
-    it is turned half round. A sheet without any mark line is read as laid out (nothing on
+    if it has no mark line along the rows, it is read turned a quarter. Lying upside down
+    (the time-mark line above the TDC line, or a lone one in the upper half), it is turned
+    half round. A sheet without any mark line is read as laid out (nothing on
     it tells which way is up).
 
     Raises
     ------
     InputError
-        The signs disagree (a layout the reader does not know: one line's marks pointing up,
-        the other's down, or the time-mark line above the TDC line with the marks up), or
-        they do once the sheet is turned half round.
+        Turned half round, the sheet does not read upright either (its mark lines are not
+        found again the same way).
     """
     corners = find_sheet(grey)
     laid = _laid_out(grey, corners, 0)
@@ -490,10 +599,7 @@ def _upright(where: _Where, grey: np.ndarray) -> _Laid:
         if across.marks is None:
             return laid
         laid = across
-    up = laid.upright()
-    if up is None:
-        raise _orientation_unknown(where, laid)
-    if up:
+    if laid.upright():
         return laid
     turned = _laid_out(grey, corners, laid.sheet.turns + 2)
     if turned.marks is None or not turned.upright():
@@ -545,10 +651,15 @@ def _options(where: _Where, **values) -> dict[str, Measured]:
 
 def _mark_lines(density, lines: list[Line], noise: float):
     """The time-mark pips (the line with the most pips on an even grid), the TDC pips (the
-    line with the most of the rest) and the lines without pips."""
+    line with the most of the rest) and the lines without pips. A line fainter than the
+    exposed ones bears no marks (a printed grid's: the grid's cross lines hang from it like
+    pips; the shadow of the sheet's edge on a scanner's lid)."""
     h = density.shape[0]
     found: list[Pips] = []
+    darkest = max((line.strength for line in lines), default=0.0)
     for line in lines:
+        if line.strength < MARK_INK * darkest:
+            continue
         # the pips stay clear of the next line as dark as this one, on either side
         reach = []
         for side in (-1, 1):
@@ -697,9 +808,26 @@ def _value_scale(where: _Where, given: dict, metres: Measured | None,
     return Measured(1.0), "px"
 
 
+def describe_lines(judged: list[tuple[Line, str]], rows: float,
+                   metres: Measured | None, taken: Line | None = None) -> str:
+    """The straight lines found, for messages: where each lies (mm below the sheet's top, or
+    px) and what it was taken for."""
+    def at(line):
+        return (f"{line.position * metres.value * 1e3:.1f} mm" if metres is not None
+                else f"row {line.position:.0f} of {rows:.0f}")
+    grid = [line for line, kind in judged if kind == "grid"]
+    parts = [f"{at(line)} ({kind}{', taken' if line is taken else ''})"
+             for line, kind in judged if kind != "grid"]
+    if grid:
+        parts.append(f"{len(grid)} grid lines")
+    return ("straight lines found (from the sheet's top): " + "; ".join(parts)) if parts \
+        else "no straight line found"
+
+
 def _record(where: _Where, found: Traces, j: int, seconds, value_scale: Measured, unit: str,
             zero: str, zero_lines: list[Line], lines: list[Line], pips: dict,
-            bridge: float, overlay: Overlay, turns: int) -> PaperRecord:
+            bridge: float, sheet: Sheet, overlay_marks: dict, judged: list,
+            metres: Measured | None) -> PaperRecord:
     tb, per_px = seconds
     row = found.row[j]
     valid = np.flatnonzero(np.isfinite(row))
@@ -708,11 +836,15 @@ def _record(where: _Where, found: Traces, j: int, seconds, value_scale: Measured
     row, u_row, conf = row[first:last + 1], found.u[j, first:last + 1], \
         found.confidence[j, first:last + 1]
     name = f"trace {j}"
+    ref = None
     if zero == "line":
         if not zero_lines:
-            raise where.error("zero = \"line\" but no straight line without marks (a zero "
-                              "line) is on the sheet", "use zero = \"mean\", or photograph "
-                              "the record with its zero line", "zero")
+            raise where.error("zero = \"line\" but no zero line (a long straight line without "
+                              "marks, parallel to the time base, inside the sheet, as dark as "
+                              "a trace) is on the sheet; "
+                              + describe_lines(judged, sheet.grey.shape[0], metres),
+                              "use zero = \"mean\", or photograph the record with its zero "
+                              "line", "zero")
         middle = np.nanmedian(row)
         ref = min(zero_lines, key=lambda line: abs(line.at(cols.mean()) - middle))
         pixels = ref.at(cols) - row
@@ -733,9 +865,13 @@ def _record(where: _Where, found: Traces, j: int, seconds, value_scale: Measured
     if tb is not None:               # the time marks where the fit puts them: t = T_mark·k
         marks["time"] = tb.period * tb.numbers - clock(first)
     marks_u = {k: p.edge_u * per_px.value for k, p in pips.items()}
+    overlay = Overlay.of(sheet.grey, found.row, found.confidence, j, overlay_marks,
+                         [line.position for line in zero_lines],
+                         taken=None if ref is None else ref.position)
     record = PaperRecord(where.path, name, where.field, time, value, conf, u_value, unit,
                          marks, marks_u, per_px, value_scale, tb, bridged,
-                         float(found.width[j]), overlay, turns)
+                         float(found.width[j]), overlay, sheet.turns,
+                         describe_lines(judged, sheet.grey.shape[0], metres, ref))
     _warn(record, tb, {k: p.edge_u for k, p in pips.items()})
     return record
 

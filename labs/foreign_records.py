@@ -1,0 +1,198 @@
+"""Lab measurements on paper records drawn by the second family of renderers
+(:mod:`processing.synth.paper_strip`): a light-beam oscillograph's strip, scanned on a flatbed
+with its lid or photographed by a phone over a table. One function per lab scene writes a
+measurement file, its image and the truth, as a student with that record would hand them in;
+the paper benchmark (:mod:`processing.bench.paper`, family ``foreign records``) reduces them
+with the lab's own ``reduce`` and judges the result, its interval and any refusal.
+
+A scene function ``labN_scene(seed, folder, *, capture, **choices) -> ForeignCase`` draws
+everything it does not get from the seed: the part, the regime, the strip's layout and marks,
+the capture (:meth:`~processing.synth.paper_strip.Scan.draw`,
+:meth:`~processing.synth.paper_strip.Photo.draw`). :data:`SCENES` names them for the bench.
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+from processing.synth.paper_strip import (Grid, Marks, Photo, Scan, Strip, StripScene, Trace,
+                                          expose)
+
+CAPTURES = ("scan", "photo")
+
+SCAN_DPI = 300.0
+"""Resolution of the scans (the bench may ask for another)."""
+
+PHOTO_SIZE = (3000, 2000)
+"""Size of the phone photographs (the bench may ask for another). [px]"""
+
+
+@dataclass(frozen=True)
+class ForeignCase:
+    """A measurement on a foreign record.
+
+    Attributes
+    ----------
+    toml : Path
+        The measurement file.
+    image : Path
+        The record's image.
+    truth : dict
+        Result name (as in the lab's result JSON) → true value, SI.
+    refuse : str or None
+        Why the lab must refuse the file, where it cannot be reduced (a cause a student can
+        act on), else None.
+    params : dict
+        The scene's settings, for the bench's table.
+    scene : StripScene or None
+        The rendered record (its traces' signals, the lines drawn), for diagnostics.
+    """
+
+    toml: Path
+    image: Path
+    truth: dict
+    refuse: str | None = None
+    params: dict = field(default_factory=dict)
+    scene: StripScene | None = field(default=None, repr=False)
+
+
+def _capture(rng: np.random.Generator, capture: str, *, dpi: float, size: tuple[int, int]):
+    if capture == "scan":
+        return Scan.draw(rng, dpi=dpi)
+    if capture == "photo":
+        return Photo.draw(rng, size=size)
+    raise ValueError(f"capture must be one of {CAPTURES}, got {capture!r}")
+
+
+def _grid(rng: np.random.Generator) -> Grid:
+    """A printed millimetre grid: bold every 5 or 10 mm, in one of the usual inks."""
+    colour = [(90, 140, 220), (150, 200, 150), (200, 160, 120), (160, 160, 160)][
+        int(rng.integers(4))]
+    return Grid(pitch=0.001, major=int(rng.choice([5, 10])), width=float(rng.uniform(6e-5, 1.4e-4)),
+                density=float(rng.uniform(0.15, 0.35)), colour=colour,
+                origin=tuple(float(v) for v in rng.uniform(0, 0.005, 2)))
+
+
+def lab3_scene(seed: int, folder, *, capture: str = "scan", zero_line: bool | None = None,
+               scale_given: bool | None = None, grid: bool | None = None,
+               dpi: float = SCAN_DPI, size: tuple[int, int] = PHOTO_SIZE) -> ForeignCase:
+    """Lab 3: the frequency-to-voltage converter's speed trace of one steady regime.
+
+    A four-cylinder engine (flywheel 0.1–0.25 kg·m², p_z 5–6 MPa, 2 % cycle-to-cycle
+    scatter) at 1200–2000 min⁻¹; 6–9 working cycles on 200–280 mm of 100 or 120 mm paper;
+    time marks every 10 ms (ticks up or down, or pips) near the lower edge, a TDC mark each
+    revolution near the upper edge (ticks down or pips up), a printed grid on half the strips.
+    The converter draws h = h₀ + μ(ω − ω_s): with its zero line (ω_s = 0: the beam at rest,
+    h₀ 8–25 mm above the lower edge, the mean level 45–75 mm above it), or with the zero
+    suppressed off the paper (no zero line: the ripple magnified to 5–16 mm), when the
+    student gives the converter's calibration μ [mm per min⁻¹] and ``zero = "mean"``, or
+    does not (then the lab must refuse: nothing on the file scales the trace).
+
+    Parameters
+    ----------
+    seed : int
+    folder : str or Path
+        Where the measurement file and the image go (created).
+    capture : {"scan", "photo"}
+    zero_line, scale_given, grid : bool, optional
+        Force the choice (default: drawn from the seed).
+    dpi, size
+        The scan's resolution, the photograph's size.
+
+    Returns
+    -------
+    ForeignCase
+        Truth ``delta_osc_1`` and ``omega_osc_1`` (δ of the mean of the whole cycles on the
+        strip from its first TDC mark, their mean speed).
+    """
+    from processing.synth.engine import Engine, run_engine
+
+    rng = np.random.default_rng([seed, 28, 3])
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    drawn = rng.random(3) < [0.5, 0.75, 0.5]    # drawn always: a forced choice leaves the rest
+    zero_line = bool(drawn[0]) if zero_line is None else zero_line
+    scale_given = bool(drawn[1]) if scale_given is None else scale_given
+    grid = bool(drawn[2]) if grid is None else grid
+    engine = Engine(inertia=float(rng.uniform(0.1, 0.25)), p_z=float(rng.uniform(5e6, 6e6)),
+                    cycle_variation=0.02)
+    n = float(np.round(rng.uniform(1200, 2000)))
+    cycles = int(rng.integers(6, 10))
+    run = run_engine(replace(engine, mean_angular_speed=n * np.pi / 30), cycles + 2,
+                     seed=seed * 7 + 3)
+    cycle_time = run.cycle_angle / run.mean_angular_speed
+    lead = float(rng.uniform(0.03, 0.08)) * cycle_time
+    length = float(rng.uniform(0.2, 0.28))
+    duration = cycles * cycle_time * 1.02 + lead
+    width = float(rng.choice([0.1, 0.12]))
+    first_cycle = float(np.interp(run.cycle_angle, run.crank_angle, run.time))
+
+    def omega(t):
+        # before the first cycle's TDC mark, the same phase of the next cycle
+        t = np.asarray(t, dtype=float)
+        return run.speed_at_angle(run.angle_at(np.where(t < 0, t + first_cycle, t)))
+
+    w_mean = run.mean_angular_speed
+    if zero_line:
+        base = float(rng.uniform(0.008, 0.025)) + 0.01 * (width - 0.1) / 0.02
+        mu = (float(rng.uniform(0.045, 0.075)) - base) / w_mean
+        suppressed = 0.0
+    else:
+        delta_guess = run.delta
+        mu = float(rng.uniform(0.005, 0.016)) / (delta_guess * w_mean)
+        mean_level = float(rng.uniform(0.4, 0.6)) * width
+        suppressed = w_mean - mean_level / mu
+        base = 0.0
+    revolutions = np.interp(np.arange(0.0, run.crank_angle[-1], 2 * np.pi), run.crank_angle,
+                            run.time)
+    time_dir = int(rng.choice([1, -1]))
+    time_shape = str(rng.choice(["tick", "tick", "pip"]))
+    tdc_shape = str(rng.choice(["tick", "pip"]))
+    strip = Strip(
+        length=length, width=width, speed=length / duration, start=-lead,
+        traces=(Trace(lambda t: omega(t) - suppressed, base, mu, zero_line=zero_line),),
+        marks=(Marks(np.arange(-0.01 * np.ceil(lead / 0.01), duration, 0.01),
+                     float(rng.uniform(0.004, 0.007)), shape=time_shape,
+                     direction=time_dir if time_shape == "tick" else 1,
+                     size=float(rng.uniform(0.0015, 0.003)),
+                     duration=float(rng.uniform(0.0015, 0.0025)) if time_shape == "tick"
+                     else 0.003, rise=float(rng.uniform(0.25, 0.4)), role="time"),
+               Marks(revolutions, width - float(rng.uniform(0.006, 0.01)), shape=tdc_shape,
+                     direction=-1 if tdc_shape == "tick" else 1,
+                     size=float(rng.uniform(0.002, 0.004)),
+                     duration=float(rng.uniform(0.002, 0.003)),
+                     rise=float(rng.uniform(0.25, 0.4)), role="tdc")),
+        grid=_grid(rng) if grid else None)
+    shot = _capture(rng, capture, dpi=dpi, size=size)
+    scene = expose(strip, shot, seed=seed)
+    image = scene.write(folder / f"lab3_{capture}_{seed}{scene.suffix}")
+    n_tach = round(n + float(rng.normal(0, 2)))
+    delta, speed = run.cycles_within(duration - lead)
+    mm_per_rpm = mu * 1e3 * np.pi / 30
+    regime = (f'[[regime]]\noscillogram = "{image.name}"\nn_tach = "{n_tach} ± 5 rpm"\n')
+    image_table = '[image]\nmark_period = "10 ms"\n'
+    image_table += (f'dpi = "{shot.dpi:g}"\n' if capture == "scan"
+                    else f'paper_width = "{width * 1e3:g} mm"\n')
+    if not zero_line and scale_given:
+        regime += f'converter_scale = "{mm_per_rpm:.5g} ± {0.01 * mm_per_rpm:.2g} mm/rpm"\n'
+        image_table += 'zero = "mean"\n'
+    toml = folder / f"lab3_{capture}_{seed}.toml"
+    toml.write_text(f'lab = "lab3"\n[meta]\nstudent = "foreign record (seed {seed})"\n\n'
+                    '[engine]\nstrokes = 4\ncylinders = 4\nkind = "automotive"\n\n'
+                    f'{regime}\n{image_table}', encoding="utf-8")
+    truth = {"delta_osc_1": float(delta), "omega_osc_1": float(speed)}
+    (folder / f"lab3_{capture}_{seed}_answer.json").write_text(json.dumps({"results": truth}))
+    refuse = None if zero_line or scale_given else "no zero line and no converter scale"
+    params = {"lab": "lab3", "seed": seed, "capture": capture, "zero_line": zero_line,
+              "scale_given": scale_given, "grid": grid,
+              "lid": "light" if capture == "scan" and min(shot.lid) > 128 else
+              "dark" if capture == "scan" else "", "n": n, "cycles": cycles,
+              "expected_refusal": refuse or ""}
+    return ForeignCase(toml, image, truth, refuse, params, scene)
+
+
+SCENES = {"lab3": lab3_scene}
+"""The lab scenes of the foreign-records benchmark, by lab."""
