@@ -33,7 +33,7 @@ References
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -961,6 +961,17 @@ SYNTH_FORMATS = ("csv", "h5")
 PHOTO_MARKS = 0.005
 """Period of the time marks on the photographed torsiograms. [s]"""
 
+PHOTO_STRIP = 0.3
+"""Length of the torsiogram strip a phone photographs whole. [m]"""
+
+PHOTO_PAPER_SPEED = 1.5
+"""Paper speed of the photographed torsiograms: a light-beam oscillograph's 1500 mm/s, at
+which the 5 ms time marks stand 7.5 mm apart and the crankshaft's 100–300 Hz oscillations
+5–15 mm (34–100 px of the phone's photograph), so that a strip of :data:`PHOTO_STRIP`
+holds 0.2 s: 2.7 revolutions at 800 min⁻¹ (too few for the orders: its single oscillations
+are read), 7 at 2100 min⁻¹. (A record drawn over a fixed length at a paper speed made up
+for it merged 16 revolutions' time marks into a band at 800 min⁻¹.) [m/s]"""
+
 
 def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float = 35.0,
                     sample_rate: float = 4000.0, drift: float = 1.0,
@@ -1010,8 +1021,9 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
         Also write the equivalent chain (for the model's natural frequencies).
     image : bool
         Write each record as a phone photograph of its paper torsiogram (``rNN.jpg``,
-        :func:`processing.synth.paper_record.photograph`: the whole record over 250 mm, 35 mm
-        for the largest excursion of any record; ``revolutions`` 6 suits it) with an
+        :func:`processing.synth.paper_record.render`: what a strip of :data:`PHOTO_STRIP` at
+        :data:`PHOTO_PAPER_SPEED` holds, whatever ``revolutions`` says — fewer revolutions at
+        low speed, more at high — 20 mm for the largest excursion of any record) with an
         ``[image]`` table, the calibration's deflections in mm of paper.
     part : int, optional
         Seed of the part: the crankshaft's chain and the torsiograph's f_c (default
@@ -1025,7 +1037,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
     import json
 
     from processing.signals import write_csv, write_hdf5
-    from processing.synth.paper_record import photograph
+    from processing.synth.paper_record import PHONE, Beam, Layout, render
     from processing.synth.torsiograph import (LOADS as SHARES, RPM, Torsiograph, calibration,
                                               record, resonances, sweep)
 
@@ -1063,24 +1075,28 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
         for w in sweep(shaft, lo, hi, step=step * RPM, fine=fine * RPM, load=share,
                        found=truths):
             number += 1
-            recs.append((number, load, w, record(shaft, inst, w, load=share,
+            drawn = replace(inst, revolutions=int(np.ceil(
+                PHOTO_STRIP / PHOTO_PAPER_SPEED * w / (2 * np.pi))) + 1) if image else inst
+            recs.append((number, load, w, record(shaft, drawn, w, load=share,
                                                  seed=seed * 1000 + number)))
         for r in truths:
             if r.clear:
                 res_number += 1
                 results.update({f"n_res_{res_number}": r.speed, f"K_res_{res_number}": r.order,
                                 f"f_res_{res_number}": r.order * r.speed / (2 * np.pi)})
-    # on paper: 35 mm for the largest excursion of any record
-    gain = 0.035 / max(np.max(np.abs(rec.trace - np.median(rec.trace))) for *_, rec in recs)
+    # on paper: 20 mm for the largest excursion of any record
+    gain = 0.020 / max(np.max(np.abs(rec.trace - np.median(rec.trace))) for *_, rec in recs)
     if image:
         results["l"] = inst.scale / (1e3 * gain)         # rad per mm of paper
     for number, load, w, rec in recs:
         if image:
             name = f"r{number:02d}.jpg"
             centre = float(np.median(rec.trace))
-            photograph(lambda t: np.interp(t, rec.time, rec.trace) - centre,
-                       float(rec.time[-1]), gain, mark_period=PHOTO_MARKS,
-                       tdc_times=rec.tdc_times, seed=seed * 1000 + number).write(out / name)
+            strip = Layout(length=PHOTO_STRIP, speed=PHOTO_PAPER_SPEED, mark_period=PHOTO_MARKS,
+                           tdc_times=tuple(rec.tdc_times))
+            beam = Beam(lambda t, rec=rec, centre=centre: np.interp(t, rec.time, rec.trace)
+                        - centre, 0.06, gain)
+            render(strip, [beam], PHONE, seed=seed * 1000 + number).write(out / name)
             rate = ""
         else:
             name = f"r{number:02d}.{fmt}"

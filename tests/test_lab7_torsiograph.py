@@ -286,7 +286,7 @@ def test_bad_settings_are_refused(base, old, new, field):
 
 def test_photographed_sweep_gives_the_recorded_sweeps_results(tmp_path):
     """The seeded sweep written twice — as recordings, and as phone photographs of its paper
-    torsiograms (6 revolutions across 250 mm each) — gives the same resonances (orders exact,
+    torsiograms (300 mm strips at 1.5 m/s: 2.7–7 revolutions) — gives the same resonances (orders exact,
     speeds within 0.05 %), the design value φ_max within 2 % of the truth, every stated
     interval holding its truth (the photographs' amplitudes carry their reading's limit,
     PHOTO_AMPLITUDE), and the report shows each photograph as read."""
@@ -304,3 +304,4 @@ def test_photographed_sweep_gives_the_recorded_sweeps_results(tmp_path):
             lo, hi = b[name].estimate.interval95
             assert lo <= truth <= hi, (name, b[name].value, truth)
     assert sum(f.name.startswith("paper_record") for f in b.figures) == 14
+

@@ -20,7 +20,7 @@ from processing.resonance import (EDGE_SLOPE, campbell_lines, locate_resonances,
                                   major_orders, phase_sum, resonance_speed)
 from processing.seismic import amplitude_ratio, correct_trace, torsiograph_response
 from processing.synth.torsiograph import (RPM, Crankshaft, Torsiograph, nose_motion, record,
-                                          resonances, sweep)
+                                          resonances, ringing_record, sweep)
 from processing.torsiogram import (crank_angle, cycle_peaks, extrema, frequency_from_counts,
                                    oscillation_frequency, peak_amplitudes, revolutions,
                                    speed_from_counts, steady_crank_angle)
@@ -187,38 +187,6 @@ def test_single_oscillations_coverage_over_seeded_records():
     assert np.mean(hits) >= 0.90, np.mean(hits)
 
 
-def _ringing_record(seed: int, rpm: float, revolutions: int, *, cylinders: int = 6,
-                    natural: float = 73.0, rate: float = 4000.0, snr_db: float = 30.0):
-    """A record no order fit describes: a few orders of the crank (the major ones five times
-    the others) and a free vibration at ``natural`` Hz (damping ratio 0.05) rung anew, with a
-    random strength, at every firing, locked to no order; a ramp and a slow wave as large as
-    the motion's range; white noise. The truth: the motion's largest peak amplitude, read
-    with the same hysteresis."""
-    rng = np.random.default_rng([seed, 28])
-    f_rev = rpm / 60
-    t = np.arange(int(revolutions / f_rev * rate)) / rate
-    orders = np.arange(0.5, 12.01, 0.5)
-    amp = 0.2 * rng.uniform(0, 1, orders.size) / orders
-    amp[np.isclose(orders % (cylinders / 2), 0)] *= 5
-    motion = (amp[:, None] * np.cos(2 * np.pi * orders[:, None] * f_rev * t
-                                     + rng.uniform(0, 2 * np.pi, orders.size)[:, None])).sum(0)
-    interval = 2 / (f_rev * cylinders)
-    for start in np.arange(rng.uniform(0, interval), t[-1], interval):
-        d = t - start
-        ring = np.exp(-2 * np.pi * natural * 0.05 * d) * np.sin(2 * np.pi * natural * d)
-        motion += np.where(d >= 0, rng.uniform(0.5, 1.0) * ring, 0.0)
-    truth = peak_amplitudes(t, motion, 0.2 * np.ptp(motion)).largest
-    spectrum = np.fft.rfft(motion)
-    f = np.fft.rfftfreq(t.size, 1 / rate)
-    seen = np.fft.irfft(spectrum * np.concatenate([[1], torsiograph_response(f[1:], 1.5, 0.2)]),
-                        t.size)
-    drift = np.ptp(motion) * (rng.uniform(-1, 1) * t / t[-1]
-                              + 0.5 * np.sin(2 * np.pi * 0.3 * t + rng.uniform(0, 6)))
-    noise = np.std(seen) / 10 ** (snr_db / 20) * rng.standard_normal(t.size)
-    marks = np.arange(rng.uniform(0, 1 / f_rev), t[-1], 1 / f_rev)
-    return t, seen + drift + noise, marks, truth
-
-
 def test_an_oscillation_between_the_orders_is_read_whole():
     """A 73 Hz free vibration that no order describes (the issue's torsiograms: the mean
     cycle reads 4–36 % low there): the single oscillations hold it, φ_max within 5 % and
@@ -227,7 +195,7 @@ def test_an_oscillation_between_the_orders_is_read_whole():
     hits, errors = [], []
     for seed in range(24):
         revs = (3, 6, 16)[seed % 3]
-        t, x, marks, truth = _ringing_record(seed, (900.0, 1500.0, 2100.0)[seed // 8], revs,
+        t, x, marks, truth = ringing_record(seed, (900.0, 1500.0, 2100.0)[seed // 8], revs,
                                              cylinders=6 if revs < 16 else 4)
         read = analyse_trace if revs > 3 else read_oscillations
         tg = read(t, x, marks, natural_frequency=1.5, damping_ratio=0.2)
