@@ -15,9 +15,11 @@ K = ν/n; a harmonic analysis where the curve is not a sine.
 Here each record is a signal file (CSV, WAV or HDF5: the torsiograph's channel, the TDC
 marks, optionally the time marks). Its orders are fitted against the crank angle together
 with the drift (:mod:`processing.orders`), corrected for the instrument's transfer function
-(:mod:`processing.seismic`); the peak amplitudes are read the manual's way both on the
-record's single oscillations and on its mean working cycle, whose largest (free of the
-noise's upward bias) is the result (:mod:`processing.torsiogram`). Across the records each
+(:mod:`processing.seismic`) and describe its mean working cycle; the peak amplitudes are
+read the manual's way on the record's single oscillations (its white noise taken out, not a
+band cut: an oscillation between the orders stays), whose largest is the design value
+(:mod:`processing.torsiogram`). A record under two working cycles, too short for its half
+orders, is read by its single oscillations alone. Across the records each
 resonance is located between them with its order and the natural frequency it implies
 (:mod:`processing.resonance`), drawn on a Campbell diagram with the engine's major orders,
 and compared with an equivalent torsional chain's natural frequencies when the chain is
@@ -31,7 +33,7 @@ References
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -53,7 +55,8 @@ from processing.signals import (image_options, is_image, open_channel, open_chan
                                 read_figures)
 from processing.torsion import natural_modes
 from processing.torsiogram import revolutions
-from processing.torsiogram_analysis import MAX_ORDER, ORDER_SHARE, Torsiogram, analyse_trace
+from processing.torsiogram_analysis import (MAX_ORDER, ORDER_SHARE, Torsiogram, analyse_trace,
+                                            read_oscillations)
 from processing.uncertainty import Measured, propagate
 
 LOADS = ("idle", "part", "full")
@@ -74,8 +77,9 @@ low where an oscillation's period spans 50–170 px (14 records of ``dynlab synt
 --seed 7``, a phone's 2400 px across 250 mm of paper)."""
 
 MIN_CYCLES = 2
-"""Working cycles a record needs at all: with fewer, a half order cannot be told from the
-drift (1.5 cycles: φ_max 10–20 % off, beyond its stated U, in the benchmark)."""
+"""Working cycles a record needs for its orders: with fewer, a half order cannot be told
+from the drift (1.5 cycles: the mean cycle's φ_max 10–20 % off in the benchmark), and the
+record is read by its single oscillations alone, as the manual reads them."""
 
 FEW_CYCLES = 4
 """Below this many working cycles a drift that reaches the lowest orders' frequencies is no
@@ -375,21 +379,23 @@ def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
     trace_field = "channel" if "channel" in entry else "signal"
     revs = revolutions(tdc_times, per_revolution=settings["tdc_per_revolution"])
     cycles = trace.size / rate * revs.angular_speed / (2 * np.pi) / (strokes // 2)
-    if cycles < MIN_CYCLES - CYCLE_SLACK:
-        raise refuse(f"the record spans {cycles:.1f} working cycle(s); its half orders and "
-                     f"drift need at least {MIN_CYCLES}",
-                     f"record at least {FEW_CYCLES} working cycles "
-                     f"({FEW_CYCLES * strokes // 2} revolutions)")
+    analyse = analyse_trace if cycles >= MIN_CYCLES - CYCLE_SLACK else read_oscillations
     try:
-        result = analyse_trace(time, trace, tdc_times,
-                               natural_frequency=settings["f_c"].value,
-                               damping_ratio=settings["zeta"].value,
-                               per_revolution=settings["tdc_per_revolution"], strokes=strokes)
+        result = analyse(time, trace, tdc_times, natural_frequency=settings["f_c"].value,
+                         damping_ratio=settings["zeta"].value,
+                         per_revolution=settings["tdc_per_revolution"], strokes=strokes)
     except InputError as exc:
         raise refuse(f"channel '{trace_channel.name}': {exc.problem}", exc.fix,
                      trace_field) from None
-    _check_orders(result, trace_channel.name, lambda problem, fix: refuse(problem, fix,
-                                                                          trace_field))
+    if result.fit is not None:
+        _check_orders(result, trace_channel.name, lambda problem, fix: refuse(problem, fix,
+                                                                              trace_field))
+    elif not np.isfinite(result.peaks.largest):
+        raise refuse(f"channel '{trace_channel.name}' spans {cycles:.1f} working cycle(s), too "
+                     "few for its orders, and shows no single oscillation above its noise "
+                     f"(σ = {result.noise:.3g})", f"record at least {FEW_CYCLES} working cycles "
+                     f"({FEW_CYCLES * strokes // 2} revolutions), and check that this is the "
+                     "torsiograph's channel", trace_field)
     if not np.isfinite(result.frequency) and not result.drift_ratio > DRIFT_RATIO:
         raise refuse(f"channel '{trace_channel.name}' shows no oscillation above its noise "
                      f"(σ = {result.noise:.3g})", "check that this is the torsiograph's "
@@ -589,11 +595,11 @@ class Found:
 
 def _amplitudes(recs: list[Recorded]):
     """Orders (common grid) and each record's corrected amplitudes and u on it."""
-    longest = max(recs, key=lambda r: r.trace.fit.order.size).trace.fit.order
+    longest = max(recs, key=lambda r: r.trace.orders.size).trace.orders
     amp = np.zeros((len(recs), longest.size))
     u = np.zeros_like(amp)
     for j, r in enumerate(recs):
-        m = r.trace.fit.order.size
+        m = r.trace.orders.size
         amp[j, :m], u[j, :m] = r.trace.order_amplitude, r.trace.order_u
     return longest, amp, u
 
@@ -603,7 +609,7 @@ def _resonances(recorded: list[Recorded]) -> tuple[list[Found], list[tuple[str, 
     """Every load's resonances and sweep edges; the order amplitudes by record."""
     found, edges, amplitudes = [], [], {}
     for load in LOADS:
-        recs = [r for r in recorded if r.load == load]
+        recs = [r for r in recorded if r.load == load and r.trace.fit is not None]
         if not recs:
             continue
         orders, amp, u = _amplitudes(recs)
@@ -702,10 +708,9 @@ def _flat(inputs: Inputs, recorded, slope, found, amplitudes) -> dict:
         if t.frequency_fit is not None:
             flat[f"r{r.number}.half_period"] = t.frequency_fit.measured_slope()
         photo = PHOTO_AMPLITUDE if is_image(r.source) else 0.0
-        flat[f"r{r.number}.A"] = Measured(t.cycle.largest, t.cycle.u_largest, t.cycle.dof,
-                                          limit=photo * t.cycle.largest)
-        flat[f"r{r.number}.f"] = t.fit.order[np.argmax(t.order_amplitude)] \
-            * t.revolution_frequency
+        largest = t.peaks.largest
+        flat[f"r{r.number}.A"] = Measured(largest, t.u_largest, limit=photo * largest)
+        flat[f"r{r.number}.f"] = t.carrying_frequency
     for f in found:
         k = f.resonance.order
         for n in f.records:
@@ -838,8 +843,8 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20037) -> LabR
     LabResult
         With records: ``l`` (the trace scale); per record i: ``n_i`` (speed from the TDC
         marks), ``nu_i`` (frequency by counting the oscillations), ``K_i`` = ν/n,
-        ``phi_max_i`` (the largest peak amplitude of the mean working cycle, corrected for
-        the instrument); ``phi_max``, the largest over the records; per resonance j:
+        ``phi_max_i`` (the largest peak amplitude of the record's single oscillations,
+        corrected for the instrument); ``phi_max``, the largest over the records; per resonance j:
         ``n_res_j``, ``K_res_j`` (its order), ``f_res_j`` (the natural frequency it implies).
         With a chain: ``f_model_m`` of each of its modes, and for the reported modes m and
         orders k (:func:`_chain`) ``phase_sum_m_k`` (the relative phase sum) and
@@ -890,9 +895,18 @@ def _warn(inputs: Inputs, recorded, found, edges, results) -> None:
     low = [(i, ratio) for i, ratio in low if ratio < RESPONSE_RATIO]
     if low:
         warnings.warn(report.response_warning(low, RESPONSE_RATIO))
-    short = [(r.number, r.cycles) for r in recorded if r.cycles < FEW_CYCLES - CYCLE_SLACK]
+    short = [(r.number, r.cycles) for r in recorded
+             if r.trace.fit is not None and r.cycles < FEW_CYCLES - CYCLE_SLACK]
     if short:
         warnings.warn(report.short_warning(short, FEW_CYCLES))
+    bare = [(r.number, r.cycles) for r in recorded if r.trace.fit is None]
+    if bare:
+        warnings.warn(report.orders_left_out(bare, MIN_CYCLES))
+    vague = [(r.number, results[f"phi_max_{r.number}"]) for r in recorded]
+    vague = [(i, phi.estimate.U / phi.value) for i, phi in vague
+             if not phi.estimate.U < phi.value]
+    if vague:
+        warnings.warn(report.amplitude_in_noise(vague))
     drifting = []
     for r in recorded:
         phi = results[f"phi_max_{r.number}"]
@@ -947,6 +961,17 @@ SYNTH_FORMATS = ("csv", "h5")
 PHOTO_MARKS = 0.005
 """Period of the time marks on the photographed torsiograms. [s]"""
 
+PHOTO_STRIP = 0.3
+"""Length of the torsiogram strip a phone photographs whole. [m]"""
+
+PHOTO_PAPER_SPEED = 1.5
+"""Paper speed of the photographed torsiograms: a light-beam oscillograph's 1500 mm/s, at
+which the 5 ms time marks stand 7.5 mm apart and the crankshaft's 100–300 Hz oscillations
+5–15 mm (34–100 px of the phone's photograph), so that a strip of :data:`PHOTO_STRIP`
+holds 0.2 s: 2.7 revolutions at 800 min⁻¹ (too few for the orders: its single oscillations
+are read), 7 at 2100 min⁻¹. (A record drawn over a fixed length at a paper speed made up
+for it merged 16 revolutions' time marks into a band at 800 min⁻¹.) [m/s]"""
+
 
 def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float = 35.0,
                     sample_rate: float = 4000.0, drift: float = 1.0,
@@ -996,8 +1021,9 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
         Also write the equivalent chain (for the model's natural frequencies).
     image : bool
         Write each record as a phone photograph of its paper torsiogram (``rNN.jpg``,
-        :func:`processing.synth.paper_record.photograph`: the whole record over 250 mm, 35 mm
-        for the largest excursion of any record; ``revolutions`` 6 suits it) with an
+        :func:`processing.synth.paper_record.render`: what a strip of :data:`PHOTO_STRIP` at
+        :data:`PHOTO_PAPER_SPEED` holds, whatever ``revolutions`` says — fewer revolutions at
+        low speed, more at high — 20 mm for the largest excursion of any record) with an
         ``[image]`` table, the calibration's deflections in mm of paper.
     part : int, optional
         Seed of the part: the crankshaft's chain and the torsiograph's f_c (default
@@ -1011,7 +1037,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
     import json
 
     from processing.signals import write_csv, write_hdf5
-    from processing.synth.paper_record import photograph
+    from processing.synth.paper_record import PHONE, Beam, Layout, render
     from processing.synth.torsiograph import (LOADS as SHARES, RPM, Torsiograph, calibration,
                                               record, resonances, sweep)
 
@@ -1049,24 +1075,28 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
         for w in sweep(shaft, lo, hi, step=step * RPM, fine=fine * RPM, load=share,
                        found=truths):
             number += 1
-            recs.append((number, load, w, record(shaft, inst, w, load=share,
+            drawn = replace(inst, revolutions=int(np.ceil(
+                PHOTO_STRIP / PHOTO_PAPER_SPEED * w / (2 * np.pi))) + 1) if image else inst
+            recs.append((number, load, w, record(shaft, drawn, w, load=share,
                                                  seed=seed * 1000 + number)))
         for r in truths:
             if r.clear:
                 res_number += 1
                 results.update({f"n_res_{res_number}": r.speed, f"K_res_{res_number}": r.order,
                                 f"f_res_{res_number}": r.order * r.speed / (2 * np.pi)})
-    # on paper: 35 mm for the largest excursion of any record
-    gain = 0.035 / max(np.max(np.abs(rec.trace - np.median(rec.trace))) for *_, rec in recs)
+    # on paper: 20 mm for the largest excursion of any record
+    gain = 0.020 / max(np.max(np.abs(rec.trace - np.median(rec.trace))) for *_, rec in recs)
     if image:
         results["l"] = inst.scale / (1e3 * gain)         # rad per mm of paper
     for number, load, w, rec in recs:
         if image:
             name = f"r{number:02d}.jpg"
             centre = float(np.median(rec.trace))
-            photograph(lambda t: np.interp(t, rec.time, rec.trace) - centre,
-                       float(rec.time[-1]), gain, mark_period=PHOTO_MARKS,
-                       tdc_times=rec.tdc_times, seed=seed * 1000 + number).write(out / name)
+            strip = Layout(length=PHOTO_STRIP, speed=PHOTO_PAPER_SPEED, mark_period=PHOTO_MARKS,
+                           tdc_times=tuple(rec.tdc_times))
+            beam = Beam(lambda t, rec=rec, centre=centre: np.interp(t, rec.time, rec.trace)
+                        - centre, 0.06, gain)
+            render(strip, [beam], PHONE, seed=seed * 1000 + number).write(out / name)
             rate = ""
         else:
             name = f"r{number:02d}.{fmt}"

@@ -8,7 +8,8 @@ from __future__ import annotations
 import numpy as np
 
 from processing.diagnostics import (BaselineDriftWarning, InconsistentInputWarning,
-                                    MixedOrdersWarning, ResonanceBeyondSweepWarning,
+                                    MixedOrdersWarning, NoiseFloorWarning,
+                                    ResonanceBeyondSweepWarning,
                                     ShortRecordWarning, TorsiographResponseWarning,
                                     UnresolvedResonanceWarning)
 from processing.measurement import bi
@@ -81,10 +82,12 @@ FORMULAS = [
        "Лежандра); поправка на торсиограф c_k/H(k n/60), H(f) = r²/(r² − 1 − 2iζr), r = f/f_c"),
     bi("Peak amplitude A_ij = |S_i − (h_i + (h_{i+1} − h_i)(s_i − s'_i)/(s'_{i+1} − s'_i))|/2: "
        "half the distance from an extremum to the line through its neighbouring opposite "
-       "extrema (the drift taken out); φ_max = l · max A_ij of the mean working cycle",
+       "extrema (the drift taken out); φ_max = l · max A_ij over the record's single "
+       "oscillations (its white noise taken out by spectral subtraction)",
        "Пиковая амплитуда A_ij = |S_i − (h_i + (h_{i+1} − h_i)(s_i − s'_i)/(s'_{i+1} − s'_i))|/2: "
        "половина расстояния от экстремума до прямой через соседние противоположные "
-       "экстремумы (дрейф исключён); φ_max = l · max A_ij среднего рабочего цикла"),
+       "экстремумы (дрейф исключён); φ_max = l · max A_ij по отдельным колебаниям записи "
+       "(белый шум вычтен по спектру)"),
     bi("Resonance: 1/A_k² = c₀ + c₁n + c₂n² through the records around the peak, "
        "n_res = −c₁/(2c₂); natural frequency f = K n_res/60", "Резонанс: 1/A_k² = c₀ + c₁n + "
        "c₂n² по режимам около пика, n_res = −c₁/(2c₂); собственная частота f = K n_res/60"),
@@ -212,11 +215,39 @@ def short_warning(short, cycles: int) -> ShortRecordWarning:
     records = _list(f"{i} ({c:.1f})" for i, c in short)
     return ShortRecordWarning(
         f"records {records} span fewer than {cycles} working cycles: a drift reaching the "
-        "half orders is no longer told from them, and φ_max may be off by more than its "
-        f"uncertainty; record at least {cycles} working cycles",
+        "half orders is no longer told from them, and their order amplitudes (the "
+        "amplitude–speed curve, the resonances) may be off by more than their uncertainty "
+        f"(φ_max is read from the single oscillations); record at least {cycles} working "
+        "cycles",
         f"режимы {records} короче {cycles} рабочих циклов: дрейф, доходящий до полупорядковых "
-        "гармоник, от них уже не отличить, и φ_max может отличаться больше своей "
-        f"погрешности; записывайте не менее {cycles} рабочих циклов")
+        "гармоник, от них уже не отличить, и амплитуды гармоник (амплитудно-частотная "
+        "характеристика, резонансы) могут отличаться больше своей погрешности (φ_max "
+        f"найдена по отдельным колебаниям); записывайте не менее {cycles} рабочих циклов")
+
+
+def orders_left_out(bare, cycles: int) -> ShortRecordWarning:
+    records = _list(f"{i} ({c:.1f})" for i, c in bare)
+    return ShortRecordWarning(
+        f"records {records} span fewer than {cycles} working cycles, too few to tell their "
+        "half orders from the drift: the harmonic analysis is left out, and φ_max, ν and K "
+        "come from their single oscillations alone (they join neither the order curves nor "
+        f"the resonances); record at least {cycles} working cycles for the orders",
+        f"режимы {records} короче {cycles} рабочих циклов — слишком мало, чтобы отличить "
+        "полупорядковые гармоники от дрейфа: гармонический анализ не выполнен, φ_max, ν и K "
+        "найдены только по отдельным колебаниям (в кривые гармоник и резонансы эти режимы не "
+        f"входят); для гармоник записывайте не менее {cycles} рабочих циклов")
+
+
+def amplitude_in_noise(vague) -> NoiseFloorWarning:
+    records = _list(f"{i} (U/φ = {ratio:.1f})" for i, ratio in vague)
+    return NoiseFloorWarning(
+        f"records {records}: the largest single oscillation is not known better than its "
+        "own size (U ≥ φ_max): the trace barely rises out of its noise or its ripples, and "
+        "φ_max there is no design value; raise the amplifier's gain, or record a steadier "
+        "regime",
+        f"режимы {records}: наибольшее отдельное колебание известно не точнее собственной "
+        "величины (U ≥ φ_max): запись едва выходит из шума или ряби, и φ_max там не годится "
+        "как расчётная; увеличьте усиление или запишите более устойчивый режим")
 
 
 def drift_warning(drifting) -> BaselineDriftWarning:
@@ -290,10 +321,10 @@ def _records_table(recorded, results, f_c) -> Table:
         rows.append({"i": str(i), "load": LOAD_WORDS[r.load], "cycles": f"{r.cycles:.1f}",
                      "n": result_pm(results, f"n_{i}"), "nu": result_pm(results, f"nu_{i}"),
                      "K": f"{t.K:.2f}" if np.isfinite(t.K) else "—",
-                     "order": f"{t.dominant_order:g}",
+                     "order": f"{t.dominant_order:g}" if t.fit is not None else "—",
                      "phi": result_pm(results, f"phi_max_{i}", 1e3),
-                     "trace": f"{1e3 * results['l'].value * np.nanmax(t.peaks.amplitude):.3f}"
-                     if np.isfinite(t.peaks.amplitude).any() else "—",
+                     "cycle": f"{1e3 * results['l'].value * t.cycle.largest:.3f}"
+                     if t.cycle is not None else "—",
                      "drift": f"{t.drift_ratio:.2f}",
                      "fc": f"{t.lowest_frequency() / f_c:.1f}"})
     cols = (("i", bi("Record", "Режим")), ("load", bi("Load", "Нагрузка")),
@@ -301,9 +332,9 @@ def _records_table(recorded, results, f_c) -> Table:
             ("n", bi("n, min⁻¹", "n, мин⁻¹")), ("nu", bi("ν, Hz", "ν, Гц")),
             ("K", bi("K = ν/n", "K = ν/n")),
             ("order", bi("Dominant order", "Преобладающий порядок")),
-            ("phi", bi("φ_max (mean cycle), mrad", "φ_max (средний цикл), мрад")),
-            ("trace", bi("largest single oscillation, mrad",
-                         "наибольшее отдельное колебание, мрад")),
+            ("phi", bi("φ_max (largest single oscillation), mrad",
+                       "φ_max (наибольшее отдельное колебание), мрад")),
+            ("cycle", bi("mean cycle's largest, mrad", "наибольшая в среднем цикле, мрад")),
             ("drift", bi("drift / range", "дрейф / размах")),
             ("fc", bi("lowest carrying frequency / f_c", "низшая несущая частота / f_c")))
     return Table(bi("Records (± U, k = 2)", "Торсиограммы (± U, k = 2)"), cols, rows)
@@ -413,8 +444,9 @@ def _draw_amplitude(fig, recorded, found, results, majors, lang):
         ax.errorbar(n, 1e3 * phi, 1e3 * U, fmt="o-", ms=4, lw=1.5, capsize=2,
                     label=f"φ_max, {LOAD_WORDS[load][lang]}")
         for k in majors[:4]:
-            a = [r.trace.order_amplitude[np.argmin(np.abs(r.trace.fit.order - k))]
-                 if r.trace.fit.order.max() >= k else np.nan for r in recs]
+            a = [r.trace.order_amplitude[np.argmin(np.abs(r.trace.orders - k))]
+                 if r.trace.orders.size and r.trace.orders.max() >= k else np.nan
+                 for r in recs]
             ax.plot(n, 1e3 * l * np.asarray(a), "--", lw=0.8,
                     label=_t(lang, f"order {k:g}", f"порядок {k:g}"))
     for f in found:
@@ -432,10 +464,11 @@ def _campbell_reach(recorded, modes, majors, criticals, results):
     """The Campbell diagram's speed and frequency reach, and the orders it draws: the
     records' (their speeds and orders), or without records the chain's (up to the first
     mode's critical speed at the lowest major order reported, and its reported modes)."""
+    fitted = [r for r in recorded if r.trace.fit is not None]
     if recorded:
         speeds = np.array([r.trace.angular_speed for r in recorded])
-        top = max(r.trace.fit.order.max() for r in recorded)
-        step = recorded[0].trace.fit.order[0]
+        top = max((r.trace.orders.max() for r in fitted), default=float(majors.max()))
+        step = fitted[0].trace.orders[0] if fitted else majors[0]
         return speeds.max() * 1.05, 0.0, np.arange(step, top + step / 2, step)
     speeds = {(m, k): results[critical_names(m, k)[1]].value for m, k in criticals}
     first = [w for (m, k), w in speeds.items()
@@ -454,6 +487,8 @@ def _draw_campbell(fig, recorded, found, modes, majors, lang, results=None, crit
     for r in recorded:
         t = r.trace
         a = t.order_amplitude
+        if not a.size:
+            continue
         keep = a >= 0.1 * a.max()
         f = t.fit.order[keep] * t.revolution_frequency
         ax.scatter(np.full(f.size, t.angular_speed * RPM), f, s=60 * a[keep] / a.max(),
@@ -527,10 +562,10 @@ def _draw_orders(fig, recorded, found, results, majors, lang):
     t = r.trace
     l = results["l"].value
     ax = fig.subplots()
-    major = np.array([np.any(np.isclose(majors, k)) for k in t.fit.order])
-    ax.bar(t.fit.order, 1e3 * l * t.order_amplitude, width=0.35,
+    major = np.array([np.any(np.isclose(majors, k)) for k in t.orders])
+    ax.bar(t.orders, 1e3 * l * t.order_amplitude, width=0.35,
            color=np.where(major, "tab:red", "tab:blue"))
-    ax.errorbar(t.fit.order, 1e3 * l * t.order_amplitude, 2e3 * l * t.order_u, fmt="none",
+    ax.errorbar(t.orders, 1e3 * l * t.order_amplitude, 2e3 * l * t.order_u, fmt="none",
                 ecolor="k", lw=0.6)
     ax.set_xlabel(_t(lang, f"order (record {r.number}; red: major orders)",
                      f"порядок (режим {r.number}; красные — главные порядки)"))

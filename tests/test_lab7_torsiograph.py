@@ -249,14 +249,24 @@ def test_a_missed_tdc_mark_and_a_flat_trace_are_refused(base):
     assert "no order stands above its uncertainty" in err.problem
 
 
-def test_a_record_shorter_than_two_working_cycles_is_refused(base):
+def test_a_record_shorter_than_two_working_cycles_is_read_by_its_single_oscillations(base):
+    """Three revolutions (1.5 working cycles: too few to tell the half orders from the drift):
+    the manual's single oscillations give φ_max within 2 % of the full record's truth and
+    ν, said by a warning that the orders are left out; the record joins no resonance."""
     folder, text = base
     rows = np.genfromtxt(folder / "r01.csv", delimiter=",", names=True)
     cut = int(rows.size * 3 / 8)                                  # three revolutions
     write_csv(folder / "short.csv", {k: rows[k][:cut] for k in ("phi", "tdc", "marks")})
-    err = refused(folder, text.replace('"r01.csv"', '"short.csv"', 1), "record[0].signal",
-                  file="short.csv")
-    assert "working cycle" in err.problem
+    path = folder / "short.toml"
+    path.write_text(text.replace('"r01.csv"', '"short.csv"', 1), encoding="utf-8")
+    result = reduce(path)
+    key = json.loads((folder / "answer_key.json").read_text())["results"]
+    assert result["phi_max_1"].value == pytest.approx(key["phi_max_1"], rel=0.02)
+    lo, hi = result["phi_max_1"].estimate.interval95
+    assert lo <= key["phi_max_1"] <= hi
+    assert "nu_1" in result.results
+    left_out = [w for w in result.warnings if w.code == "short_record"]
+    assert left_out and "left out" in left_out[0].message
 
 
 @pytest.mark.parametrize("old, new, field", [
@@ -276,8 +286,8 @@ def test_bad_settings_are_refused(base, old, new, field):
 
 def test_photographed_sweep_gives_the_recorded_sweeps_results(tmp_path):
     """The seeded sweep written twice — as recordings, and as phone photographs of its paper
-    torsiograms (6 revolutions across 250 mm each) — gives the same resonances (orders exact,
-    speeds within 0.05 %), the design value φ_max within 1 % of the truth, every stated
+    torsiograms (300 mm strips at 1.5 m/s: 2.7–7 revolutions) — gives the same resonances (orders exact,
+    speeds within 0.05 %), the design value φ_max within 2 % of the truth, every stated
     interval holding its truth (the photographs' amplitudes carry their reading's limit,
     PHOTO_AMPLITUDE), and the report shows each photograph as read."""
     photo = lab7.write_synthetic(tmp_path / "jpg", seed=7, image=True, revolutions=6, part=0)
@@ -288,9 +298,10 @@ def test_photographed_sweep_gives_the_recorded_sweeps_results(tmp_path):
         assert b[name].value == key[name] == a[name].value
     for name in ("n_res_1", "n_res_2"):
         assert b[name].value == pytest.approx(a[name].value, rel=5e-4)
-    assert b["phi_max"].value == pytest.approx(key["phi_max"], rel=0.01)
+    assert b["phi_max"].value == pytest.approx(key["phi_max"], rel=0.02)
     for name, truth in key.items():
         if name in b.results:
             lo, hi = b[name].estimate.interval95
             assert lo <= truth <= hi, (name, b[name].value, truth)
     assert sum(f.name.startswith("paper_record") for f in b.figures) == 14
+

@@ -20,11 +20,11 @@ from processing.resonance import (EDGE_SLOPE, campbell_lines, locate_resonances,
                                   major_orders, phase_sum, resonance_speed)
 from processing.seismic import amplitude_ratio, correct_trace, torsiograph_response
 from processing.synth.torsiograph import (RPM, Crankshaft, Torsiograph, nose_motion, record,
-                                          resonances, sweep)
+                                          resonances, ringing_record, sweep)
 from processing.torsiogram import (crank_angle, cycle_peaks, extrema, frequency_from_counts,
                                    oscillation_frequency, peak_amplitudes, revolutions,
                                    speed_from_counts, steady_crank_angle)
-from processing.torsiogram_analysis import analyse_trace
+from processing.torsiogram_analysis import analyse_trace, read_oscillations
 
 SHAFT = Crankshaft()
 
@@ -164,6 +164,45 @@ def test_largest_peak_amplitude_coverage_over_seeded_records():
         c = reduce(rec, inst).cycle
         hits.append(abs(c.largest - rec.peak_amplitude / inst.scale) <= 1.96 * c.u_largest)
     assert 0.90 <= np.mean(hits) <= 0.98 + 1e-9, np.mean(hits)
+
+
+def test_single_oscillations_coverage_over_seeded_records():
+    """The design value read the manual's way, the largest single oscillation: within 3 %
+    of the truth at 30 dB on records of 3 to 16 revolutions (three revolutions read without
+    the orders), its stated 95 % interval holding the truth in at least 90 % of 40."""
+    speeds = sweep(SHAFT, 800 * RPM, 2100 * RPM)
+    hits, errors = [], []
+    for seed in range(40):
+        revs = (3, 6, 8, 16)[seed % 4]
+        inst = Torsiograph(snr_db=30.0, revolutions=revs, drift=2.0)
+        rec = record(SHAFT, inst, speeds[seed % speeds.size], seed=seed)
+        marks = detect_edges(rec.tdc, "fit") / inst.sample_rate
+        read = analyse_trace if revs > 3 else read_oscillations
+        tg = read(rec.time, rec.trace, marks, natural_frequency=inst.natural_frequency,
+                  damping_ratio=inst.damping_ratio)
+        truth = rec.peak_amplitude / inst.scale
+        errors.append(tg.peaks.largest / truth - 1)
+        hits.append(abs(tg.peaks.largest - truth) <= 1.96 * tg.u_largest)
+    assert np.abs(errors).max() < 0.03, np.abs(errors).max()
+    assert np.mean(hits) >= 0.90, np.mean(hits)
+
+
+def test_an_oscillation_between_the_orders_is_read_whole():
+    """A 73 Hz free vibration that no order describes (the issue's torsiograms: the mean
+    cycle reads 4–36 % low there): the single oscillations hold it, φ_max within 5 % and
+    the stated 95 % interval holding the truth in at least 90 % of 24 records, six-cylinder
+    records of three revolutions among them."""
+    hits, errors = [], []
+    for seed in range(24):
+        revs = (3, 6, 16)[seed % 3]
+        t, x, marks, truth = ringing_record(seed, (900.0, 1500.0, 2100.0)[seed // 8], revs,
+                                             cylinders=6 if revs < 16 else 4)
+        read = analyse_trace if revs > 3 else read_oscillations
+        tg = read(t, x, marks, natural_frequency=1.5, damping_ratio=0.2)
+        errors.append(tg.peaks.largest / truth - 1)
+        hits.append(abs(tg.peaks.largest - truth) <= 1.96 * tg.u_largest)
+    assert np.abs(errors).max() < 0.05, np.round(errors, 3)
+    assert np.mean(hits) >= 0.90, np.mean(hits)
 
 
 @pytest.mark.parametrize("seed", [0, 1])

@@ -468,3 +468,46 @@ def calibration(instrument: Torsiograph, lever: float, heights, *, reading: floa
     rng = np.random.default_rng([seed, 11])
     phi = np.asarray(heights, dtype=float) / lever
     return offset + phi / instrument.scale + reading * rng.standard_normal(phi.size)
+
+
+def ringing_record(seed: int, rpm: float, revolutions: int, *, cylinders: int = 6,
+                   natural: float = 73.0, sample_rate: float = 4000.0, snr_db: float = 30.0,
+                   natural_frequency: float = 1.5, damping_ratio: float = 0.2):
+    """A record no order fit describes: a few orders of the crank (the major ones, multiples
+    of i/2, five times the others) and a free vibration of the shaft at ``natural`` Hz
+    (damping ratio 0.05) rung anew, with a random strength, at every firing — locked to no
+    order, as a crankshaft rings between the firings near a resonance — seen through a
+    torsiograph of ``natural_frequency`` and ``damping_ratio``, on a ramp and a slow wave
+    as large as the motion's range, with white noise at ``snr_db``.
+
+    Returns
+    -------
+    tuple
+        (time [s], trace [rad], TDC mark times [s], the motion's largest peak amplitude with
+        the lab's hysteresis [rad])
+    """
+    rng = np.random.default_rng([seed, 28])
+    f_rev = rpm / 60
+    t = np.arange(int(revolutions / f_rev * sample_rate)) / sample_rate
+    orders = np.arange(0.5, 12.01, 0.5)
+    amp = 0.2 * rng.uniform(0, 1, orders.size) / orders
+    amp[np.isclose(orders % (cylinders / 2), 0)] *= 5
+    motion = (amp[:, None] * np.cos(2 * np.pi * orders[:, None] * f_rev * t
+                                     + rng.uniform(0, 2 * np.pi, orders.size)[:, None])).sum(0)
+    interval = 2 / (f_rev * cylinders)
+    for start in np.arange(rng.uniform(0, interval), t[-1], interval):
+        d = t - start
+        ring = np.exp(-2 * np.pi * natural * 0.05 * d) * np.sin(2 * np.pi * natural * d)
+        motion += np.where(d >= 0, rng.uniform(0.5, 1.0) * ring, 0.0)
+    truth = peak_amplitudes(t, motion, EXTREMUM_THRESHOLD * np.ptp(motion)).largest
+    spectrum = np.fft.rfft(motion)
+    f = np.fft.rfftfreq(t.size, 1 / sample_rate)
+    response = np.concatenate([[1], torsiograph_response(f[1:], natural_frequency,
+                                                         damping_ratio)])
+    seen = np.fft.irfft(spectrum * response, t.size)
+    drift = np.ptp(motion) * (rng.uniform(-1, 1) * t / t[-1]
+                              + 0.5 * np.sin(2 * np.pi * 0.3 * t + rng.uniform(0, 6)))
+    noise = np.std(seen) / 10 ** (snr_db / 20) * rng.standard_normal(t.size)
+    marks = np.arange(rng.uniform(0, 1 / f_rev), t[-1], 1 / f_rev)
+    return t, seen + drift + noise, marks, float(truth)
+

@@ -146,8 +146,48 @@ def remove_lines(density: np.ndarray, noise: float) -> list[Line]:
         lines.append(Line(position, fit.slope, float(np.median(tops[present])), width,
                           float(present.mean()), w / 2))
     lines = _without_shoulders(sorted(lines, key=lambda line: line.position))
+    lines = _without_combs(density, lines, noise)
     _subtract(density, med, middles, lines)
     return lines
+
+
+JOINED = 0.5
+"""Share of the columns in which the row midway between two close parallel lines holds ink,
+above which the two are a mark line and the tops of its pips, joined by the pips' sides."""
+
+
+def _inked(density: np.ndarray, rows: np.ndarray, level: float) -> np.ndarray:
+    """Whether each column holds ink (above ``level``) in any of ``rows`` (rows × columns)."""
+    h, w = density.shape
+    rows = np.clip(np.round(rows).astype(int), 0, h - 1)
+    return (density[rows, np.arange(w)[None, :]] > level).any(axis=0)
+
+
+def _without_combs(density: np.ndarray, lines: list[Line], noise: float) -> list[Line]:
+    """Drop the 'lines' that are the tops of a mark line's pips: time marks so dense (a few
+    pixels apart, or blurred into bars) that their top strokes fill most of a row, as a line
+    does. Two unrelated lines are joined only here and there (by a trace crossing, a grid
+    line); a mark line and its pips' tops are joined by the pips' sides, so that the row
+    midway between them holds ink in more than :data:`JOINED` of the columns. Of the two,
+    the mark line holds ink in more columns (it runs between the pips, a top only over its
+    pip) and is kept. Taken for a line, the tops would hide the pips from their line."""
+    h, w = density.shape
+    cols = np.arange(w)
+    ink = [_inked(density, line.at(cols)[None, :] + np.arange(-1, 2)[:, None],
+                  max(line.strength / 3, 4 * noise)) for line in lines]
+    tops = set()
+    for i, a in enumerate(lines):
+        for j in range(i + 1, len(lines)):
+            b = lines[j]
+            if abs(a.position - b.position) >= 0.1 * h:
+                continue
+            level = max(min(a.strength, b.strength) / 3, 4 * noise)
+            middle = 0.5 * (a.at(cols) + b.at(cols))
+            if np.mean(_inked(density, middle[None, :] + np.arange(-1, 2)[:, None],
+                              level)) > JOINED:
+                tops.add(j if (ink[i].mean(), a.strength) >= (ink[j].mean(), b.strength)
+                         else i)
+    return [line for k, line in enumerate(lines) if k not in tops]
 
 
 def _without_shoulders(lines: list[Line]) -> list[Line]:

@@ -136,7 +136,76 @@ def find_pips(density: np.ndarray, line: Line, noise: float,
             found = _pips_at(density, strip, offsets, int(j), side, line, noise, centre)
             if found is not None and (best is None or found.count > best.count):
                 best = found
+    if best is None:
+        combs = [_comb(density, line, noise, centre, side, reach) for side in (-1, 1)]
+        found = [c for c in combs if c is not None]
+        best = found[0] if len(found) == 1 else None      # a comb on both sides: no base
     return best
+
+
+COMB_SHARE = 0.5
+"""Share of the column profile's varying power that its strongest frequency (with its
+neighbouring bins) holds, above which a band beside a line is a comb of pips."""
+
+
+def _comb(density, line, noise, centre, side, reach) -> Pips | None:
+    """Pips too dense to be told apart one by one (a few pixels apart, their sides blurred
+    into bars): timed by their own period. The rows beside the line that its pips fill
+    (from next to the line out to where the row mean falls below half its level) give a column
+    profile; if one frequency holds :data:`COMB_SHARE` of its varying power, the pips stand
+    on the even grid x_k = a + b k, b the period of the spectrum's peak (refined between
+    bins), each bar's centre where the fundamental peaks, its rising edge half the bars' duty
+    (the profile's share above half its range) of b before that; the edges' u is that half
+    bar over √3 (rectangular), and the run of the comb the columns where the profile stands
+    out of the noise. A line with such a band on both sides is the middle of a comb taken
+    for a line, not its base: no side is taken (the pips' direction is unknown)."""
+    h, w = density.shape
+    cols = np.arange(w)
+    room = (line.position - 3) if side < 0 else (h - 4 - line.position)
+    far = min(reach[0] if side < 0 else reach[1], room)
+    offsets = np.arange(line.width / 2 + 2, max(far, line.width / 2 + 4))
+    rows = np.clip(np.round(centre[None, :] + side * offsets[:, None]).astype(int), 0, h - 1)
+    strip = density[rows, cols[None, :]]
+    rows = strip.mean(axis=1)
+    level = max(8 * noise / math.sqrt(w), 2 * float(np.median(rows)))
+    filled = np.flatnonzero(rows >= level)
+    if filled.size == 0 or offsets[filled[0]] > 2 * line.width + 4:
+        return None                                   # nothing rising from the line
+    start = int(filled[0])
+    top = start + int(np.argmax(np.concatenate([rows[start:] < 0.5 * rows[start], [True]])))
+    if top - start < 2:
+        return None
+    profile = strip[start:top].mean(axis=0)
+    cols = np.flatnonzero(profile > 4 * noise / math.sqrt(top - start))
+    if cols.size < 16:
+        return None
+    lo, hi = int(cols[0]), int(cols[-1]) + 1
+    x = profile[lo:hi] - profile[lo:hi].mean()
+    power = np.abs(np.fft.rfft(x * np.hanning(x.size))) ** 2
+    power[:3] = 0.0
+    k = int(np.argmax(power))
+    if k + 1 >= power.size or power[k - 1:k + 2].sum() < COMB_SHARE * power.sum():
+        return None
+    a, b, c = np.log(power[k - 1:k + 2] + 1e-300)
+    peak = k + 0.5 * (a - c) / (a - 2 * b + c)
+    period = x.size / peak
+    if period < 3 or (hi - lo) / period < MIN_TIME_MARKS:
+        return None
+    phase = np.angle(np.sum(x * np.exp(-2j * np.pi * np.arange(x.size) / period)))
+    first = lo + (phase / (2 * np.pi)) % 1 * period
+    span = np.ptp(x)
+    duty = float(np.mean(x > x.min() + 0.5 * span)) if span > 0 else 0.5
+    centres = first + period * np.arange(-1, (hi - first) / period + 1)
+    centres = centres[(centres - duty * period / 2 >= lo) & (centres + duty * period / 2 <= hi)]
+    rising, falling = centres - duty * period / 2, centres + duty * period / 2
+    if rising.size < MIN_TIME_MARKS:
+        return None
+    offset = float(offsets[top - 1])
+    near = line.width / 2 + 2
+    band = np.concatenate([centre + side * (offset + line.width + 2), centre - side * near])
+    return Pips(line, side, offset, rising, falling,
+                (max(int(np.floor(band.min())), 0), min(int(np.ceil(band.max())) + 1, h)),
+                float(duty * period / 2 / math.sqrt(3)))
 
 
 def _pips_at(density, strip, offsets, j, side, line, noise, centre) -> Pips | None:
