@@ -72,8 +72,9 @@ class Plan:
     snr_db: tuple[float, ...]
     seeds: int
     sweeps: int
-    photographs: int
     repeat: int
+    photographs: int = 0
+    """Sweeps of lab 6 on photographs (the ``photographed`` family; 0: none)."""
 
 
 FULL = Plan(speeds=(500.0, 1000.0, 1500.0, 2000.0), clearances=(0.3e-3, 0.5e-3, 0.8e-3),
@@ -240,7 +241,8 @@ def _photographed(seed: int) -> list[dict]:
     rows = []
     for name, true in truth.items():
         row = {"family": "photographed", "method": "lab 6", "setting": "", "seed": seed,
-               "result": name, "warnings": warned, "failed": ""}
+               "result": name, "warnings": warned, "failed": "", "seconds": np.nan,
+               "samples_per_second": np.nan}
         if name in result:
             r = result[name]
             lo, hi = r.estimate.interval95
