@@ -737,7 +737,7 @@ CLEARANCES = (0.3e-3, 0.5e-3, 0.8e-3)
 def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
                     clearances=CLEARANCES, valves=VALVES, snr_db: float | None = None,
                     sample_rate: float = 10e3, revolutions: float = 4.4,
-                    bend: float = 0.0, image: bool = False,
+                    bend: float = 0.0, image: bool = False, shot=None,
                     part: int | None = None) -> dict[str, Path]:
     """Write a synthetic lab 6 measurement: the calibrations, a record per speed and
     clearance, the measurement file and the answer key.
@@ -779,6 +779,8 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
         intake's trace above the exhaust's, time marks every :data:`PHOTO_MARKS`, a TDC mark
         every revolution) at :data:`PHOTO_SCALE`, with an ``[image]`` table; the calibration's
         deflections in mm of paper.
+    shot : processing.synth.paper_record.Shot, optional
+        The camera of the photographs (default: the phone's, :data:`PHOTO_SIZE`).
     part : int, optional
         Seed of the part: the cam's lift and the drive (default ``seed``; 0: the scene's
         defaults, whatever ``seed`` draws the readings).
@@ -826,7 +828,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
                          seed=seed * 1000 + number, events=events)
             if image:
                 name, rate, marks = f"r{number:02d}.jpg", "", ""
-                _photograph(rec, valves, seed * 1000 + number).write(out / name)
+                _photograph(rec, valves, seed * 1000 + number, shot).write(out / name)
             else:
                 name, marks = f"r{number:02d}.{fmt}", 'marks_channel = "marks"\n'
                 columns = {v: np.round(rec.channels[v], 2) for v in valves}
@@ -873,9 +875,9 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
     return written
 
 
-def _photograph(rec, valves, seed: int):
-    """A phone photograph of a record's paper oscillogram: the valves' traces in mm of paper
-    (the record's trace unit), its TDC marks and time marks."""
+def _photograph(rec, valves, seed: int, shot=None):
+    """A photograph of a record's paper oscillogram (``shot``, default the phone's): the
+    valves' traces in mm of paper (the record's trace unit), its TDC marks and time marks."""
     from processing.synth.paper_record import PHONE, photograph
 
     t = rec.time
@@ -883,7 +885,7 @@ def _photograph(rec, valves, seed: int):
     return photograph([lambda x, v=v: np.interp(x, t, rec.channels[v]) for v in valves],
                       float(t[-1]), 1e-3, mark_period=PHOTO_MARKS, tdc_times=tdc_times,
                       zero=[PHOTO_ZEROS[v] for v in valves], seed=seed,
-                      shot=replace(PHONE, size=PHOTO_SIZE))
+                      shot=replace(PHONE, size=PHOTO_SIZE) if shot is None else shot)
 
 
 DRIVES = {"M": (0.21, 0.28), "c": (1.7e6, 2.4e6), "c_n": (30e3, 45e3), "P0": (240.0, 290.0),

@@ -512,7 +512,10 @@ def _record_decay(inputs: Inputs, scale) -> Decay:
                                   "left to right" if is_image(path) else "")) from None
     check_frequency(record.trace.omega_d / (2 * np.pi), channel.sample_rate, quality.duration,
                     file=str(path), field="decay.signal", what="the decay's frequency ω_d/2π")
-    return Decay(record.trace.measured("delta"), record.measured_period(), record.peaks,
+    clock = getattr(channel, "time_scale", None)        # a paper record's time base
+    return Decay(record.measured_delta(),
+                 record.measured_period(clock.u / clock.value if clock is not None else 0.0),
+                 record.peaks,
                  record, t, x, scale, channel)
 
 
@@ -532,7 +535,7 @@ def _check_decay(dec: Decay) -> None:
                                                  "record"))
     elif trace.residual_correlation > DRIFT_CORRELATION:
         warnings.warn(report.unfollowed_baseline(trace.residual_correlation))
-    drift = np.ptp(np.polyval(trace.baseline[::-1], np.linspace(0.0, 1.0, 50)))
+    drift = np.ptp(trace.baseline_at(trace.start + np.linspace(0.0, trace.span, 50)))
     if drift > trace.amplitude:
         warnings.warn(report.large_drift(drift / trace.amplitude))
 
@@ -652,7 +655,7 @@ PHOTO_MARKS = 1e-3
 def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: float = 8.0,
                     amplitude_exponent: float = 0.0, ratio: float = 1.87, runs: int = 2,
                     sample_rate: float = 20e3, paper: bool = False,
-                    image: bool = False) -> dict[str, Path]:
+                    image: bool = False, drift=None) -> dict[str, Path]:
     """Write a synthetic lab 9 measurement: static runs, a decay record, the answer key.
 
     The scene of :mod:`processing.synth.damper`: seed 0 is the manual's damper 1, a rubber
@@ -689,6 +692,8 @@ def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: fl
     image : bool
         Write the record as a photograph of the paper (``decay.jpg``) with an ``[image]``
         table instead of a CSV.
+    drift : processing.synth.damper.BridgeDrift, optional
+        A baseline wander the record carries besides the gauge's offset, drift and creep.
 
     Returns
     -------
@@ -718,7 +723,7 @@ def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: fl
     ring = Ring(inertia=inertia, stiffness=ratio * layer.stiffness, decrement=decrement,
                 amplitude_exponent=amplitude_exponent)
     gauge = StrainGauge(sample_rate=sample_rate, snr_db=snr_db)
-    rec = free_decay(ring, gauge, periods=periods, seed=seed)
+    rec = free_decay(ring, gauge, periods=periods, seed=seed, drift=drift)
     body = [f'lab = "lab9"\n[meta]\nstudent = "synthetic (dynlab synth lab9 --seed {seed})"\n'
             'notes = "generated; the true answers are in answer_key.json"\n\n'
             '[damper]\nrubber = "synthetic"\n']

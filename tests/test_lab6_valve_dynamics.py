@@ -281,3 +281,22 @@ def test_photographed_oscillograms_hold_their_truth(tmp_path):
     assert len(held) == len(truth), sorted(set(truth) - set(held))
     assert "contact_lost" in codes(result)
     assert [f.name for f in result.figures][4:] == [f"paper_record_{i}" for i in (1, 2, 3)]
+
+
+def test_photographs_under_a_camera_of_their_own_hold_their_truth(tmp_path):
+    """A phone held otherwise (the benchmark's camera drawn for seed 2: skew, perspective,
+    blur, noise, JPEG quality and light of its own) on a drive of its own: every result's
+    95 % interval holds its truth. (Benchmark ``photographed``, 12 sweeps of both valves:
+    ν's interval had held it in about 70 % of the records that lose contact while ν was fitted
+    on a cubic baseline alone.)"""
+    from labs.valve_dynamics_bench import drawn_shot
+
+    written = lab6.write_synthetic(tmp_path, seed=2, image=True, shot=drawn_shot(2),
+                                   **{**SMALL, "part": 2})
+    truth = json.loads(written["answer"].read_text())["results"]
+    result = reduce(written["toml"])
+    missed = [name for name in truth if name in result
+              and not result[name].estimate.interval95[0] <= truth[name]
+              <= result[name].estimate.interval95[1]]
+    assert missed == [], missed
+    assert {name for name in truth if name.startswith("nu_")} <= set(result.to_dict()["results"])

@@ -26,6 +26,14 @@ Families
     :func:`~processing.decay.decrement_trend` (inside ``analyse_decay``) on rings whose
     decrement falls with the amplitude as (A/φ₀)^p, p ∈ {0, 0.1, 0.3}: error 1 where it
     answers wrongly (a trend seen at p = 0, or missed at p > 0).
+``baseline drift``
+    ``trace fit`` on records whose baseline drifts beyond the gauge's own
+    (:class:`~processing.synth.damper.BridgeDrift`: a ramp and a bent ramp of 3–20 % of the
+    release twist, a settling step of 3–20 % with τ of 0.5–6 periods, a slow wander of three
+    sines of 1–5 %), a damper drawn per seed as lab 9's variants (δ 0.71–0.90, 150–260 Hz),
+    30–50 dB, 5–10 periods: δ and T against the truth, and whether the 95 % intervals of
+    :meth:`~processing.decay.RecordedDecay.measured_delta` and ``measured_period`` (the
+    baseline model's spread included) hold them; ``U_ratio``: U/|error|.
 ``table 1``
     The manual's worked table (lab 9, Table 1): the secant M_max/φ_max of run 1 and the
     runs' mean slope of the loading branch against the printed C ≈ 2.6·10⁴ N·m/rad.
@@ -44,7 +52,7 @@ from scipy import stats
 
 from ..decay import analyse_decay, find_peaks, log_decrement
 from ..regression import fit_line
-from ..synth.damper import Ring, StrainGauge, free_decay
+from ..synth.damper import DRIFT_KINDS, BridgeDrift, Ring, StrainGauge, free_decay
 from .harness import (Case, Family, MapAxes, Method, Target, abs_error, coverage_targets,
                       environment, plot_error_time, plot_map, run_family, summary,
                       write_rows, write_targets)
@@ -86,15 +94,16 @@ class Plan:
     map_periods: tuple[float, ...]
     map_seeds: int
     trend_seeds: int
+    drift_seeds: int
     repeat: int
 
 
 FULL = Plan(snr_db=(20, 30, 40, 50), periods=(5, 8), decrements=(0.3, 0.89), seeds=100,
             map_snr_db=(10, 15, 20, 25, 30, 40), map_periods=(1.5, 2, 3, 5, 8), map_seeds=10,
-            trend_seeds=40, repeat=3)
+            trend_seeds=40, drift_seeds=40, repeat=3)
 QUICK = Plan(snr_db=(20, 30, 40), periods=(5, 8), decrements=(0.3, 0.89), seeds=25,
              map_snr_db=(10, 20, 30, 40), map_periods=(1.5, 2, 5), map_seeds=3,
-             trend_seeds=10, repeat=1)
+             trend_seeds=10, drift_seeds=8, repeat=1)
 
 MAP_AXES = MapAxes(x="periods", y="snr_db", column="decrement",
                    labels={"periods": "record after the release [periods]",
@@ -187,6 +196,83 @@ def trend_cases(plan: Plan) -> Iterator[Case]:
         yield Case(case.params, case.data, case.params["exponent"], case.samples)
 
 
+# --- a drifting baseline -------------------------------------------------------------------
+
+DRIFT_SIZES = {"linear": (0.03, 0.2), "quadratic": (0.03, 0.2), "settling": (0.03, 0.2),
+               "wander": (0.01, 0.05)}
+"""Sizes of each :class:`BridgeDrift` drawn, as fractions of the release twist."""
+
+DRIFT_SNR = 35.0
+"""δ within 1 % is asked of drifted records from this SNR on (at 30–35 dB the noise alone
+puts the 95th percentile near 1.7 %, drift or none). [dB]"""
+
+
+def drift_cases(seeds: int) -> Iterator[Case]:
+    """One record per drift kind and seed; truth: (δ, T_d) at the release."""
+    for kind, seed in itertools.product(DRIFT_KINDS, range(seeds)):
+        rng = np.random.default_rng([seed, 778])
+        frequency = rng.uniform(150.0, 260.0)
+        ring = Ring(inertia=Ring().stiffness / (2 * np.pi * frequency) ** 2,
+                    decrement=rng.uniform(0.71, 0.90))
+        drift = BridgeDrift(kind, rng.uniform(*DRIFT_SIZES[kind]), rng.uniform(0.5, 6.0), seed)
+        snr = rng.uniform(30.0, 50.0)
+        rec = free_decay(ring, StrainGauge(snr_db=snr), periods=rng.uniform(5.0, 10.0),
+                         seed=seed, drift=drift)
+        yield Case({"drift": kind, "snr_db": round(snr, 1), "seed": seed},
+                   Record(rec.time, rec.signal),
+                   (rec.truth["log_decrement"], rec.truth["T_d"]), rec.signal.size)
+
+
+def _drifted(rec: Record):
+    d = analyse_decay(rec.time, rec.signal)
+    return d.measured_delta(), d.measured_period()
+
+
+def drift_error(answer, truth) -> dict:
+    """δ/δ_true − 1, T/T_true − 1, whether each 95 % interval (k = 2) holds its truth, and
+    U/|error| (how wide the interval is against the error it must hold)."""
+    (delta, period), (d_true, t_true) = answer, truth
+    out = {"error": delta.value / d_true - 1, "T_error": period.value / t_true - 1}
+    for name, m, true in (("", delta, d_true), ("T_", period, t_true)):
+        miss = abs(m.value - true)
+        out[f"{name}covered"] = miss <= 2 * m.u
+        out[f"{name}U_ratio"] = 2 * m.u / miss if miss > 0 else np.inf
+    return out
+
+
+def drift_family() -> Family:
+    return Family("baseline drift", [Method("trace fit", _drifted)], drift_error,
+                  error_label="|δ/δ_true − 1|", failures=FAILURES)
+
+
+def drift_targets(frame: pd.DataFrame) -> list[Target]:
+    """Coverage of δ's and T's intervals over the drifted records, δ within 1 %."""
+    part = frame[frame["family"] == "baseline drift"]
+    if part.empty:
+        return []
+    ok = part[part["failed"].fillna("") == ""]
+    clean = ok[ok["snr_db"] >= DRIFT_SNR]
+    ratio = f"median U/|error|: δ {ok['U_ratio'].median():.2g}, T {ok['T_U_ratio'].median():.2g}"
+    return (coverage_targets("δ on a drifting baseline", ok["covered"], ratio)[:1]
+            + coverage_targets("T on a drifting baseline", ok["T_covered"], ratio)[:1]
+            + [Target(f"δ on a drifting baseline, ≥ {DRIFT_SNR:g} dB: 95th percentile of "
+                      "|δ/δ_true − 1|", float(np.quantile(abs_error(clean), 0.95)), 0.01,
+                      unit="relative", detail=f"{len(clean)} records; "
+                      f"{len(part) - len(ok)} of {len(part)} refused")])
+
+
+def drift_table(frame: pd.DataFrame) -> pd.DataFrame:
+    """Per drift: median and largest |δ error| [%], coverage of δ and T [%], U/|error|."""
+    part = frame[(frame["family"] == "baseline drift") & (frame["failed"].fillna("") == "")]
+    part = part.assign(abs_error=100 * abs_error(part),
+                       covered=100 * part["covered"].astype(float),
+                       T_covered=100 * part["T_covered"].astype(float))
+    return part.groupby("drift").agg(
+        median_err=("abs_error", "median"), worst=("abs_error", "max"),
+        covered=("covered", "mean"), T_covered=("T_covered", "mean"),
+        U_ratio=("U_ratio", "median"), T_U_ratio=("T_U_ratio", "median"))
+
+
 # --- the manual's table ----------------------------------------------------------------------
 
 def table1_family() -> Family:
@@ -246,6 +332,7 @@ def targets(frame: pd.DataFrame) -> list[Target]:
         real = trend[trend["exponent"] > 0]
         out.append(Target("amplitude trend missed where δ ∝ A^p, p ≥ 0.1",
                           float(real["error"].mean()), MISSES, detail=f"{len(real)} records"))
+    out += drift_targets(frame)
     silent = silent_failures(frame)
     if silent is not None:
         out.append(Target("stability-grid cells beyond the δ tolerance that are neither refused "
@@ -313,7 +400,9 @@ def summary_lines(frame: pd.DataFrame) -> list[str]:
             decrement_table(frame).to_string(float_format=fmt), "",
             "Stability of the trace fit: median |error| [%], records refused (fewer than "
             "three extrema), records called short [%]:",
-            stability_table(frame).to_string(float_format=fmt)]
+            stability_table(frame).to_string(float_format=fmt), "",
+            "Drifting baselines: |δ error| [%], coverage of δ's and T's intervals [%], "
+            "U/|error|:", drift_table(frame).to_string(float_format=fmt)]
 
 
 def run(out, *, quick: bool = False,
@@ -350,6 +439,8 @@ def run(out, *, quick: bool = False,
                                    plan.map_seeds), repeat=1)
     log(f"amplitude trend: p in (0, 0.1, 0.3) x {plan.trend_seeds} seeds")
     rows += run_family(trend_family(), trend_cases(plan), repeat=1)
+    log(f"baseline drift: {DRIFT_KINDS} x {plan.drift_seeds} seeds")
+    rows += run_family(drift_family(), drift_cases(plan.drift_seeds), repeat=1)
     rows += run_family(table1_family(), [Case({}, None, PRINTED_C, 9)], repeat=1)
     frame = write_rows(rows, out / "bench.csv")
     plot_error_time(frame, out / "error_vs_time.png",

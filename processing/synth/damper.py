@@ -200,6 +200,72 @@ class StrainGauge:
     creep_periods: float = 10.0
 
 
+DRIFT_KINDS = ("linear", "quadratic", "settling", "wander")
+"""The shapes of :class:`BridgeDrift`."""
+
+
+@dataclass(frozen=True)
+class BridgeDrift:
+    """A slow wander of the record's baseline beyond the gauge's own offset, drift and creep.
+
+    What a strain-gauge bridge and its amplifier add over a decay when they are not settled:
+    a bridge warming up drifts (``linear``; ``quadratic`` where the drift bends), the
+    rubber's creep or the amplifier's coupling settles (``settling``: an exponential of time
+    constant τ, which may be as short as the decay itself), the supply and the mounts wander
+    (``wander``: three slow sines, 0.2–1.5 cycles over the record). A paper record draws
+    it with the trace.
+
+    Parameters
+    ----------
+    kind : {"linear", "quadratic", "settling", "wander"}
+    size : float
+        Its size, as a fraction of the release twist φ₀: the ramp's rise over the record, the
+        parabola's largest excursion from its vertex, the settling step at the release, each
+        wander sine's amplitude.
+    time_constant : float
+        τ of ``settling``, in periods of the decay.
+    seed : int
+        Seed of the shape's draws (the parabola's vertex, the sines' frequencies and phases).
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 0.04, 5)
+    >>> BridgeDrift("linear", 0.1).shape(t, 0.005, 0.04).round(3).tolist()
+    [0.0, 0.025, 0.05, 0.075, 0.1]
+    """
+
+    kind: str = "linear"
+    size: float = 0.1
+    time_constant: float = 2.0
+    seed: int = 0
+
+    def __post_init__(self):
+        if self.kind not in DRIFT_KINDS:
+            raise ValueError(f"BridgeDrift: kind must be one of {DRIFT_KINDS}, got {self.kind!r}")
+
+    def shape(self, time, period: float, duration: float) -> np.ndarray:
+        """The drift at ``time`` after the release, as a fraction of φ₀.
+
+        Parameters
+        ----------
+        time : ndarray
+            [s]
+        period, duration : float
+            The decay's period and the record's length after the release. [s]
+        """
+        t = np.asarray(time, dtype=float)
+        rng = np.random.default_rng([self.seed, 95])
+        if self.kind == "linear":
+            return self.size * t / duration
+        if self.kind == "quadratic":
+            vertex = rng.uniform(0.0, 1.0)
+            return self.size * ((t / duration - vertex) / max(vertex, 1 - vertex)) ** 2
+        if self.kind == "settling":
+            return self.size * np.exp(-t / (self.time_constant * period))
+        cycles, phase = rng.uniform(0.2, 1.5, 3), rng.uniform(0, 2 * np.pi, 3)
+        return self.size * np.sin(2 * np.pi * np.outer(t / duration, cycles) + phase).sum(axis=1)
+
+
 @dataclass(frozen=True)
 class DecayRecord(Record):
     """A recorded free decay and its truth.
@@ -248,7 +314,8 @@ def _motion(ring: Ring, release_twist: float, duration: float, step: float):
 
 
 def free_decay(ring: Ring, gauge: StrainGauge, *, release_twist: float = 0.01,
-               periods: float = 8.0, held: float = 0.5, seed: int = 0) -> DecayRecord:
+               periods: float = 8.0, held: float = 0.5, seed: int = 0,
+               drift: BridgeDrift | None = None) -> DecayRecord:
     """Record the ring's free decay after a sudden release.
 
     Parameters
@@ -263,6 +330,8 @@ def free_decay(ring: Ring, gauge: StrainGauge, *, release_twist: float = 0.01,
         Record length before the release (the held twist), in periods.
     seed : int
         Seed of the noise.
+    drift : BridgeDrift, optional
+        A baseline wander on top of the gauge's (none by default).
 
     Returns
     -------
@@ -280,9 +349,11 @@ def free_decay(ring: Ring, gauge: StrainGauge, *, release_twist: float = 0.01,
     after = np.clip(time - release, 0.0, None)
     creep = gauge.creep * release_twist * np.exp(-after / (gauge.creep_periods * T))
     creep[:n_held] = gauge.creep * release_twist
-    drift = gauge.drift * release_twist * time / T
+    ramp = gauge.drift * release_twist * time / T
+    if drift is not None:             # held at its release value before the release
+        ramp = ramp + release_twist * drift.shape(after, T, periods * T)
     sigma = release_twist / math.sqrt(2) * 10 ** (-gauge.snr_db / 20)
-    signal = gauge.volts_per_rad * (twist + creep + drift + gauge.offset * release_twist
+    signal = gauge.volts_per_rad * (twist + creep + ramp + gauge.offset * release_twist
                                     + sigma * rng.standard_normal(twist.size))
     return DecayRecord(time, signal, twist, release, truth)
 
