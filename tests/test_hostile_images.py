@@ -28,8 +28,8 @@ from processing.synth.swing_film import render as film
 from processing.vision import read_paper_record
 from processing.vision.header import image_header
 from processing.vision.paper import MAX_PIXELS, WORK_PIXELS
-from processing.vision.video import (MAX_FRAME_PIXELS, WORK_SIDE, Filmed, swing_of,
-                                     track_marker)
+from processing.vision.frames import MAX_FRAME_PIXELS, WORK_SIDE
+from processing.vision.video import Filmed, swing_of, track_marker
 
 LAB3 = ROOT / "sample_data" / "lab3-photo"
 LAB9 = ROOT / "sample_data" / "lab9-photo"
