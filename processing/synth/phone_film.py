@@ -43,8 +43,9 @@ SUPERSAMPLE = 4
 MAX_SUBFRAMES = 24
 """Most instants an exposure is sampled at (motion blur)."""
 
-TIMESCALE = 600
-"""Ticks per second of the MP4's timestamps (as a phone writes them)."""
+TIMESCALE = 90_000
+"""Ticks per second of the MP4's timestamps (90 kHz, as phones and FFmpeg write them: a whole
+number of ticks a frame at 24–240 frames per second)."""
 
 
 @dataclass(frozen=True)

@@ -10,8 +10,9 @@ from the background (no hand in front of the camera) is the reference; the compa
 that differ most from the background in it are the candidates (:func:`candidates`). Each is
 followed through the survey's frames by normalised cross-correlation, with its template
 turned by up to ±:data:`TURNS` (a sticker on a pendulum or a platform turns with it), and
-the one whose way is best described by a single sinusoid and swings farthest is the
-marker (:func:`periodicity`): a hand passing, a shadow, a flicker's band or a noisy corner
+of those whose way a single sinusoid describes as well as the best one's (R² within
+:data:`AS_PERIODIC`), the one that promises the most precise track — the widest swing of
+the largest, most contrasted patch — is the marker (:func:`periodicity`): a hand passing, a shadow, a flicker's band or a noisy corner
 is not periodic.
 """
 from __future__ import annotations
@@ -47,6 +48,9 @@ MIN_PERIODIC = 0.5
 
 SURVEY_CONFIDENCE = 0.6
 """Correlation above which a candidate counts as found in a survey frame."""
+
+AS_PERIODIC = 0.02
+"""R² below the most periodic candidate's by which a candidate still counts as periodic."""
 
 FOUND_SHARE = 0.6
 """Share of the survey's frames a candidate must be found in."""
@@ -264,7 +268,7 @@ def survey(kept: np.ndarray, times: np.ndarray, roi=None):
         mask[max(y0, 0):y0 + h, max(x0, 0):x0 + w] = 1.0
         diffs *= mask
     noise = float(np.std(even[reference] - even[reference - 1 if reference else 1])) / math.sqrt(2)
-    best = None
+    followed = []
     for x, y, side, contrast in candidates(diffs[reference], max(3.0 * noise, 8.0)):
         templates = turned(even[reference], x, y, side, SURVEY_TURNS)
         way = follow(even, templates, reference, x, y)
@@ -273,13 +277,16 @@ def survey(kept: np.ndarray, times: np.ndarray, roi=None):
             continue
         r2, amplitude, frequency = periodicity(times, np.where(found, way[:, 0], np.nan),
                                                way[:, 1])
-        if r2 < MIN_PERIODIC or amplitude < MOVES:
-            continue
-        if best is None or r2 * amplitude > best[0]:
-            best = (r2 * amplitude, x, y, side, contrast, way, found, frequency)
+        if r2 >= MIN_PERIODIC and amplitude >= MOVES:
+            followed.append((r2, amplitude * side * contrast, x, y, side, contrast, way, found,
+                             frequency))
+    best = None
+    if followed:
+        top = max(f[0] for f in followed)
+        best = max((f for f in followed if f[0] >= top - AS_PERIODIC), key=lambda f: f[1])[2:]
     if best is None:
         return None
-    _, x, y, side, contrast, way, found, frequency = best
+    x, y, side, contrast, way, found, frequency = best
     grow = 1.0 / shrink
     wx, wy = way[found, 0] * grow, way[found, 1] * grow
     big = int(side * grow) | 1

@@ -553,17 +553,40 @@ def arc(track: Track) -> tuple[float, float, float]:
     return float(fit.x[0] + x0), float(fit.x[1] + y0), float(abs(fit.x[2]))
 
 
+def correlation_time(r: np.ndarray) -> float:
+    """The integrated autocorrelation time of a series, 1 + 2Σρ_k summed over the lags
+    until ρ first falls below zero (at most a tenth of the series): how many samples one
+    independent sample's worth of error spans (1 for white noise; (1 + ρ)/(1 − ρ) for a
+    first-order one; far more for a phone's slow shake, which moves the whole picture).
+
+    References
+    ----------
+    .. [1] A. Sokal, "Monte Carlo methods in statistical mechanics", in Functional
+           Integration, Springer, 1997, §3 (the integrated autocorrelation time).
+    """
+    r = np.asarray(r, float) - np.mean(r)
+    n = r.size
+    if n < 8 or not r @ r > 0:
+        return 1.0
+    spectrum = np.fft.rfft(r, 2 * n)
+    acf = np.fft.irfft(spectrum * np.conj(spectrum))[:n] / (r @ r)
+    lags = acf[1:max(n // 10, 2)]
+    below = np.flatnonzero(lags < 0)
+    used = lags[:below[0]] if below.size else lags
+    return float(1 + 2 * used.sum())
+
+
 def arc_radius_u(track: Track) -> float:
     """Standard uncertainty of the arc's radius (:func:`arc`) from the track's scatter about
-    it: s²(JᵀJ)⁻¹ of the geometric fit, s² widened by (1 + ρ)/(1 − ρ) for the residuals'
-    lag-one correlation ρ (a frame's error carried into the next). [px]"""
+    it: s²(JᵀJ)⁻¹ of the geometric fit, s² widened by the residuals' integrated
+    autocorrelation time (:func:`correlation_time`: a frame's error carried into the next,
+    the phone's shake carried over many). [px]"""
     k = track.on_path
     xc, yc, R = track.circle
     dx, dy = track.x[k] - xc, track.y[k] - yc
     d = np.hypot(dx, dy)
     r = d - R
-    rho = float(np.clip(np.corrcoef(r[:-1], r[1:])[0, 1], 0.0, 0.9)) if r.size > 3 else 0.0
-    s2 = float(r @ r) / max(r.size - 3, 1) * (1 + rho) / (1 - rho)
+    s2 = float(r @ r) / max(r.size - 3, 1) * correlation_time(r)
     J = np.column_stack([dx / d, dy / d, np.ones_like(d)])
     try:
         normal = np.linalg.inv(J.T @ J)
