@@ -734,8 +734,9 @@ def write_synthetic(out_dir, seed: int = 0, *, film: bool = False) -> dict[str, 
     (:mod:`processing.synth.pendulum`) and timed by hand over 20 oscillations, three times;
     lengths read to ± 0.5 mm, masses to ± 1 g. With ``film``, each swing is filmed instead
     of timed (:mod:`processing.synth.swing_film`, 10 oscillations at 30 frames per second:
-    the platform's edge from above, the pendulum from the side) and the amplitude is left to
-    the films.
+    the platform's edge from above, the pendulum from the side; each film's period is the
+    swing's at the RMS of its decaying amplitude, the one a real swing's mean period belongs
+    to) and the amplitude is left to the films.
 
     Returns
     -------
@@ -790,9 +791,12 @@ def write_synthetic(out_dir, seed: int = 0, *, film: bool = False) -> dict[str, 
 
         above = dict(arm=200.0, pivot=(320.0, 240.0), oscillations=10.0, amplitude=amp)
         side = dict(arm=600.0, pivot=(320.0, -360.0), oscillations=10.0, amplitude=amp)
-        for section, key, period, view in (("trifilar", "t", T, above),
-                                           ("trifilar", "t_p", T_p, above),
-                                           ("pendulum", "t", T_pe, side)):
+        swung = Film(**above).rms_amplitude          # the amplitude a film's period is at
+        for section, key, period, view in (
+                ("trifilar", "t", trifilar_period(J + J_p, m + m_p, R1, R2, l, swung, g), above),
+                ("trifilar", "t_p", trifilar_period(J_p, m_p, R1, R2, l, swung, g), above),
+                ("pendulum", "t", physical_pendulum_period(J + m * r**2, m, r, swung, g),
+                 side)):
             name = f"{section}{'_p' if key == 't_p' else ''}.mp4"
             written[name] = render(Film(period=period, **view), out / name,
                                    seed=seed * 10 + len(written))

@@ -485,7 +485,8 @@ def write_synthetic(out_dir, seed: int = 0, *, film: bool = False) -> dict[str, 
     pendulum (:mod:`processing.synth.pendulum`) and timed by hand over 20 oscillations, three
     times; lengths read to ± 0.5 mm (bores to ± 0.05 mm), masses to ± 1 g. With ``film``,
     both swings are filmed from the side instead (:mod:`processing.synth.swing_film`, 10
-    oscillations at 30 frames per second) and the amplitude is left to the films.
+    oscillations at 30 frames per second, each at the period of the RMS of its decaying
+    amplitude) and the amplitude is left to the films.
 
     Returns
     -------
@@ -532,8 +533,10 @@ def write_synthetic(out_dir, seed: int = 0, *, film: bool = False) -> dict[str, 
     if film:
         from processing.synth.swing_film import Film, render
 
-        for end, period in (("C", T_C), ("D", T_D)):
+        swung = Film(amplitude=amp, oscillations=10.0).rms_amplitude
+        for end, l_end in (("C", l_C), ("D", l_D)):
             name = f"swing_{end}.mp4"
+            period = physical_pendulum_period(J_cm + m * l_end**2, m, l_end, swung, g)
             written[name] = render(Film(period=period, amplitude=amp, oscillations=10.0),
                                    out / name, seed=seed * 10 + len(written))
             doc["swinging"].pop(f"t_{end}")

@@ -277,6 +277,20 @@ class IrregularFrameRateWarning(DynlabWarning):
     code = "irregular_frame_rate"
 
 
+class DroppedFramesWarning(DynlabWarning):
+    """The camera dropped frames (gaps of about two frame intervals in the film's
+    timestamps): each frame's time is used, but the swing is followed less closely there."""
+
+    code = "dropped_frames"
+
+
+class NominalFrameRateWarning(DynlabWarning):
+    """A film's container holds no time for its frames (AVI): they are taken 1/rate apart,
+    and a variable rate or a dropped frame would go unseen."""
+
+    code = "nominal_frame_rate"
+
+
 class TorsiographResponseWarning(DynlabWarning):
     """A torsiograph's own natural frequency is not 5–10 times below the frequencies it
     records: their amplitudes rest on its transfer function's correction."""

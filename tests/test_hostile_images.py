@@ -28,8 +28,8 @@ from processing.synth.swing_film import render as film
 from processing.vision import read_paper_record
 from processing.vision.header import image_header
 from processing.vision.paper import MAX_PIXELS, WORK_PIXELS
-from processing.vision.video import (MAX_FRAME_PIXELS, WORK_SIDE, Filmed, swing_of,
-                                     track_marker)
+from processing.vision.frames import MAX_FRAME_PIXELS, WORK_SIDE
+from processing.vision.video import Filmed, swing_of, track_marker
 
 LAB3 = ROOT / "sample_data" / "lab3-photo"
 LAB9 = ROOT / "sample_data" / "lab9-photo"
@@ -441,7 +441,8 @@ def test_4k_film_tracked_reduced(film_4k):
 def test_4k_film_in_lab1(film_4k, tmp_path, capsys):
     """Lab 1 with the 4K film for the pendulum's stopwatch: J about the centre of mass
     within 2u of the J the true period gives (the same file with the stopwatch's time of
-    n_osc true periods and the film's true amplitude)."""
+    n_osc true periods and the amplitude the film's period belongs to, the RMS of its
+    decaying swing)."""
     scene, path = film_4k
     folder = tmp_path / "in"
     folder.mkdir()
@@ -450,7 +451,7 @@ def test_4k_film_in_lab1(film_4k, tmp_path, capsys):
     (folder / "filmed.toml").write_text(text, encoding="utf-8")
     timed = text.replace('video = "pendulum.mp4"',
                          f't = "{20 * PERIOD:.4f} ± 0.0001 s"\namplitude = '
-                         f'"{math.degrees(scene.amplitude):g} deg"')
+                         f'"{math.degrees(scene.rms_amplitude):g} deg"')
     (folder / "timed.toml").write_text(timed, encoding="utf-8")
     filmed = reduced(capsys, folder / "filmed.toml")["results"]["J_pendulum_cm"]
     truth = reduced(capsys, folder / "timed.toml")["results"]["J_pendulum_cm"]

@@ -30,6 +30,9 @@ case of the grid (20 oscillations at 30 fps and more) and of the variable-rate f
 coverage 90–98 % (widened for the number of films), and ≥ 300 frames per second tracked on
 one core (decoding included).
 
+Phone films (:mod:`processing.bench.film_phone`): the second family, drawn by
+:mod:`processing.synth.phone_film`, written to ``phone.csv`` with its own targets.
+
 Amplitude: the angle read off the marker's arc (:attr:`~processing.vision.video.Filmed.
 amplitude`) on every film of the grid (from the side, 600 px arm) and on films of issue 18's
 scene (20 oscillations at 30 fps, 640 × 480) with the marker on a disc's edge 100 or 200 px
@@ -57,6 +60,7 @@ from ..diagnostics import InputError, IrregularFrameRateWarning
 from ..synth.swing_film import Film, render
 from ..vision.video import AMPLITUDE_LIMIT, Track, swing_of, track_marker
 from ..vision.video import Filmed as Read
+from . import film_phone
 from .harness import (Case, Family, MapAxes, Method, Target, abs_error, coverage_targets,
                       environment, plot_error_time, plot_map, run_family, summary, write_rows,
                       write_targets)
@@ -261,6 +265,9 @@ def run(out, *, quick: bool = False,
         covered = _coverage(plan, Path(tmp), log)
         variable, warned = _variable(plan, Path(tmp), log)
         amplitudes = write_rows(_amplitudes(plan, grid, Path(tmp), log), out / "amplitude.csv")
+        phone = film_phone.run_films(film_phone.QUICK if quick else film_phone.FULL,
+                                     Path(tmp), log)
+    write_rows(phone, out / "phone.csv")
     rates = [case.data.track.time.size / case.data.seconds for case in grid]
     read = amplitudes[amplitudes["refused"] == ""]
     frame = write_rows(rows, out / "bench.csv")
@@ -283,7 +290,8 @@ def run(out, *, quick: bool = False,
                       detail=f"{int((read['limit_deg'] <= AMPLITUDE_LIMIT).sum())} films; "
                       f"worst of all {read['error_deg'].abs().max():.3f}°"),
                Target("frames tracked per second (640 × 480, one core)",
-                      float(np.median(rates)), FPS_TARGET, "min")]
+                      float(np.median(rates)), FPS_TARGET, "min"),
+               *film_phone.targets(phone)]
     write_targets(targets, out / "targets.json", environment())
     return frame, targets
 

@@ -88,3 +88,44 @@ def stopwatch(period, n_osc, repeats, rng, *, reaction_sd=0.08, resolution=0.01)
 def measured(true_value, limit, rng):
     """A reading off an instrument whose limit of error is ``limit`` (uniform error)."""
     return true_value + rng.uniform(-limit, limit)
+
+
+def free_swing(inertia, d_inertia, d_potential, amplitude, duration, *, viscous=0.0,
+               drag=0.0):
+    """The free decay of M(q) q̈ + ½ M'(q) q̇² + V'(q) = −c_v q̇ − c_q q̇|q̇|, released at rest
+    from q = ``amplitude``: linear (viscous: the pivot, the threads) and quadratic (air) damping.
+
+    Parameters
+    ----------
+    inertia, d_inertia, d_potential : callable
+        M(q) [kg·m²], dM/dq, dV/dq [N·m], vectorised.
+    amplitude : float
+        Release angle. [rad]
+    duration : float
+        Time integrated. [s]
+    viscous, drag : float
+        c_v [N·m·s] and c_q [N·m·s²].
+
+    Returns
+    -------
+    motion : callable
+        q(t) for an array of times within [0, duration] (dense output, relative error
+        ~1e-10). [rad]
+    crossings : numpy.ndarray
+        The times q passes through zero. [s]
+    """
+    def rhs(_, y):
+        q, w = y
+        torque = d_potential(q) + viscous * w + drag * w * abs(w)
+        return [w, -(0.5 * d_inertia(q) * w * w + torque) / inertia(q)]
+
+    def crossing(_, y):
+        return y[0]
+
+    sol = solve_ivp(rhs, (0.0, float(duration)), [float(amplitude), 0.0], events=crossing,
+                    dense_output=True, rtol=1e-11, atol=1e-13, method="DOP853")
+
+    def motion(t):
+        return sol.sol(np.asarray(t, dtype=float))[0]
+
+    return motion, np.asarray(sol.t_events[0])

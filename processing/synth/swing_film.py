@@ -98,6 +98,15 @@ class Film:
         th = self.angle(t)
         return self.pivot[0] + self.arm * np.sin(th), self.pivot[1] + self.arm * np.cos(th)
 
+    @property
+    def rms_amplitude(self) -> float:
+        """√(mean θ_a²) of the decaying amplitude θ₀e^{−δt/T} over the film: θ₀√((1 −
+        e^{−2δN})/(2δN)) for N oscillations. A real swing's period shortens as it decays,
+        and its mean over the film is its period at this amplitude: the period a scene of
+        the lab's should give the film to be true to the swing it stands for. [rad]"""
+        x = 2 * self.decrement * self.oscillations
+        return self.amplitude * (math.sqrt(-math.expm1(-x) / x) if x > 0 else 1.0)
+
     def truth(self) -> dict:
         return {"period": self.period, "decrement": self.decrement,
                 "amplitude_deg": math.degrees(self.amplitude),

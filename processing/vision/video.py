@@ -28,40 +28,22 @@ import math
 import warnings
 from dataclasses import dataclass, field
 from functools import cached_property
-from pathlib import Path
 
 import cv2
 import numpy as np
 
-from ..decay import DampedSineFit, fit_damped_sine
-from ..diagnostics import (FilmAmplitudeWarning, InconsistentInputWarning,
-                           InputError, IrregularFrameRateWarning)
-from ..files import FILM, regular
+from ..anharmonic import AnharmonicFit, fit_anharmonic_decay
+from ..decay import fit_damped_sine
+from ..diagnostics import FilmAmplitudeWarning, InconsistentInputWarning, InputError
 from ..savgol import savgol
 from ..uncertainty import Measured
+from .frames import (DROPPED, frame_clock, frames, interval_spread, open_film,
+                     typical_interval)
+from .marker import SURVEY_FRAMES, SURVEY_SECONDS, TURNS, survey, turned
 
 MIN_CONFIDENCE = 0.75
 """Normalised correlation below which a frame's marker position is left out (the marker
 itself matches at 0.9–0.97 through blur, noise and flicker; a hand half over it, at 0.6)."""
-
-BACKGROUND_FRAMES = 64
-"""Frames at the start whose median is the still background (they must span a swing)."""
-
-MAX_FRAME_PIXELS = 4096 * 2304
-"""Largest frame read, by the film's stream header (before a frame is decoded). [px] Phones
-film 1080p (2.1 Mpx) or 4K (3840 × 2160, 8.3 Mpx; DCI 4096 × 2160) by default; the limit
-holds both with room for a 16:9 4096 px frame, and keeps a decoded frame, its decoder's
-buffers and the background's frames within bounded memory."""
-
-MEDIAN_ROWS = 64
-"""Rows of the frames the background's median is taken over at a time."""
-
-WORK_SIDE = 1920
-"""Longest side of the frames tracked: a larger film is tracked on each frame reduced to it
-(pixel areas averaged). [px] A 4K film so tracked is a 1080p one: the marker swings over ~1000
-px of it where the film bench's 640 × 480 films (the targets: the period to 0.02 %, the
-amplitude to 0.2°) swing it over a few hundred, and the marker's template stays within the
-11–81 px the tracker sizes it to."""
 
 SEARCH = 4.0
 """Half-width of the search window where the marker is not found near its predicted place
@@ -112,9 +94,6 @@ that short arc's circle to a 355 000 px radius)."""
 NOTCH_BEYOND = 3
 """Frequency spacings past the notch the residual's density is taken over at least."""
 
-IRREGULAR = 0.02
-"""Relative spread of the frame intervals above which the timestamps are called irregular."""
-
 
 @dataclass(frozen=True)
 class Track:
@@ -132,12 +111,18 @@ class Track:
     size : int
         The template's side. [px]
     interval_spread : float
-        Standard deviation of the frame intervals over their median.
+        Standard deviation of the frame intervals over their usual one (dropped frames and
+        the container's rounding aside: :func:`~processing.vision.frames.interval_spread`).
     frames : list
         A few (index, grey frame) pairs kept for the report.
     scale : float
         The film's pixels per pixel of the frames tracked (1 unless the film is larger than
-        :data:`WORK_SIDE`): every position and size here is in the frames tracked.
+        :data:`~processing.vision.frames.WORK_SIDE`): every position and size here is in the
+        frames tracked.
+    dropped : int
+        Frames the camera dropped (gaps in the timestamps).
+    timed : bool
+        Whether the container held the frames' times (False: taken at the nominal rate).
     """
 
     path: str
@@ -149,6 +134,8 @@ class Track:
     interval_spread: float
     frames: list = field(default_factory=list, repr=False)
     scale: float = 1.0
+    dropped: int = 0
+    timed: bool = True
 
     @property
     def kept(self) -> np.ndarray:
@@ -179,7 +166,8 @@ class Track:
         return arc(self)
 
     def displacement(self) -> tuple[np.ndarray, np.ndarray]:
-        """(times, s) of the frames kept: the marker's way along its arc, s = R·θ with θ
+        """(times, s) of the frames kept on the marker's path (:attr:`on_path`: a moment's
+        false match left out): the marker's way along its arc, s = R·θ with θ
         the angle about the arc's centre from the track's mean direction. [s], [px]
 
         The angle, not the position along a line: the chord R sin θ of a swing θ₀ cos ωt
@@ -187,7 +175,7 @@ class Track:
         fits and that would pass for noise. A track too straight for its arc to be found
         (θ₀ below :data:`STRAIGHT` rad, where that harmonic is under 10⁻⁴ px) is projected on
         its principal direction instead."""
-        k = self.kept
+        k = self.on_path
         xy = np.column_stack([self.x[k], self.y[k]])
         mean = xy.mean(axis=0)
         xc, yc, R = self.circle
@@ -206,112 +194,32 @@ class Swing:
 
     Attributes
     ----------
-    fit : DampedSineFit
-        The damped sinusoid on the track's displacement (px).
+    fit : AnharmonicFit
+        The decaying oscillation on the track's displacement (px), its frequency a function
+        of its amplitude (:func:`processing.anharmonic.fit_anharmonic_decay`).
     period : Measured
-        T = 2π/ω_d with its type A u from the fit. [s]
+        T = 2π/ω̄, the mean period over the frames kept, with its u (:func:`period_of`). [s]
     oscillations : float
         Periods the kept frames span.
     amplitude : float
         The displacement's amplitude at the film's first frame kept. [px]
     kept_share : float
         Share of the frames kept.
+    reference_amplitude : float
+        The RMS of the amplitude over the frames kept: the amplitude the period belongs to
+        (a wide swing's period changes as it decays). [px]
     """
 
-    fit: DampedSineFit
+    fit: AnharmonicFit
     period: Measured
     oscillations: float
     amplitude: float
     kept_share: float
+    reference_amplitude: float
 
 
 def _refuse(path, field_name, problem: str, fix: str) -> InputError:
     return InputError(problem, fix, file=str(path), field=field_name)
-
-
-def _grey(frame: np.ndarray, scale: float = 1.0) -> np.ndarray:
-    """The frame in grey, reduced to ``scale`` of its size (pixel areas averaged)."""
-    grey = cv2.cvtColor(frame, cv2.COLOR_BGR2GRAY) if frame.ndim == 3 else frame
-    if scale < 1:
-        size = (max(int(round(grey.shape[1] * scale)), 1),
-                max(int(round(grey.shape[0] * scale)), 1))
-        grey = cv2.resize(grey, size, interpolation=cv2.INTER_AREA)
-    return grey
-
-
-def _open(path, field_name):
-    """The capture, its first frame and the scale it is tracked at (:data:`WORK_SIDE`).
-
-    The frame size is read off the stream's header before the first frame is decoded, and
-    a frame over :data:`MAX_FRAME_PIXELS` is refused."""
-    regular(path, FILM, field=field_name)
-    with open(path, "rb") as f:
-        head = f.read(12)
-    if not _is_film(head):
-        raise _refuse(path, field_name, "not a film: its first bytes are not those of an MP4, "
-                      "MOV, AVI or MKV file", "give the film as the phone recorded it (MP4 or "
-                      "MOV)")
-    capture = cv2.VideoCapture(str(Path(path).resolve()))  # no name read as a protocol
-    if not capture.isOpened():
-        raise _refuse(path, field_name, "not a film OpenCV can read", "give an MP4, MOV or "
-                      "AVI file as the phone recorded it")
-    w = int(capture.get(cv2.CAP_PROP_FRAME_WIDTH))
-    h = int(capture.get(cv2.CAP_PROP_FRAME_HEIGHT))
-    if w * h > MAX_FRAME_PIXELS:
-        capture.release()
-        raise _refuse(path, field_name, f"its video stream's header says {w} × {h} px a frame "
-                      f"({w * h / 1e6:.3g} Mpx), more than the {MAX_FRAME_PIXELS / 1e6:.3g} "
-                      "Mpx of a 4K frame a film is read at", "film at 1080p or 4K (the "
-                      "phone's camera settings), or export the film at that size")
-    ok, first = capture.read()
-    if not ok:
-        raise _refuse(path, field_name, "not a film OpenCV can read", "give an MP4, MOV or "
-                      "AVI file as the phone recorded it")
-    return capture, first, min(1.0, WORK_SIDE / max(first.shape[:2]))
-
-
-def _is_film(head: bytes) -> bool:
-    """Whether a file's first bytes are those of a film container: an ISO base media file
-    (MP4, MOV, 3GP: a box such as ``ftyp`` or ``moov`` first), AVI (RIFF) or Matroska/WebM
-    (EBML). Anything else — a playlist or a text that names other files or addresses for the
-    decoder to open — is not read.
-
-    >>> _is_film(bytes.fromhex("0000001c") + b"ftypisom"), _is_film(b"#EXTM3U http://")
-    (True, False)
-    """
-    return (head[4:8] in (b"ftyp", b"moov", b"mdat", b"wide", b"free", b"skip")
-            or (head[:4] == b"RIFF" and head[8:12] == b"AVI ")
-            or head[:4] == b"\x1a\x45\xdf\xa3")
-
-
-def _background(frames: np.ndarray) -> np.ndarray:
-    """The median of a stack of grey frames (frames × rows × columns, uint8), float32, taken
-    over :data:`MEDIAN_ROWS` rows at a time: the stack itself is all the memory it takes."""
-    out = np.empty(frames.shape[1:], np.float32)
-    for r in range(0, frames.shape[1], MEDIAN_ROWS):
-        out[r:r + MEDIAN_ROWS] = np.median(frames[:, r:r + MEDIAN_ROWS], axis=0)
-    return out
-
-
-def _marker(frames: np.ndarray, roi) -> tuple[float, float, int, float]:
-    """Centre, template side and contrast of the marker in the first frame: the compact
-    patch that differs most from the still background (within ``roi`` = (x, y, w, h) if
-    given)."""
-    diff = cv2.GaussianBlur(np.abs(frames[0].astype(np.float32) - _background(frames)),
-                            (0, 0), 2.0)
-    if roi is not None:
-        x0, y0, w, h = (int(v) for v in roi)
-        mask = np.zeros_like(diff)
-        mask[y0:y0 + h, x0:x0 + w] = 1.0
-        diff *= mask
-    peak = float(diff.max())
-    cy, cx = np.unravel_index(int(np.argmax(diff)), diff.shape)
-    blob = diff > 0.5 * peak
-    n, labels = cv2.connectedComponents(blob.astype(np.uint8))
-    area = int(np.sum(labels == labels[cy, cx])) if n > 1 else 1
-    side = int(np.clip(2 * math.sqrt(area / math.pi) * 2.2, 11, 81)) | 1
-    ys, xs = np.nonzero(labels == labels[cy, cx])
-    return float(xs.mean()), float(ys.mean()), side, peak
 
 
 def _subpixel(c: np.ndarray, i: int, j: int) -> tuple[float, float]:
@@ -325,21 +233,40 @@ def _subpixel(c: np.ndarray, i: int, j: int) -> tuple[float, float]:
     return dx, dy
 
 
-def _match(grey: np.ndarray, template: np.ndarray, ex: float, ey: float, reach: int):
-    """The template's best match within ``reach`` px of (ex, ey): centre and correlation,
-    or None where the window leaves the frame."""
-    side = template.shape[0]
+def _match(grey: np.ndarray, templates, box, tried):
+    """The best of the turned templates (:data:`~processing.vision.marker.TURNS`) numbered
+    ``tried`` within ``box`` = (x0, y0, x1, y1): centre, correlation and the template's
+    index, or None where the window is smaller than the template. The upright template is
+    kept unless a turned one matches better by :data:`TURN_MARGIN`."""
+    side = templates[UPRIGHT].shape[0]
     half = side // 2
     h, w = grey.shape
-    ax, ay = int(max(ex - half - reach, 0)), int(max(ey - half - reach, 0))
-    bx, by = int(min(ex + half + reach + 1, w)), int(min(ey + half + reach + 1, h))
+    ax, ay = int(max(box[0], 0)), int(max(box[1], 0))
+    bx, by = int(min(box[2], w)), int(min(box[3], h))
     window = grey[ay:by, ax:bx]
     if window.shape[0] <= side or window.shape[1] <= side:
         return None
-    corr = cv2.matchTemplate(window, template, cv2.TM_CCOEFF_NORMED)
-    i, j = np.unravel_index(int(np.argmax(corr)), corr.shape)
+    found = {}
+    for k in tried:
+        template = templates[k]
+        if template is None:
+            continue
+        corr = cv2.matchTemplate(window, template, cv2.TM_CCOEFF_NORMED)
+        i, j = np.unravel_index(int(np.argmax(corr)), corr.shape)
+        found[k] = (corr, i, j)
+    k = max(found, key=lambda n: found[n][0][found[n][1], found[n][2]])
+    if UPRIGHT in found and found[k][0][found[k][1], found[k][2]] < \
+            found[UPRIGHT][0][found[UPRIGHT][1], found[UPRIGHT][2]] + TURN_MARGIN:
+        k = UPRIGHT
+    corr, i, j = found[k]
     dx, dy = _subpixel(corr, i, j)
-    return ax + j + dx + half, ay + i + dy + half, float(corr[i, j])
+    return ax + j + dx + half, ay + i + dy + half, float(corr[i, j]), k
+
+
+def _around(x: float, y: float, reach: float, side: int) -> tuple[int, int, int, int]:
+    half = side // 2
+    return (int(x - half - reach), int(y - half - reach), int(x + half + reach + 1),
+            int(y + half + reach + 1))
 
 
 ECC_STEPS = 30
@@ -350,6 +277,20 @@ ECC_BLUR = 5
 aligning them: the bilinear interpolation's error, a function of the marker's place within a
 pixel, falls with the image's curvature (measured on a sharp marker stepped across a pixel:
 up to 0.026 px unsmoothed, 0.014 px smoothed)."""
+
+TURN_MARGIN = 0.03
+"""Correlation a turned template must gain over the upright one to be taken."""
+
+UPRIGHT = TURNS.index(0.0)
+
+LOST_FRAMES = 2
+"""Frames the marker may go unfound (a hand, a flash of blur) before it is sought over the
+whole region it swings in."""
+
+REACQUIRE = 0.85
+"""Correlation the marker must reach to be taken up again over the whole region it swings
+in (far from where it was last seen, a corner of a hand or of a shadow must not pass for
+it; the marker itself matches at 0.9 and more where it moves slowest)."""
 
 
 def _refine(grey: np.ndarray, template: np.ndarray, x: float, y: float):
@@ -385,16 +326,44 @@ def _refine(grey: np.ndarray, template: np.ndarray, x: float, y: float):
     return x0 + dx + half, y0 + dy + half
 
 
+def _survey_frames(film, field):
+    """The survey's frames (:data:`~processing.vision.marker.SURVEY_FRAMES` of them, every
+    so many over :data:`~processing.vision.marker.SURVEY_SECONDS` at a high frame rate) and
+    their times (by the nominal rate where the film holds none)."""
+    rate = film.rate if math.isfinite(film.rate) and film.rate > 0 else 30.0
+    stride = max(1, math.ceil(rate * SURVEY_SECONDS / SURVEY_FRAMES))
+    kept, times = None, []
+    for index, (grey, t) in enumerate(frames(film, field)):
+        if index % stride:
+            continue
+        if kept is None:
+            kept = np.empty((SURVEY_FRAMES, *grey.shape), np.uint8)
+        kept[len(times)] = grey
+        times.append(t if math.isfinite(t) else index / rate)
+        if len(times) == SURVEY_FRAMES:
+            break
+    if kept is None:
+        return np.empty((0, 1, 1), np.uint8), np.empty(0)
+    return kept[:len(times)], np.asarray(times)
+
+
 def track_marker(path, *, roi=None, field: str | None = None,
                  min_confidence: float = MIN_CONFIDENCE, keep_frames: int = 4) -> Track:
     """Track the marker on a swinging part through a film.
 
+    The marker is what moves periodically in the film's first seconds
+    (:func:`processing.vision.marker.survey`); each frame it is sought near its predicted
+    place (last place plus last step), then within :data:`SEARCH` template sizes of its last
+    place, and after :data:`LOST_FRAMES` frames unfound over the whole region it swings in,
+    with its template turned as the part turns; then aligned to a small fraction of a pixel
+    (:func:`_refine`). Frames where it matches below ``min_confidence`` are left out.
+
     Parameters
     ----------
     path : str or Path
-        The film (MP4, MOV, AVI).
+        The film (MP4, MOV, AVI, MKV).
     roi : (x, y, w, h), optional
-        Where the marker is in the first frame, in the film's pixels. [px]
+        Where the marker is in the first frames, in the film's pixels. [px]
     field : str, optional
         The measurement-file field that named the film, for errors.
     min_confidence : float
@@ -409,68 +378,65 @@ def track_marker(path, *, roi=None, field: str | None = None,
     Raises
     ------
     InputError
-        Not a film; frames larger than :data:`MAX_FRAME_PIXELS`; too short; nothing moves;
-        the marker lost in most frames.
+        Not a film; frames larger than :data:`~processing.vision.frames.MAX_FRAME_PIXELS`;
+        too short; nothing moves periodically; the marker lost in most frames.
     """
-    capture, first, scale = _open(path, field)
-    grey = _grey(first, scale)
-    del first
-    buffered = np.empty((BACKGROUND_FRAMES, *grey.shape), np.uint8)
-    buffered[0] = grey
-    stamps = [capture.get(cv2.CAP_PROP_POS_MSEC) / 1e3]
-    total = int(capture.get(cv2.CAP_PROP_FRAME_COUNT)) or 0
-    while len(stamps) < BACKGROUND_FRAMES:
-        ok, frame = capture.read()
-        if not ok:
-            break
-        buffered[len(stamps)] = _grey(frame, scale)
-        stamps.append(capture.get(cv2.CAP_PROP_POS_MSEC) / 1e3)
-    buffered = buffered[:len(stamps)]
-    if len(buffered) < 16:
-        raise _refuse(path, field, f"the film holds {len(buffered)} frames",
+    film = open_film(path, field)
+    scale = film.scale
+    kept, stamps = _survey_frames(film, field)
+    if len(kept) < 16:
+        raise _refuse(path, field, f"the film holds {len(kept)} frames",
                       "film the whole swing: 20 oscillations or more")
-    cx, cy, side, contrast = _marker(buffered, None if roi is None
-                                     else tuple(scale * float(v) for v in roi))
-    noise = float(np.std(buffered[0].astype(np.float32) - buffered[1]))
-    if contrast < max(3.0 * noise, 8.0):
-        raise _refuse(path, field, "nothing moves in the film's first frames",
-                      "start filming while the part swings, with the marker in view")
-    half = side // 2
-    y0, x0 = int(round(cy)), int(round(cx))
-    template = buffered[0][y0 - half:y0 + half + 1, x0 - half:x0 + half + 1].copy()
-    if template.shape != (side, side):
+    where = None if roi is None else tuple(scale * float(v) for v in roi)
+    marker = survey(kept, stamps, where)
+    if marker is None:
+        raise _refuse(path, field, "nothing moves periodically in the film's first "
+                      f"{stamps[-1] - stamps[0]:.1f} s (no patch swings there, a hand or a "
+                      "flicker aside)", "start filming while the part swings, with a "
+                      "high-contrast marker on it in view")
+    templates = [t.astype(np.uint8) if t is not None else None for t in
+                 turned(kept[marker.reference], marker.x, marker.y, marker.side, TURNS)]
+    del kept
+    if templates[UPRIGHT] is None:
         raise _refuse(path, field, "the marker is at the frame's edge",
                       "frame the swing so that the marker stays inside the picture")
-    xs, ys, conf, times = [], [], [], []
+    side = marker.side
     near, far = side // 2 + 2, int(SEARCH * side)
-    px, py, vx, vy = cx, cy, 0.0, 0.0
+    xs, ys, conf, times = [], [], [], []
+    if marker.start is not None:
+        px, py = marker.start
+    else:
+        px, py = marker.x, marker.y
+    vx = vy = 0.0
+    lost = 0 if marker.start is not None else LOST_FRAMES
+    turn = UPRIGHT
+    every = range(len(TURNS))
     snapshots = []
-    shown = set(np.linspace(0, total - 1, keep_frames).astype(int).tolist()) \
-        if total and keep_frames else set()
-    index = 0
-    pending = list(zip(buffered, stamps))
-    del buffered                       # its frames go as they are tracked
-    while True:
-        if pending:
-            grey, stamp = pending.pop(0)
-        else:
-            ok, frame = capture.read()
-            if not ok:
-                break
-            grey, stamp = _grey(frame, scale), capture.get(cv2.CAP_PROP_POS_MSEC) / 1e3
+    shown = set(np.linspace(0, film.frame_count - 1, keep_frames).astype(int).tolist()) \
+        if film.frame_count and keep_frames else set()
+    for index, (grey, stamp) in enumerate(frames(film, field)):
+        boxes = [_around(px + vx, py + vy, near, side), _around(px, py, far, side)]
+        if lost >= LOST_FRAMES:
+            boxes.append(marker.region)
         x = y = math.nan
         c = 0.0
-        for reach, (ex, ey) in ((near, (px + vx, py + vy)), (far, (px, py))):
-            found = _match(grey, template, ex, ey, reach)
+        for box in boxes:
+            tried = sorted({UPRIGHT, turn, max(turn - 1, 0), min(turn + 1, len(TURNS) - 1)}) \
+                if box is boxes[0] else every
+            found = _match(grey, templates, box, tried)
             c = max(c, found[2] if found is not None else 0.0)
-            if found is not None and found[2] >= min_confidence:
-                refined = _refine(grey, template, found[0], found[1])
+            least = min_confidence if box is not marker.region else \
+                max(min_confidence, REACQUIRE)
+            if found is not None and found[2] >= least:
+                refined = _refine(grey, templates[found[3]], found[0], found[1])
                 if refined is not None:
                     x, y = refined
-                    vx, vy = x - px, y - py
+                    turn = found[3]
+                    vx, vy = (x - px, y - py) if lost == 0 else (0.0, 0.0)
                     px, py = x, y
                 break
-        if not math.isfinite(x):
+        lost = 0 if math.isfinite(x) else lost + 1
+        if lost:
             vx = vy = 0.0
         xs.append(x)
         ys.append(y)
@@ -478,25 +444,12 @@ def track_marker(path, *, roi=None, field: str | None = None,
         times.append(stamp)
         if index in shown:
             snapshots.append((index, grey.copy()))
-        index += 1
-    capture.release()
-    time = np.asarray(times)
+    time, dropped = frame_clock(film, times, field)
     steps = np.diff(time)
-    if not np.all(steps > 0):
-        raise _refuse(path, field, "the frames' timestamps do not rise",
-                      "export the film again from the phone without editing it")
-    spread = float(np.std(steps) / np.median(steps))
-    if spread > IRREGULAR:
-        name = Path(path).name
-        warnings.warn(IrregularFrameRateWarning(
-            f"{name}: the frames' intervals vary by {100 * spread:.1f} % (a variable frame "
-            "rate): each frame's own timestamp is used; film at a fixed frame rate if the "
-            "phone allows",
-            f"{name}: интервалы между кадрами меняются на {100 * spread:.1f} % (переменная "
-            "частота кадров): используется метка времени каждого кадра; снимайте с "
-            "постоянной частотой кадров, если телефон позволяет"))
+    typical = typical_interval(time)
+    spread = interval_spread(steps[steps < DROPPED * typical], typical, film.tick)
     track = Track(str(path), time, np.asarray(xs), np.asarray(ys), np.asarray(conf), side,
-                  spread, snapshots, 1.0 / scale)
+                  spread, snapshots, 1.0 / scale, dropped, film.timed)
     if track.kept.mean() < 0.5:
         raise _refuse(path, field, f"the marker was found in {100 * track.kept.mean():.0f} % "
                       "of the frames", "stick a high-contrast marker on the part, light it "
@@ -532,8 +485,13 @@ def swing_of(track: Track, *, field: str | None = None) -> Swing:
     if span < 3:
         raise _refuse(track.path, field, f"the film spans {span:.1f} oscillations",
                       "film at least 10 oscillations (the manual times 20)")
-    return Swing(fit, period_of(fit, t, s), float(span), float(fit.amplitude),
-                 float(track.kept.mean()))
+    try:
+        drifting = fit_anharmonic_decay(t, s, fit)
+    except RuntimeError as exc:
+        raise _refuse(track.path, field, f"no oscillation fits the track ({exc})",
+                      "film the part swinging freely, the marker in view") from None
+    return Swing(drifting, period_of(drifting, t, s), float(span), float(drifting.amplitude),
+                 float(track.kept.mean()), float(drifting.reference_amplitude))
 
 
 def _density_near(t: np.ndarray, r: np.ndarray, f0: float) -> tuple[float, int]:
@@ -555,8 +513,8 @@ def _density_near(t: np.ndarray, r: np.ndarray, f0: float) -> tuple[float, int]:
     return float(power.mean()), int(f.size)
 
 
-def period_of(fit: DampedSineFit, t: np.ndarray, s: np.ndarray) -> Measured:
-    """T = 2π/ω_d of a track's fit, with its u.
+def period_of(fit: AnharmonicFit, t: np.ndarray, s: np.ndarray) -> Measured:
+    """T = 2π/ω̄ of a track's fit, with its u.
 
     Type A: the least-squares covariance (JᵀJ)⁻¹ scaled by the residual's spectral density
     about the swing's frequency rather than by its variance (the frequency of a sinusoid in
@@ -595,17 +553,40 @@ def arc(track: Track) -> tuple[float, float, float]:
     return float(fit.x[0] + x0), float(fit.x[1] + y0), float(abs(fit.x[2]))
 
 
+def correlation_time(r: np.ndarray) -> float:
+    """The integrated autocorrelation time of a series, 1 + 2Σρ_k summed over the lags
+    until ρ first falls below zero (at most a tenth of the series): how many samples one
+    independent sample's worth of error spans (1 for white noise; (1 + ρ)/(1 − ρ) for a
+    first-order one; far more for a phone's slow shake, which moves the whole picture).
+
+    References
+    ----------
+    .. [1] A. Sokal, "Monte Carlo methods in statistical mechanics", in Functional
+           Integration, Springer, 1997, §3 (the integrated autocorrelation time).
+    """
+    r = np.asarray(r, float) - np.mean(r)
+    n = r.size
+    if n < 8 or not r @ r > 0:
+        return 1.0
+    spectrum = np.fft.rfft(r, 2 * n)
+    acf = np.fft.irfft(spectrum * np.conj(spectrum))[:n] / (r @ r)
+    lags = acf[1:max(n // 10, 2)]
+    below = np.flatnonzero(lags < 0)
+    used = lags[:below[0]] if below.size else lags
+    return float(1 + 2 * used.sum())
+
+
 def arc_radius_u(track: Track) -> float:
     """Standard uncertainty of the arc's radius (:func:`arc`) from the track's scatter about
-    it: s²(JᵀJ)⁻¹ of the geometric fit, s² widened by (1 + ρ)/(1 − ρ) for the residuals'
-    lag-one correlation ρ (a frame's error carried into the next). [px]"""
+    it: s²(JᵀJ)⁻¹ of the geometric fit, s² widened by the residuals' integrated
+    autocorrelation time (:func:`correlation_time`: a frame's error carried into the next,
+    the phone's shake carried over many). [px]"""
     k = track.on_path
     xc, yc, R = track.circle
     dx, dy = track.x[k] - xc, track.y[k] - yc
     d = np.hypot(dx, dy)
     r = d - R
-    rho = float(np.clip(np.corrcoef(r[:-1], r[1:])[0, 1], 0.0, 0.9)) if r.size > 3 else 0.0
-    s2 = float(r @ r) / max(r.size - 3, 1) * (1 + rho) / (1 - rho)
+    s2 = float(r @ r) / max(r.size - 3, 1) * correlation_time(r)
     J = np.column_stack([dx / d, dy / d, np.ones_like(d)])
     try:
         normal = np.linalg.inv(J.T @ J)
@@ -629,6 +610,21 @@ class Filmed:
         """The swing's angle amplitude at the film's start, θ₀ = A/R: the way along the arc
         over the arc's radius. [rad]"""
         return abs(self.swing.amplitude) / self.track.circle[2]
+
+    @property
+    def period_amplitude(self) -> float:
+        """The amplitude the film's period belongs to: the RMS of the swing's decaying
+        amplitude over the film (:attr:`Swing.reference_amplitude`) over the arc's radius.
+        A wide swing's period shortens as it decays; the film's mean period is the period
+        of a swing of this amplitude (to first order in the period's dependence on the
+        amplitude squared), which is what a finite-amplitude correction takes. [rad]"""
+        return abs(self.swing.reference_amplitude) / self.track.circle[2]
+
+    @property
+    def period_amplitude_limit(self) -> float:
+        """Limit of error of :attr:`period_amplitude`: :attr:`amplitude_limit` in the same
+        proportion (both rest on the arc's radius). [rad]"""
+        return self.amplitude_limit * abs(self.swing.reference_amplitude / self.swing.amplitude)
 
     @cached_property
     def amplitude_limit(self) -> float:
@@ -704,7 +700,8 @@ def filmed_times(inputs, films: dict[str, dict[str, str]], needed=("t",)):
             _compare_stopwatch(film, n)
             if ("amplitude" not in entry and "amplitude" not in changes
                     and _declares(inputs, section, "amplitude")):
-                changes["amplitude"] = Measured(film.amplitude, limit=film.amplitude_limit)
+                changes["amplitude"] = Measured(film.period_amplitude,
+                                                limit=film.period_amplitude_limit)
                 _check_amplitude(film, f"{section}.amplitude")
         if changes:
             inputs = inputs.changed(section, **changes)

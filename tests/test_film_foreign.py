@@ -1,0 +1,139 @@
+"""Films that nobody here drew with the first renderer: phone films of
+:mod:`processing.synth.phone_film` (a nonlinear damped pendulum or trifilar, motion blur, a
+lamp's flicker beating with the frame rate, hands passing, roll and tilt, H.264 with each
+frame's timestamp), read as a lab reads them. Small and short films here; 4K and long ones
+belong to the bench (``python -m processing.bench --topic film``)."""
+from __future__ import annotations
+
+import math
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from processing.anharmonic import fit_anharmonic_decay
+from processing.decay import fit_damped_sine
+from processing.diagnostics import (DroppedFramesWarning, IrregularFrameRateWarning,
+                                    NominalFrameRateWarning)
+from processing.oscillation import pendulum_period_factor
+from processing.synth.phone_film import Phone, Swinger, render
+from processing.uncertainty import Measured, propagate
+from processing.vision.frames import Film, frame_clock
+from processing.vision.video import Filmed, swing_of, track_marker
+
+SMALL = (320, 180)
+"""The films' frame: small, for speed (a phone films 1080p or 4K: the bench reads those)."""
+
+
+def _held(measured: Measured, truth: float) -> bool:
+    k = stats.t.ppf(0.975, measured.dof) if math.isfinite(measured.dof) else 1.96
+    return abs(measured.value - truth) <= k * measured.u
+
+
+def _read(path):
+    track = track_marker(path, field="pendulum.video")
+    return track, swing_of(track, field="pendulum.video")
+
+
+def test_a_wide_swing_is_fitted_with_its_period_drifting():
+    """An 18° pendulum decaying to about 12°: its period shortens by 0.2 % along the record.
+    One sinusoid's frequency misses the record's mean period by 4·10⁻⁵ (20 times its u);
+    the fit whose frequency follows the amplitude squared gives it within 10⁻⁵, and says the
+    amplitude it belongs to (the envelope's RMS) within 1 %."""
+    swinger = Swinger(amplitude=math.radians(18.0), decrement=0.02, drag=0.0, period0=1.1)
+    t = np.arange(0.0, 22.0, 1 / 30)
+    theta, crossings = swinger.motion(23.0)
+    s = 300.0 * theta(t) + np.random.default_rng(1).normal(0.0, 0.05, t.size)
+    plain = fit_damped_sine(t, s, baseline_order=1)
+    fit = fit_anharmonic_decay(t, s, plain)
+    swings = np.interp([t[0], t[-1]], crossings, np.arange(crossings.size))
+    swings[0] = (t[0] - crossings[0]) / (crossings[1] - crossings[0])
+    mean_period = (t[-1] - t[0]) / (0.5 * (swings[1] - swings[0]))
+    assert abs(plain.period / mean_period - 1) > 2e-5
+    assert abs(fit.period / mean_period - 1) < 1e-5
+    rms = math.sqrt(2 * np.mean(theta(np.linspace(t[0], t[-1], 20000)) ** 2))
+    assert fit.reference_amplitude / 300.0 == pytest.approx(rms, rel=0.01)
+
+
+@pytest.fixture(scope="module")
+def wide(tmp_path_factory):
+    """A 16° pendulum on a stand (no shake), a lamp flickering 30 % deep on 50 Hz mains, a
+    hand passing, rolled 3° and tilted 4°, at 60 frames per second, 10 oscillations."""
+    folder = tmp_path_factory.mktemp("wide")
+    swinger = Swinger(amplitude=math.radians(16.0), period0=0.9, decrement=0.02, drag=0.03)
+    phone = Phone(size=SMALL, fps=60.0, flicker=0.3, hands=1, roll=3.0, tilt=4.0, shake=0.0)
+    return swinger, render(swinger, phone, folder / "wide.mp4", oscillations=10, seed=5)
+
+
+def test_wide_swing_period_and_its_zero_amplitude_correction(wide):
+    """The film's period within 10⁻³ of the swing's mean period and its 95 % interval holds
+    it; corrected to zero amplitude with the amplitude it belongs to (lab 1's T/F(θ), the u
+    through the one propagation), the period's interval holds T₀."""
+    swinger, shot = wide
+    track, swing = _read(shot.path)
+    assert abs(swing.period.value / shot.mean_period - 1) < 1e-3
+    assert _held(swing.period, shot.mean_period), (swing.period, shot.mean_period)
+    read = Filmed("pendulum.video", track, swing)
+    T0 = propagate(lambda T, a: {"T0": T / pendulum_period_factor(a)},
+                   {"T": swing.period, "a": Measured(read.period_amplitude,
+                                                     limit=read.period_amplitude_limit)},
+                   n_samples=4000)["T0"]
+    lo, hi = T0.interval95
+    assert lo <= swinger.period0 <= hi, (T0.value, swinger.period0)
+
+
+def test_240_fps_with_flicker_and_a_hand_is_reduced(tmp_path):
+    """At 240 frames per second the first 64 frames hold a quarter of a swing and the 120 Hz
+    light of 60 Hz mains is not averaged: the marker is still found (the part that moves
+    periodically), followed past a hand, and the period comes out within 10⁻³."""
+    swinger = Swinger(kind="trifilar", amplitude=math.radians(9.0), period0=0.8)
+    phone = Phone(size=SMALL, fps=240.0, exposure=0.9, mains=60.0, flicker=0.4, hands=1,
+                  shake=0.0)
+    shot = render(swinger, phone, tmp_path / "fast.mp4", oscillations=4, seed=3)
+    _, swing = _read(shot.path)
+    assert abs(swing.period.value / shot.mean_period - 1) < 1e-3
+
+
+def test_variable_rate_with_dropped_frames_is_timed_and_warned(tmp_path):
+    """A phone's variable frame rate (intervals ±20 %) with two frames dropped: each frame's
+    time is read from the container, the dropped frames and the irregular rate are warned
+    of, and the period holds."""
+    swinger = Swinger(amplitude=math.radians(8.0), period0=1.0)
+    phone = Phone(size=SMALL, fps=30.0, jitter=0.2, dropped=2, shake=0.0, hands=0)
+    shot = render(swinger, phone, tmp_path / "vfr.mp4", oscillations=8, seed=4)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        track, swing = _read(shot.path)
+    kinds = {w.category for w in caught}
+    assert {DroppedFramesWarning, IrregularFrameRateWarning} <= kinds
+    assert track.dropped == shot.dropped == 2
+    np.testing.assert_allclose(track.time, shot.times, atol=1e-4)
+    assert abs(swing.period.value / shot.mean_period - 1) < 1e-4
+
+
+def test_avi_holds_only_a_nominal_rate_and_is_warned(tmp_path):
+    """An AVI file holds no frame times: the frames are taken 1/rate apart, and the report
+    says so."""
+    swinger = Swinger(amplitude=math.radians(6.0), period0=1.0)
+    phone = Phone(size=SMALL, fps=30.0, container="avi", hands=0, shake=0.0)
+    shot = render(swinger, phone, tmp_path / "nominal.avi", oscillations=6, seed=6)
+    with pytest.warns(NominalFrameRateWarning, match="nominal rate"):
+        track, _ = _read(shot.path)
+    assert not track.timed
+
+
+def test_a_clock_rounded_to_its_tick_is_neither_irregular_nor_dropping():
+    """240 frames per second on a 1/600 s clock: the intervals are 2 and 3 ticks in turn
+    (±20 %), which is the container's rounding, not a variable rate nor a dropped frame;
+    a real gap of two intervals is one dropped frame."""
+    film = Film(Path("slowmo.mov"), (1920, 1080), 240.0, 1.0, True, 0, 1 / 600)
+    times = np.round(np.arange(2400) / 240 * 600) / 600
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        _, dropped = frame_clock(film, times)
+    assert dropped == 0
+    with pytest.warns(DroppedFramesWarning, match="1 frame"):
+        _, dropped = frame_clock(film, np.delete(times, 1000))
+    assert dropped == 1
