@@ -49,7 +49,7 @@ from processing.uncertainty import Measured, propagate
 REFERENCE_RANGES = {"automotive": (0.01, 0.02), "tractor": (0.003, 0.01)}
 """The manual's typical δ (lab 3): automotive 0.01–0.02, tractor 0.003–0.01."""
 
-ENGINE_KINDS = {"automotive": bi("automotive engines", "автомобильные двигатели"),
+TYPICAL_FOR = {"automotive": bi("automotive engines", "автомобильные двигатели"),
                 "tractor": bi("tractor engines", "тракторные двигатели"),
                 None: bi("automotive and tractor engines",
                          "автомобильные и тракторные двигатели")}
@@ -60,7 +60,7 @@ does not say it."""
 def typical_delta(kind: str | None) -> Typical:
     """The manual's typical δ for an engine of ``kind`` (None: either kind's)."""
     lows, highs = zip(*(v for k, v in REFERENCE_RANGES.items() if kind in (None, k)))
-    return Typical(min(lows), max(highs), ENGINE_KINDS[kind])
+    return Typical(min(lows), max(highs), TYPICAL_FOR[kind])
 
 MIN_SAMPLES_PER_TOOTH = 12.0
 """Below this the edges' sub-sample timing degrades fast (the benchmark's stability map)."""
