@@ -222,11 +222,11 @@ def amplitude_dependent(first: float, last: float,
 def unfollowed_baseline(rho: float) -> BaselineDriftWarning:
     return BaselineDriftWarning(
         f"the trace fit's residuals are not noise (lag-one correlation {rho:.2f}): the "
-        "baseline moves in a way its quadratic does not follow (creep of the rubber, drift of "
-        "the bridge); δ's uncertainty was widened for it, but it may be biased: let the "
+        "baseline moves in a way the fitted polynomial baseline does not follow (creep of the "
+        "rubber, drift of the bridge); δ's uncertainty was widened for it, but it may be biased: let the "
         "amplifier warm up and record from a settled zero",
         f"остатки аппроксимации записи — не шум (корреляция соседних {rho:.2f}): нулевая "
-        "линия меняется не по параболе (ползучесть резины, дрейф моста); неопределённость δ "
+        "линия меняется не так, как подобранный многочлен (ползучесть резины, дрейф моста); неопределённость δ "
         "увеличена, но δ может быть смещён: прогрейте усилитель и записывайте от "
         "установившегося нуля")
 
