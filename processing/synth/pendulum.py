@@ -48,8 +48,9 @@ def physical_pendulum_period(J_pivot, m, c, amplitude, g=9.81) -> float:
     return period_of(lambda q: J_pivot, lambda q: 0.0, lambda q: m * g * c * np.sin(q), amplitude)
 
 
-def trifilar_period(J, m, R1, R2, l, amplitude, g=9.81) -> float:
-    """True period of a trifilar suspension twisted by ``amplitude``.
+def trifilar_equation(J, m, R1, R2, l, g=9.81):
+    """``(M, M', V')`` of a trifilar suspension twisted by φ: its generalised inertia
+    M(φ) = J + m h′(φ)², dM/dφ and dV/dφ = −m g h′(φ).
 
     Lagrangian ½(J + m ḣ²/φ̇²)φ̇² − m g (H − h(φ)), h(φ)² = l² − R₁² − R₂² + 2R₁R₂ cos φ:
     the body rotates and rises; the threads are massless and inextensible.
@@ -65,8 +66,14 @@ def trifilar_period(J, m, R1, R2, l, amplitude, g=9.81) -> float:
     def d2h(q):
         return (-R1 * R2 * np.cos(q) - dh(q) ** 2) / h(q)
 
-    return period_of(lambda q: J + m * dh(q) ** 2, lambda q: 2 * m * dh(q) * d2h(q),
-                     lambda q: -m * g * dh(q), amplitude)
+    return (lambda q: J + m * dh(q) ** 2, lambda q: 2 * m * dh(q) * d2h(q),
+            lambda q: -m * g * dh(q))
+
+
+def trifilar_period(J, m, R1, R2, l, amplitude, g=9.81) -> float:
+    """True period of a trifilar suspension twisted by ``amplitude``
+    (:func:`trifilar_equation`)."""
+    return period_of(*trifilar_equation(J, m, R1, R2, l, g), amplitude)
 
 
 def stopwatch(period, n_osc, repeats, rng, *, reaction_sd=0.08, resolution=0.01):

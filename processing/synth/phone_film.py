@@ -32,7 +32,7 @@ import cv2
 import numpy as np
 from scipy.ndimage import gaussian_filter1d
 
-from .pendulum import free_swing, period_of
+from .pendulum import free_swing, period_of, trifilar_equation
 
 G = 9.81
 """Gravity of the scenes. [m/s²]"""
@@ -81,21 +81,9 @@ class Swinger:
         if self.kind == "pendulum":
             return (lambda q: 1.0, lambda q: 0.0, lambda q: w0 * w0 * np.sin(q))
         R1, R2, l = self.trifilar
-        a2 = l * l - R1 * R1 - R2 * R2
-        H = math.sqrt(a2 + 2 * R1 * R2)
+        H = math.sqrt(l * l - (R1 - R2) ** 2)
         J = (self.period0 / (2 * math.pi)) ** 2 * G * R1 * R2 / H   # J/m for T₀
-
-        def h(q):
-            return np.sqrt(a2 + 2 * R1 * R2 * np.cos(q))
-
-        def dh(q):
-            return -R1 * R2 * np.sin(q) / h(q)
-
-        def d2h(q):
-            return (-R1 * R2 * np.cos(q) - dh(q) ** 2) / h(q)
-
-        return (lambda q: J + dh(q) ** 2, lambda q: 2 * dh(q) * d2h(q),
-                lambda q: -G * dh(q))
+        return trifilar_equation(J, 1.0, R1, R2, l, G)
 
     def motion(self, duration: float):
         """θ(t) over ``duration`` and its zero crossings (see
