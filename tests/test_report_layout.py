@@ -42,11 +42,13 @@ def reduced(path: Path):
 
 @functools.cache
 def pdf_pages(path: Path, lang: str) -> list[str]:
+    """The PDF's text page by page (drawn without its figures, which come after the text that
+    is read here and are measured on their own below)."""
     import io
 
-    from processing.reporting.render import render
+    from processing.reporting.pdf import to_pdf
 
-    blob = render(reduced(path), ("pdf",), lang)["pdf"]
+    blob = to_pdf(reduced(path), lang)
     return [" ".join(p.extract_text().split()) for p in pypdf.PdfReader(io.BytesIO(blob)).pages]
 
 
