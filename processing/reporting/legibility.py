@@ -72,10 +72,7 @@ def overlapping_ticks(fig) -> list[tuple[str, str]]:
 def _thin_ticks(axis, renderer) -> None:
     """Fewer ticks on ``axis`` until its labels stand apart (a fixed set of ticks, such as
     category names, is kept and its labels turned instead)."""
-    def crowded():
-        return bool(_crowded(axis, renderer))
-
-    if not crowded():
+    if not _crowded(axis, renderer):
         return
     if isinstance(axis.get_major_locator(), FixedLocator):
         if axis.axis_name == "x":
@@ -86,7 +83,7 @@ def _thin_ticks(axis, renderer) -> None:
     for nbins in (6, 5, 4, 3, 2):
         axis.set_major_locator(MaxNLocator(nbins=nbins, steps=[1, 2, 2.5, 5, 10]))
         axis.figure.draw_without_rendering()
-        if not crowded():
+        if not _crowded(axis, renderer):
             return
 
 
@@ -123,19 +120,15 @@ def legend_overlap(ax, renderer=None) -> int:
 
 
 def _place_legend(ax, renderer) -> None:
-    """Move a legend that covers data to the place inside its axes that covers least, or
-    outside the axes on the right where every place inside covers some."""
+    """Move a legend that covers data to the first place inside its axes that covers none,
+    or outside the axes on the right where every place inside covers some."""
     legend = ax.get_legend()
     if legend is None or legend_overlap(ax, renderer) == 0:
         return
-    best = None
     for loc in range(1, 11):
         legend.set_loc(loc)
         ax.figure.draw_without_rendering()
-        n = legend_overlap(ax, renderer)
-        if best is None or n < best[0]:
-            best = (n, loc)
-        if n == 0:
+        if legend_overlap(ax, renderer) == 0:
             return
     handles, labels = ax.get_legend_handles_labels()
     size = legend.get_texts()[0].get_fontsize() if legend.get_texts() else None
