@@ -44,7 +44,8 @@ from processing.diagnostics import (DynlabWarning, FlywheelNotNeededWarning,
 from processing.kinematics import (mean_piston_speed, relative_displacement, relative_velocity,
                                    rod_angle)
 from processing.measurement import Field, Inputs, LabSpec, Section, bi
-from processing.result import KEY, Figure, LabResult, Record, Table, flag_estimates, result_values
+from processing.result import (Figure, LabResult, Record, Table, flag_estimates, result_values,
+                               with_key)
 from processing.uncertainty import Measured, propagate
 
 from . import catalogue
@@ -745,8 +746,7 @@ _DECLARED = {
 KEY_RESULTS = ("p_i", "P_max", "M_mean", "N_i", "I_flywheel", "m_flywheel", "delta_integrated")
 """What the coursework comes to: the cycle's pressure, the largest force, the torque and
 power, the flywheel and the δ it gives."""
-RESULTS = {name: (*declared, *((KEY,) if name in KEY_RESULTS else ()))
-           for name, declared in _DECLARED.items()}
+RESULTS = with_key(_DECLARED, KEY_RESULTS)
 
 FORMULAS = [
     bi("Volumes: V_c = V_s/(ε − 1), V_a = V_s + V_c, V_z = ρV_c; V(α) = V_c + F_p S(α) with the "

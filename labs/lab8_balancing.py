@@ -39,7 +39,8 @@ from processing.diagnostics import ImbalanceWarning, InconsistentInputWarning, c
 from processing.measurement import (ENGINE_SPEED, LENGTH, MASS, Field, Inputs, LabSpec, Section,
                                     bi)
 from processing.reporting.content import fmt_pm
-from processing.result import KEY, Figure, LabResult, Table, flag_estimates, result_values
+from processing.result import (Figure, LabResult, Table, flag_estimates, result_values,
+                               with_key)
 from processing.uncertainty import Measured, propagate
 
 from . import catalogue
@@ -401,8 +402,7 @@ _DECLARED = {
                      "(амплитуда)"), "M_j2 free", "N*m"),
     "omega": (bi("crankshaft angular speed", "угловая скорость коленчатого вала"), "ω", "rad/s"),
 }
-RESULTS = {name: (*declared, *((KEY,) if name in KEY_RESULTS else ()))
-           for name, declared in _DECLARED.items()}
+RESULTS = with_key(_DECLARED, KEY_RESULTS)
 
 
 FORMULAS = [

@@ -17,7 +17,7 @@ from processing.diagnostics import (AmplitudeDependentDampingWarning, BaselineDr
 from processing.measurement import bi
 from processing.numerals import plural
 from processing.reporting.content import result_pm
-from processing.result import KEY, STRICTLY_POSITIVE, Figure, Table
+from processing.result import STRICTLY_POSITIVE, Figure, Table, with_key
 
 # ------------------------------------------------------------------------ result labels
 
@@ -66,8 +66,7 @@ _DECLARED = {
 KEY_RESULTS = ("C_static", "xi_static", "log_decrement", "T_d", "C_dynamic", "C_ratio")
 """What the lab comes to: the static stiffness and damping, the decay's decrement and
 period, the dynamic stiffness and its ratio to the static one."""
-RESULTS = {name: (*declared, *((KEY,) if name in KEY_RESULTS else ()))
-           for name, declared in _DECLARED.items()}
+RESULTS = with_key(_DECLARED, KEY_RESULTS)
 """Labels, symbols and display units of the lab's results (the runs' means and the decay),
 with :data:`~processing.result.STRICTLY_POSITIVE` on those above zero by nature and
 :data:`~processing.result.KEY` on :data:`KEY_RESULTS`."""

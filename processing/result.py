@@ -291,6 +291,12 @@ def result_values(prop: Propagation, declared: Mapping[str, tuple]) -> dict[str,
             for name, (label, symbol, disp, *rest) in declared.items() if name in prop}
 
 
+def with_key(declared: Mapping[str, tuple], names) -> dict[str, tuple]:
+    """``declared`` (as :func:`result_values` takes it) with :data:`KEY` added to the
+    results ``names``."""
+    return {name: (*d, *((KEY,) if name in names else ())) for name, d in declared.items()}
+
+
 def compare(prop: Propagation, pairs) -> list[Comparison]:
     """Comparisons of the result pairs ``(a, b)`` present in ``prop``, correlations included."""
     return [Comparison(a, b, prop.difference(a, b)) for a, b in pairs if a in prop and b in prop]
