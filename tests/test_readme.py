@@ -1,13 +1,19 @@
-"""The README's promises: its quick start runs, and CI runs exactly its test command."""
+"""The README's promises: its quick start runs, and CI runs exactly its test command; the
+documentation's examples run too."""
 import re
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text(encoding="utf-8")
+DOCS = sorted((ROOT / "docs").glob("*.md"))
 
 
-def _blocks(lang):
-    return re.findall(rf"```{lang}\n(.*?)```", README, flags=re.S)
+def _blocks(lang, text=README):
+    return re.findall(rf"```{lang}\n(.*?)```", text, flags=re.S)
+
+
+def _doc_blocks(lang):
+    return [b for page in DOCS for b in _blocks(lang, page.read_text(encoding="utf-8"))]
 
 
 def test_library_quick_start_runs(tmp_path, monkeypatch, capsys):
@@ -54,7 +60,7 @@ def test_readme_lab3_example_reduces_with_the_sample_recordings(tmp_path):
     edges = detect_edges(second.read()) / second.sample_rate
     np.savetxt(tmp_path / "edges2.csv", edges, header="t", comments="")
     path = tmp_path / "example.toml"
-    path.write_text(next(b for b in _blocks("toml") if 'lab = "lab3"' in b), encoding="utf-8")
+    path.write_text(next(b for b in _doc_blocks("toml") if 'lab = "lab3"' in b), encoding="utf-8")
     res = evaluate(path, n_samples=2000)
     truth = [0.01853, 0.01747]      # sample_data/lab3/answer_key.json
     for r, delta in enumerate(truth, start=1):
@@ -68,3 +74,10 @@ def test_kinematics_example_is_what_the_command_prints(capsys):
     command, *expected = block.strip().splitlines()
     assert main(command.split()[2:]) == 0
     assert capsys.readouterr().out.strip().splitlines() == expected
+
+
+def test_every_documentation_link_leads_to_a_file():
+    for page in [ROOT / "README.md", *DOCS]:
+        text = page.read_text(encoding="utf-8")
+        for target in re.findall(r"\]\(([^)#:]+)\)", text):
+            assert (page.parent / target).exists(), f"{page.name}: link to {target} leads nowhere"
