@@ -230,14 +230,30 @@ def periodicity(t: np.ndarray, x: np.ndarray, y: np.ndarray) -> tuple[float, flo
     if total <= 0 or span <= 0:
         return 0.0, 0.0, math.nan
     top = 0.5 / float(np.median(np.diff(t)))
-    best = (0.0, 0.0, math.nan)
-    for f in np.arange(0.5 / span, top, 0.05 / span):
-        basis = np.column_stack([np.cos(2 * np.pi * f * t), np.sin(2 * np.pi * f * t), line])
-        coef, *_ = np.linalg.lstsq(basis, s, rcond=None)
-        r2 = 1 - float(np.sum((s - basis @ coef) ** 2)) / total
-        if r2 > best[0]:
-            best = (r2, float(math.hypot(coef[0], coef[1])), float(f))
-    return best
+    f = np.arange(0.5 / span, top, 0.05 / span)
+    if f.size == 0:
+        return 0.0, 0.0, math.nan
+    # every trial frequency's least squares at once: its basis (cos, sin, the line) and
+    # normal equations stacked over the frequencies
+    phase = 2 * np.pi * f[:, None] * t[None, :]
+    basis = np.stack([np.cos(phase), np.sin(phase), np.broadcast_to(line[:, 0], phase.shape),
+                      np.broadcast_to(line[:, 1], phase.shape)], axis=1)
+    normal = basis @ basis.transpose(0, 2, 1)
+    coef = _solve(normal, basis @ s)
+    residual = s[None, :] - np.einsum("fk,fkn->fn", coef, basis)
+    r2 = 1 - np.sum(residual ** 2, axis=1) / total
+    k = int(np.argmax(r2))
+    if not r2[k] > 0:
+        return 0.0, 0.0, math.nan
+    return float(r2[k]), float(math.hypot(coef[k, 0], coef[k, 1])), float(f[k])
+
+
+def _solve(normal: np.ndarray, right: np.ndarray) -> np.ndarray:
+    """Stacked normal equations solved (least squares where one is singular)."""
+    try:
+        return np.linalg.solve(normal, right[..., None])[..., 0]
+    except np.linalg.LinAlgError:
+        return np.stack([np.linalg.lstsq(a, b, rcond=None)[0] for a, b in zip(normal, right)])
 
 
 def survey(kept: np.ndarray, times: np.ndarray, roi=None):

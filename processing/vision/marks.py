@@ -126,12 +126,13 @@ def find_pips(density: np.ndarray, line: Line, noise: float,
         rows = np.clip(np.round(centre[None, :] + side * offsets[:, None]).astype(int), 0, h - 1)
         strip = density[rows, cols[None, :]]
         profile = strip.mean(axis=1)
-        # the pips' tops gather in one row band, well above the rows their sides cross:
-        # the three highest maxima of the row profile are tried
+        # the pips' tops gather in one row band, well above the rows their sides cross (a
+        # spike's tip, where the beam turns, only about twice its slanted sides): the three
+        # highest maxima of the row profile are tried, and proved pips or not below
         peaks, _ = find_peaks(np.concatenate([[-np.inf], profile, [-np.inf]]))
         peaks = peaks - 1
         peaks = peaks[(profile[peaks] >= 8 * noise / math.sqrt(w))
-                      & (profile[peaks] >= 2 * np.median(profile))]
+                      & (profile[peaks] >= TOPS_OVER_SIDES * np.median(profile))]
         for j in peaks[np.argsort(profile[peaks])[::-1]][:3]:
             found = _pips_at(density, strip, offsets, int(j), side, line, noise, centre)
             if found is not None and (best is None or found.count > best.count):
@@ -141,6 +142,12 @@ def find_pips(density: np.ndarray, line: Line, noise: float,
         found = [c for c in combs if c is not None]
         best = found[0] if len(found) == 1 else None      # a comb on both sides: no base
     return best
+
+
+TOPS_OVER_SIDES = 1.5
+"""Least density of the row the pips' tops gather in, over the median row beside the line (a
+flat-topped pip's top stroke stands far above its sides; a narrow spike's tip, 1.9 times its
+slanted sides on the lab 3 strips of :mod:`processing.synth.paper_strip`)."""
 
 
 COMB_SHARE = 0.5
