@@ -662,9 +662,9 @@ def _conclusion(results, comparisons) -> list[dict]:
             r = results[name]
             v, U = fmt_pm(r.value, r.estimate.U)
             lines.append(bi(f"{r.label['en']}: J = {v} ± {U} kg·m² "
-                            f"(k = 2, {100 * r.estimate.relative_U:.2f} %)",
+                            f"(k = {r.estimate.k:.2g}, {100 * r.estimate.relative_U:.2f} %)",
                             f"{r.label['ru']}: J = {v} ± {U} кг·м² "
-                            f"(k = 2, {100 * r.estimate.relative_U:.2f} %)"))
+                            f"(k = {r.estimate.k:.2g}, {100 * r.estimate.relative_U:.2f} %)"))
     measured = [n for n in CENTRAL if n in results]
     if len(measured) > 1:
         best = min(measured, key=lambda n: results[n].estimate.relative_U)
@@ -709,9 +709,9 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
         flag_estimates(results, comparisons)
     tables = [_parts_table(inputs, prop)] if "analytic" in inputs else []
     shown = [n for n in CENTRAL if n in results]
-    figures = [Figure("methods", bi("Moment of inertia by method (bars: k = 2; ticks: Monte Carlo "
+    figures = [Figure("methods", bi("Moment of inertia by method (bars: ± U; ticks: Monte Carlo "
                                     "95 % interval)",
-                                    "Момент инерции по методам (отрезки: k = 2; штрихи: интервал "
+                                    "Момент инерции по методам (отрезки: ± U; штрихи: интервал "
                                     "Монте-Карло 95 %)"),
                       lambda fig, lang: method_chart(fig, [results[n] for n in shown], lang))]
     return LabResult.of(inputs, results, comparisons=comparisons, tables=tables,

@@ -388,8 +388,8 @@ def _method_table(results) -> Table:
             row[q] = "—" if r is None else " ± ".join(
                 fmt_pm(r.shown(r.value), r.shown(r.value + r.estimate.U) - r.shown(r.value)))
         rows.append(row)
-    return Table(bi("The manual's table: centre of mass and reduced masses by method (± U, k = 2)",
-                    "Таблица методички: координаты центра масс и приведённые массы (± U, k = 2)"),
+    return Table(bi("The manual's table: centre of mass and reduced masses by method (± U)",
+                    "Таблица методички: координаты центра масс и приведённые массы (± U)"),
                  (("method", bi("Method", "Метод")), ("l_shp", bi("l_shp, mm", "l_шп, мм")),
                   ("l_shk", bi("l_shk, mm", "l_шк, мм")), ("m_shp", bi("m_shp, kg", "m_шп, кг")),
                   ("m_shk", bi("m_shk, kg", "m_шк, кг"))),
@@ -447,9 +447,9 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
         checked = compare(prop, experimental)
         flag_estimates(results, checked)
         comparisons = checked + compare(prop, statistical)
-    figures = [Figure("m_shp", bi("Mass at the piston-pin axis by method (bars: k = 2; ticks: Monte "
+    figures = [Figure("m_shp", bi("Mass at the piston-pin axis by method (bars: ± U; ticks: Monte "
                                   "Carlo 95 %)", "Масса на оси поршневого пальца по методам "
-                                  "(отрезки: k = 2; штрихи: Монте-Карло 95 %)"),
+                                  "(отрезки: ± U; штрихи: Монте-Карло 95 %)"),
                       lambda fig, lang: method_chart(
                           fig, [results[f"m_shp_{m}"] for m in METHODS if f"m_shp_{m}" in results],
                           lang))]

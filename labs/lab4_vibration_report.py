@@ -357,8 +357,8 @@ def _readings_table(results, place, levels, reference) -> Table:
             row[f"L{q}"] = f"{levels(results[name].value, q):.1f}" if name in results else "—"
         row["pp"] = ", ".join(result_pm(results, f"{q}_pp_{j}") for q in QUANTITIES)
         rows.append(row)
-    return Table(bi("Vibration by point, direction and speed (± U, k = 2); dB levels",
-                    "Вибрация по точкам, направлениям и режимам (± U, k = 2); уровни в дБ"),
+    return Table(bi("Vibration by point, direction and speed (± U); dB levels",
+                    "Вибрация по точкам, направлениям и режимам (± U); уровни в дБ"),
                  cols, tuple(rows))
 
 

@@ -251,8 +251,8 @@ def _stiffness_table(data: Data) -> Table:
             ("mean", bi("c mean, kN/mm", "c среднее, кН/мм")),
             ("reduced", bi("at the valve, kN/mm", "приведённая к клапану, кН/мм")),
             ("share", bi("share of the compliance, %", "доля податливости, %")))
-    return Table(bi("Stiffness of the links (± U, k = 2): their own, and as the valve sees them",
-                    "Жесткость звеньев (± U, k = 2): собственная и приведённая к клапану"),
+    return Table(bi("Stiffness of the links (± U): their own, and as the valve sees them",
+                    "Жесткость звеньев (± U): собственная и приведённая к клапану"),
                  cols, tuple(rows))
 
 
@@ -445,9 +445,9 @@ def figures(data: Data) -> list[Figure]:
                lambda fig, lang: _draw_parts(fig, data, lang)),
     ]
     if data.at_valve and "c_total" in data.results:
-        out.append(Figure("chain", bi("The chain of stiffnesses at the valve (bars: U, k = 2); "
+        out.append(Figure("chain", bi("The chain of stiffnesses at the valve (bars: ± U); "
                                       "red: the weakest link, the largest share of 1/c",
-                                      "Цепь жесткостей, приведённых к клапану (отрезки: U, k = 2); "
+                                      "Цепь жесткостей, приведённых к клапану (отрезки: ± U); "
                                       "красным — самое слабое звено, наибольшая доля 1/c"),
                           lambda fig, lang: _draw_chain(fig, data, lang), size=(6.4, 3.2)))
     if data.spring is not None:

@@ -337,7 +337,7 @@ def _records_table(recorded, results, f_c) -> Table:
             ("cycle", bi("mean cycle's largest, mrad", "наибольшая в среднем цикле, мрад")),
             ("drift", bi("drift / range", "дрейф / размах")),
             ("fc", bi("lowest carrying frequency / f_c", "низшая несущая частота / f_c")))
-    return Table(bi("Records (± U, k = 2)", "Торсиограммы (± U, k = 2)"), cols, rows)
+    return Table(bi("Records (± U)", "Торсиограммы (± U)"), cols, rows)
 
 
 def _resonance_table(found, results, majors) -> Table:
@@ -358,7 +358,7 @@ def _resonance_table(found, results, majors) -> Table:
             ("width", bi("width at 0.7, min⁻¹", "ширина на уровне 0,7, мин⁻¹")),
             ("records", bi("records fitted", "режимы в аппроксимации")),
             ("resolved", bi("resolved by the step", "разрешён шагом")))
-    return Table(bi("Resonances (± U, k = 2)", "Резонансы (± U, k = 2)"), cols, rows)
+    return Table(bi("Resonances (± U)", "Резонансы (± U)"), cols, rows)
 
 
 def _modes_table(modes, results) -> Table:
@@ -391,10 +391,10 @@ def _critical_table(criticals, results, majors) -> Table:
             ("n", bi("critical speed 60 f/k, min⁻¹", "критическая частота 60 f/k, мин⁻¹")))
     return Table(bi("Critical speeds of the equivalent system's modes: the orders whose "
                     "relative phase sum |Σ a_c e^{ikφ_c}|/Σ|a_c| (a_c the mode's amplitude at "
-                    "crank c) reaches 0.1 (± U, k = 2)",
+                    "crank c) reaches 0.1 (± U)",
                     "Критические частоты вращения по формам эквивалентной системы: гармоники, "
                     "относительная фазовая сумма которых |Σ a_c e^{ikφ_c}|/Σ|a_c| (a_c — "
-                    "амплитуда формы на кривошипе c) не меньше 0,1 (± U, k = 2)"), cols, rows)
+                    "амплитуда формы на кривошипе c) не меньше 0,1 (± U)"), cols, rows)
 
 
 def tables(*, recorded, found, results, modes, majors, f_c, criticals=(), **_) -> list[Table]:

@@ -294,7 +294,7 @@ def _runs_table(runs, results) -> Table:
             ("E_max", bi("E_max, J", "E_max, Дж")), ("E_loss", bi("E_n, J", "E_n, Дж")),
             ("xi", bi("ξ′_d", "ξ′_d")),
             ("rest", bi("twist left at M = 0, %", "остаточный угол при M = 0, %")))
-    return Table(bi("Static loops (± U, k = 2)", "Статические петли (± U, k = 2)"), cols,
+    return Table(bi("Static loops (± U)", "Статические петли (± U)"), cols,
                  tuple(rows))
 
 

@@ -108,7 +108,7 @@ class ResultValue:
 
     def to_dict(self) -> dict:
         e = self.estimate
-        return {"value": e.value, "u": _finite(e.u), "U": _finite(e.U), "k": 2, "unit": self.unit,
+        return {"value": e.value, "u": _finite(e.u), "U": _finite(e.U), "k": _finite(e.k), "unit": self.unit,
                 "relative_U": _finite(e.relative_U),
                 "interval95": [_finite(x) for x in e.interval95],
                 "dof": _finite(e.dof), "nonlinear": e.nonlinear,
@@ -134,7 +134,8 @@ class Comparison:
 
     @property
     def agree(self) -> bool:
-        """Whether |a − b| ≤ U(a − b), the expanded (k = 2) uncertainty of the difference."""
+        """Whether |a − b| ≤ U(a − b), the expanded uncertainty of the difference (k from its
+        effective degrees of freedom, :func:`~processing.uncertainty.coverage_factor`)."""
         return abs(self.difference.value) <= self.difference.U
 
     def relative_to(self, reference: float) -> float:
@@ -142,7 +143,7 @@ class Comparison:
 
     def to_dict(self, results: Mapping[str, ResultValue]) -> dict:
         d = self.difference
-        return {"a": self.a, "b": self.b, "difference": d.value, "u": d.u, "U": d.U,
+        return {"a": self.a, "b": self.b, "difference": d.value, "u": d.u, "U": d.U, "k": _finite(d.k),
                 "relative": self.relative_to(results[self.b].value), "agree": self.agree}
 
 
@@ -251,11 +252,12 @@ class LabResult:
         }
 
     def to_pandas(self):
-        """The results as a DataFrame: value, u, U (k = 2), unit, 95 % interval."""
+        """The results as a DataFrame: value, u, k, U = k·u, unit, Monte Carlo 95 % interval."""
         import pandas as pd
 
         return pd.DataFrame(
-            [{"name": k, "value": v.value, "u": v.u, "U": v.estimate.U, "unit": v.unit,
+            [{"name": k, "value": v.value, "u": v.u, "k": v.estimate.k, "U": v.estimate.U,
+              "unit": v.unit,
               "low95": v.estimate.interval95[0], "high95": v.estimate.interval95[1]}
              for k, v in self.results.items()]).set_index("name")
 

@@ -41,7 +41,7 @@ name                          meaning                                     SI uni
 ``crank_radius``              crank radius, R                             m
 ``offset_ratio``              piston-pin offset over crank radius, z=k/R  1
 ``readings``                  repeated readings of one quantity           as given
-``u``, ``U``                  standard, expanded (k = 2) uncertainty      as value
+``u``, ``U``                  standard, expanded (k·u) uncertainty        as value
 ============================  ==========================================  ========
 """
 from __future__ import annotations

@@ -121,7 +121,7 @@ def build(res, lang: str = "en") -> dict:
         lo, hi = (r.shown(x) for x in e.interval95)
         results.append({
             "name": name, "label": r.label[lang], "symbol": r.symbol, "value": v,
-            "U": "—" if exact else U, "exact": exact,
+            "U": "—" if exact else U, "k": "—" if exact else f"{e.k:.2g}", "exact": exact,
             "unit": unit_text(r.display_unit, lang), "rel": f"{100 * e.relative_U:.2g}\u00a0%"
             if math.isfinite(e.relative_U) and not exact else "—",
             "interval": f"[{lo:.5g}, {hi:.5g}]" if math.isfinite(lo) and not exact else "—",

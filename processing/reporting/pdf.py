@@ -97,9 +97,9 @@ def _results_table(table, c, t):
         return table([t["quantity"], t["value"], t["unit"]],
                      [[f"{r['label']} ({r['name']})", r["value"], r["unit"]]
                       for r in c["results"]])
-    return table([t["quantity"], t["value"], t["U"], t["unit"], t["rel"], t["interval"],
+    return table([t["quantity"], t["value"], t["U"], "k", t["unit"], t["rel"], t["interval"],
                   t["budget"]],
-                 [[f"{r['label']} ({r['name']})", r["value"], r["U"], r["unit"], r["rel"],
+                 [[f"{r['label']} ({r['name']})", r["value"], r["U"], r["k"], r["unit"], r["rel"],
                    r["interval"], r["budget"]] for r in c["results"]])
 
 
