@@ -129,7 +129,7 @@ def result_names(recorded, found, modes, criticals=()) -> dict:
                      STRICTLY_POSITIVE),
                "phi_max": (bi("largest peak amplitude over the records (the design value)",
                               "наибольшая пиковая амплитуда по всем режимам (расчётная)"),
-                           "φ_max", "rad", STRICTLY_POSITIVE, KEY)}
+                           "φ_max", "mrad", STRICTLY_POSITIVE, KEY)}
     for r in recorded:
         i = r.number
         out.update({
@@ -142,7 +142,7 @@ def result_names(recorded, found, modes, criticals=()) -> dict:
                           f"число колебаний за оборот K = ν/n, режим {i}"), "K", "",
                        STRICTLY_POSITIVE),
             f"phi_max_{i}": (bi(f"largest peak amplitude, record {i}",
-                                f"наибольшая пиковая амплитуда, режим {i}"), "φ_max", "rad",
+                                f"наибольшая пиковая амплитуда, режим {i}"), "φ_max", "mrad",
                              STRICTLY_POSITIVE),
         })
     for f in found:
@@ -322,7 +322,7 @@ def _records_table(recorded, results, f_c) -> Table:
                      "n": result_pm(results, f"n_{i}"), "nu": result_pm(results, f"nu_{i}"),
                      "K": f"{t.K:.2f}" if np.isfinite(t.K) else "—",
                      "order": f"{t.dominant_order:g}" if t.fit is not None else "—",
-                     "phi": result_pm(results, f"phi_max_{i}", 1e3),
+                     "phi": result_pm(results, f"phi_max_{i}"),
                      "cycle": f"{1e3 * results['l'].value * t.cycle.largest:.3f}"
                      if t.cycle is not None else "—",
                      "drift": f"{t.drift_ratio:.2f}",
