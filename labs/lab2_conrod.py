@@ -23,7 +23,8 @@ import numpy as np
 
 from processing.diagnostics import IllConditionedWarning, InconsistentInputWarning, collect_notices
 from processing.measurement import (AMPLITUDE, COUNT, GRAVITY, LENGTH, MASS, STOPWATCH, Field,
-                                    Inputs, LabSpec, Section, bi)
+                                    Inputs, LabSpec, ReadingsTable, Section, bi,
+                                    period_columns)
 from processing.oscillation import check_amplitude, pendulum_period_factor, period_from_total
 from processing.reporting.content import fmt_pm
 from processing.reporting.figures import histogram, method_chart
@@ -225,6 +226,10 @@ SPEC = LabSpec(
             Field("amplitude", bi("swing amplitude", "амплитуда качаний"), **AMPLITUDE),
         )),
     ),
+    readings=(ReadingsTable(bi("Swinging: hung at the small end (t_C) and at the big end (t_D)",
+                               "Качание: подвес на поршневой (t_C) и на кривошипной (t_D) "
+                               "головке"), "swinging",
+                            period_columns("n_osc", {"t_C": "t_C", "t_D": "t_D"})),),
 )
 
 FILMS = {"swinging": {"video_C": "t_C", "video_D": "t_D"}}

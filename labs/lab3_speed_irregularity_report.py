@@ -71,7 +71,7 @@ def pitch_table(regimes) -> list[Table]:
                          "смещение δ (по зубьям) при равном шаге, %")),
             ("u", bi("u(δ) from the pitch left, %", "u(δ) от остаточной погрешности шага, %")))
     return [Table(bi("How much the wheel's tooth-pitch errors would bias δ",
-                     "Влияние погрешностей шага зубьев на δ"), cols, rows)] if rows else []
+                     "Влияние погрешностей шага зубьев на δ"), cols, rows, "worked")] if rows else []
 
 
 def _recorded(regimes) -> list:

@@ -104,7 +104,9 @@ class ResultValue:
 
     def shown(self, x: float) -> float:
         """``x`` (SI) in the display unit."""
-        return convert(x, self.unit, self.display_unit) if self.display_unit else x
+        if not self.display_unit or self.display_unit == self.unit:
+            return x
+        return convert(x, self.unit, self.display_unit)
 
     def to_dict(self) -> dict:
         e = self.estimate
@@ -158,6 +160,22 @@ class Table:
     title: Mapping[str, str]
     columns: tuple[tuple[str, Mapping[str, str]], ...]
     rows: tuple[Mapping[str, Any], ...]
+    kind: str = "results"
+    """What the table holds: ``"results"`` (named results: every number of it but its
+    :attr:`keys` is one in the JSON's ``results`` or ``inputs``), ``"worked"`` (a worked calculation step by step, or the points a
+    result was found from: the JSON's ``tables`` carries it as printed), ``"readings"`` (the
+    manual's table of readings) or ``"reference"`` (the manual's printed data, beside ours)."""
+    keys: int = 1
+    """How many first columns name the row (a regime, a record, a mode and an order)."""
+
+    def to_dict(self) -> dict:
+        """The table as the English report prints it: title, column headings, cells."""
+        def cell(x):
+            return x["en"] if isinstance(x, Mapping) else str(x)
+
+        return {"title": self.title["en"], "kind": self.kind,
+                "columns": [h["en"] for _, h in self.columns],
+                "rows": [[cell(r.get(k, "")) for k, _ in self.columns] for r in self.rows]}
 
 
 @dataclass(frozen=True)
@@ -187,6 +205,9 @@ class LabResult:
     results: dict[str, ResultValue]
     comparisons: list[Comparison] = field(default_factory=list)
     tables: list[Table] = field(default_factory=list)
+    measurements: list[Table] = field(default_factory=list)
+    """The manual's tables of readings (rows of runs, the manual's columns): the report's
+    measurements section."""
     figures: list[Figure] = field(default_factory=list)
     formulas: list[Mapping[str, str]] = field(default_factory=list)
     references: list[Mapping[str, str]] = field(default_factory=list)
@@ -197,8 +218,16 @@ class LabResult:
     @classmethod
     def of(cls, inputs, results: dict[str, ResultValue], **parts) -> LabResult:
         """The result of reducing ``inputs`` (a :class:`~processing.measurement.Inputs`): the
-        title block, goal, input table and source come from the file and its lab's spec."""
+        title block, goal, input table, source and the tables of readings its lab's spec
+        declares (before any the lab adds in ``parts["measurements"]``) come from the file and
+        its lab's spec."""
         spec = inputs.spec
+        declared = [Table(t.title, (("run", t.run), *((c.heading["en"], c.heading)
+                                                      for c in t.columns
+                                                      if c.heading["en"] in rows[0])),
+                          tuple(rows), "readings")
+                    for t, rows in inputs.readings()]
+        parts["measurements"] = declared + list(parts.get("measurements", ()))
         return cls(spec.id, spec.number, spec.title, spec.goal, inputs.meta, inputs.rows(),
                    results, source=inputs.file, **parts)
 
@@ -247,6 +276,7 @@ class LabResult:
             "inputs": {f"{row['section']}.{row['name']}": _input_json(row) for row in self.inputs},
             "results": {k: v.to_dict() for k, v in self.results.items()},
             "comparisons": [c.to_dict(self.results) for c in self.comparisons],
+            "tables": [t.to_dict() for t in (*self.measurements, *self.tables)],
             "warnings": [w.to_dict() for w in self.warnings],
             "toolkit": {"name": "dynlab", "version": __version__},
         }
@@ -266,6 +296,8 @@ def _input_json(row: dict) -> dict:
     """An input in SI (the JSON contract); counts, choices and text as they are."""
     if "si" not in row:
         return {"value": row["value"], "unit": ""}
+    if row.get("series"):
+        return {"readings": row["si"]["readings"], "unit": row["si"]["unit"]}
     out = {k: row["si"][k] for k in ("value", "u", "unit")}
     if row["si"]["readings"]:
         out["readings"] = row["si"]["readings"]
@@ -286,11 +318,41 @@ def result_values(prop: Propagation, declared: Mapping[str, tuple]) -> dict[str,
     def marker(rest, kind):
         return next((r for r in rest if isinstance(r, kind)), None)
 
-    return {name: ResultValue(name, prop[name], si_unit(disp) if disp else "", label, symbol,
+    return {name: ResultValue(name, prop[name], _si(disp), label, symbol,
                               disp, signed=SIGNED in rest, positive=STRICTLY_POSITIVE in rest,
                               within=marker(rest, Within), key=KEY in rest,
                               typical=marker(rest, Typical))
             for name, (label, symbol, disp, *rest) in declared.items() if name in prop}
+
+
+def computed(estimates: Mapping[str, Estimate | float],
+             declared: Mapping[str, tuple]) -> dict[str, ResultValue]:
+    """Results found outside a propagation (a loop's area from the readings as they are, a
+    line's slope with its fit's own type A uncertainty), declared as :func:`result_values`
+    takes them: ``name → (label, symbol, display unit)``. A plain number is exact (its
+    report shows no U). Names not in ``estimates`` are left out.
+
+    Examples
+    --------
+    >>> r = computed({"A": 2.5}, {"A": ({"en": "area", "ru": "площадь"}, "A", "N*mm")})
+    >>> r["A"].unit, r["A"].u
+    ('kg*m^2/s^2', 0.0)
+    """
+    def estimate(x):
+        return x if isinstance(x, Estimate) else Estimate(float(x), 0.0, math.inf)
+
+    return {name: ResultValue(name, estimate(estimates[name]), _si(disp), label, symbol, disp)
+            for name, (label, symbol, disp, *_) in declared.items() if name in estimates}
+
+
+LEVEL_UNITS = ("dB",)
+"""Units of levels (20 lg of a ratio to a stated reference): a result declared in one is
+carried in it (there is no SI unit to convert a level to)."""
+
+
+def _si(unit: str) -> str:
+    """The unit a result declared in ``unit`` is carried in (JSON): SI, a level's dB."""
+    return unit if unit in LEVEL_UNITS else si_unit(unit) if unit else ""
 
 
 def with_key(declared: Mapping[str, tuple], names) -> dict[str, tuple]:

@@ -154,6 +154,10 @@ def to_pdf(res, lang: str = "en", pngs=()) -> bytes:
     story += [p(t["see_warnings"], "h3")]
     story += [p(w, "warn") for w in c["warnings"]] or [p(t["no_warnings"])]
     story += [p(t["goal"], "h2"), p(c["goal"])]
+    if c["measurements"]:
+        story += [p(t["inputs"], "h2")]
+        for tb in c["measurements"]:
+            story += [p(tb["title"], "h3"), table(tb["columns"], tb["rows"])]
     story += [p(t["formulas"], "h2")] + [p("• " + f) for f in c["formulas"]]
     story += [p(t["all_results"], "h2"), _results_table(table, c, t),
               p(t["uncertainty_note" if c["uncertain"] else "exact_note"], "small")]
