@@ -104,9 +104,7 @@ class ResultValue:
 
     def shown(self, x: float) -> float:
         """``x`` (SI) in the display unit."""
-        if not self.display_unit or self.display_unit == self.unit:
-            return x
-        return convert(x, self.unit, self.display_unit)
+        return convert(x, self.unit, self.display_unit) if self.display_unit else x
 
     def to_dict(self) -> dict:
         e = self.estimate
@@ -345,14 +343,10 @@ def computed(estimates: Mapping[str, Estimate | float],
             for name, (label, symbol, disp, *_) in declared.items() if name in estimates}
 
 
-LEVEL_UNITS = ("dB",)
-"""Units of levels (20 lg of a ratio to a stated reference): a result declared in one is
-carried in it (there is no SI unit to convert a level to)."""
-
-
 def _si(unit: str) -> str:
-    """The unit a result declared in ``unit`` is carried in (JSON): SI, a level's dB."""
-    return unit if unit in LEVEL_UNITS else si_unit(unit) if unit else ""
+    """The SI unit a result declared in ``unit`` is carried in (JSON); "" for a pure
+    number."""
+    return si_unit(unit) if unit else ""
 
 
 def with_key(declared: Mapping[str, tuple], names) -> dict[str, tuple]:
