@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from processing.diagnostics import InputError
-from processing.grading import FACTOR_SLIPS, Policy, Reported, Slip, Verdict, judge, \
+from processing.grading import FACTOR_SLIPS, Z_LIMIT, Policy, Reported, Slip, Verdict, judge, \
     written_digits
 
 from .registry import LABS, evaluate, lab_module
@@ -484,8 +484,9 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
 
     def judged(name: str, slips) -> Verdict:
         r = result.results.get(name)
-        value, u, unit = (r.value, r.u, r.unit) if r else (math.nan, math.nan, "")
-        return judge(name, reported.get(name), value, u, unit, rules, slips)
+        value, u, unit, k = ((r.value, r.u, r.unit, r.estimate.k) if r
+                             else (math.nan, math.nan, "", Z_LIMIT))
+        return judge(name, reported.get(name), value, u, unit, rules, slips, k=k)
 
     verdicts = [judged(n, FACTOR_SLIPS) for n in names]
     module = lab_module(result.lab)

@@ -76,7 +76,8 @@ def _written(lab_id: str, seed: int, folder: Path) -> dict:
 def _unique(candidates: list[tuple[str, float]], name: str, r) -> list[tuple[str, float]]:
     """The candidates no other slip imitates (its value agrees with none of theirs)."""
     return [(n, v) for n, v in candidates
-            if not any(m != n and agrees(Reported(name, v, digits=4), w, r.u, Policy())[0]
+            if not any(m != n and agrees(Reported(name, v, digits=4), w, r.u, Policy(),
+                                     k=r.estimate.k)[0]
                        for m, w in candidates)]
 
 
@@ -97,7 +98,7 @@ def _submission(lab_id: str, seed: int, folder: Path, rng) -> list[dict]:
         candidates = _unique([(n, v) for n, v in candidates
                               if v is not None and abs(v / r.value - 1) > SLIP_SHIFT
                               and not agrees(Reported(name, v, digits=4), r.value, r.u,
-                                             Policy())[0]], name, r)
+                                             Policy(), k=r.estimate.k)[0]], name, r)
         if candidates and rng.random() < 0.5:
             slip, value = candidates[rng.integers(len(candidates))]
             figures = 4

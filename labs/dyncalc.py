@@ -33,7 +33,7 @@ from __future__ import annotations
 import math
 import re
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -1069,7 +1069,10 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
             f"Carlo draws of the inputs given with a ± (GUM linear estimate checked by them).",
             f"Неопределённости: расчёт повторён для {min(n_samples, MAX_MC_DRAWS)} выборок "
             f"Монте-Карло входных данных, заданных с ± (линейная оценка GUM, проверенная ими)."))
-    return LabResult.of(inputs, results, tables=tables, figures=figures, formulas=FORMULAS,
+    # every table of the coursework is its calculation worked step by step (the JSON's
+    # "tables" carries them as printed); its results are the named ones
+    worked = [replace(t, kind="worked") for t in tables]
+    return LabResult.of(inputs, results, tables=worked, figures=figures, formulas=FORMULAS,
                         references=REFERENCES, warnings=notices, conclusion=conclusion)
 
 

@@ -20,14 +20,15 @@ import numpy as np
 
 from processing.diagnostics import IllConditionedWarning, collect_notices
 from processing.measurement import (AMPLITUDE, COUNT, GRAVITY, LENGTH, MASS, STOPWATCH, Field,
-                                    Inputs, LabSpec, Section, bi)
+                                    Inputs, LabSpec, ReadingsTable, Section, bi,
+                                    period_columns)
 from processing.oscillation import (check_amplitude, pendulum_period_factor, period_factor,
                                     period_from_total)
 from processing.numerals import plural
 from processing.reporting.content import fmt_pm
 from processing.reporting.figures import method_chart
-from processing.result import (KEY, STRICTLY_POSITIVE, Figure, LabResult, Table, compare,
-                               flag_estimates, result_values)
+from processing.result import (KEY, SIGNED, STRICTLY_POSITIVE, Figure, LabResult, Table,
+                               compare, flag_estimates, result_values)
 from processing.uncertainty import Measured, propagate
 from processing.vision.video import film_figures, filmed_times
 
@@ -392,6 +393,18 @@ SPEC = LabSpec(
             Field("amplitude", bi("swing amplitude", "амплитуда качаний"), **AMPLITUDE),
         )),
     ),
+    readings=(
+        ReadingsTable(bi("Trifilar suspension: the part on the platform (t) and the empty "
+                         "platform (t_p)", "Трёхнитяный подвес: деталь на платформе (t) и "
+                         "пустая платформа (t_p)"), "trifilar",
+                      period_columns("n_osc", {"t": "t", "t_p": "t_p"})),
+        ReadingsTable(bi("Unifilar pendulum: with the part (t), the empty clamp (t_0), the "
+                         "reference body (t_ref)", "Унифилярный подвес: с деталью (t), пустой "
+                         "зажим (t_0), эталон (t_ref)"), "unifilar",
+                      period_columns("n_osc", {"t": "t", "t_0": "t_0", "t_ref": "t_ref"})),
+        ReadingsTable(bi("Physical pendulum", "Физический маятник"), "pendulum",
+                      period_columns("n_osc", {"t": "t"})),
+    ),
 )
 
 FILMS = {"trifilar": {"video": "t", "video_p": "t_p"}, "pendulum": {"video": "t"},
@@ -643,6 +656,20 @@ def _check_physics(inputs: Inputs, prop) -> None:
                 f"чем J_O; подвесьте деталь ближе к центру масс"))
 
 
+def _part_names(inputs: Inputs) -> dict:
+    """The analytic model's parts as named results, ``m_part_<i>`` and ``J_part_<i>`` (i from
+    0 in the file's order; a hole's are negative)."""
+    out = {}
+    for i, _ in enumerate(inputs.sections.get("analytic", [])):
+        out[f"m_part_{i}"] = (bi(f"analytic model: mass of part {i + 1}",
+                                 f"расчётная модель: масса части {i + 1}"), f"m_{i + 1}", "kg",
+                              SIGNED)
+        out[f"J_part_{i}"] = (bi(f"analytic model: J of part {i + 1} about the axis",
+                                 f"расчётная модель: J части {i + 1} относительно оси"),
+                              f"J_{i + 1}", "kg*m^2", SIGNED)
+    return out
+
+
 def _parts_table(inputs: Inputs, prop) -> Table:
     rows = []
     for i, p in enumerate(inputs["analytic"]):
@@ -662,9 +689,9 @@ def _conclusion(results, comparisons) -> list[dict]:
             r = results[name]
             v, U = fmt_pm(r.value, r.estimate.U)
             lines.append(bi(f"{r.label['en']}: J = {v} ± {U} kg·m² "
-                            f"(k = 2, {100 * r.estimate.relative_U:.2f} %)",
+                            f"(k = {r.estimate.k:.2g}, {100 * r.estimate.relative_U:.2f} %)",
                             f"{r.label['ru']}: J = {v} ± {U} кг·м² "
-                            f"(k = 2, {100 * r.estimate.relative_U:.2f} %)"))
+                            f"(k = {r.estimate.k:.2g}, {100 * r.estimate.relative_U:.2f} %)"))
     measured = [n for n in CENTRAL if n in results]
     if len(measured) > 1:
         best = min(measured, key=lambda n: results[n].estimate.relative_U)
@@ -702,16 +729,16 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
         inputs, films = filmed_times(inputs, FILMS)
         _check_sections(inputs)
         prop = propagate(_model(inputs), inputs.flat(), n_samples=n_samples, seed=seed)
-        results = result_values(prop, RESULTS)
+        results = result_values(prop, {**RESULTS, **_part_names(inputs)})
         pairs = list(itertools.combinations([n for n in CENTRAL if n in results], 2))
         comparisons = compare(prop, pairs + [("m_analytic", "m_measured")])
         _check_physics(inputs, prop)
         flag_estimates(results, comparisons)
     tables = [_parts_table(inputs, prop)] if "analytic" in inputs else []
     shown = [n for n in CENTRAL if n in results]
-    figures = [Figure("methods", bi("Moment of inertia by method (bars: k = 2; ticks: Monte Carlo "
+    figures = [Figure("methods", bi("Moment of inertia by method (bars: ± U; ticks: Monte Carlo "
                                     "95 % interval)",
-                                    "Момент инерции по методам (отрезки: k = 2; штрихи: интервал "
+                                    "Момент инерции по методам (отрезки: ± U; штрихи: интервал "
                                     "Монте-Карло 95 %)"),
                       lambda fig, lang: method_chart(fig, [results[n] for n in shown], lang))]
     return LabResult.of(inputs, results, comparisons=comparisons, tables=tables,

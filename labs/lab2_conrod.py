@@ -23,7 +23,8 @@ import numpy as np
 
 from processing.diagnostics import IllConditionedWarning, InconsistentInputWarning, collect_notices
 from processing.measurement import (AMPLITUDE, COUNT, GRAVITY, LENGTH, MASS, STOPWATCH, Field,
-                                    Inputs, LabSpec, Section, bi)
+                                    Inputs, LabSpec, ReadingsTable, Section, bi,
+                                    period_columns)
 from processing.oscillation import check_amplitude, pendulum_period_factor, period_from_total
 from processing.reporting.content import fmt_pm
 from processing.reporting.figures import histogram, method_chart
@@ -225,6 +226,10 @@ SPEC = LabSpec(
             Field("amplitude", bi("swing amplitude", "амплитуда качаний"), **AMPLITUDE),
         )),
     ),
+    readings=(ReadingsTable(bi("Swinging: hung at the small end (t_C) and at the big end (t_D)",
+                               "Качание: подвес на поршневой (t_C) и на кривошипной (t_D) "
+                               "головке"), "swinging",
+                            period_columns("n_osc", {"t_C": "t_C", "t_D": "t_D"})),),
 )
 
 FILMS = {"swinging": {"video_C": "t_C", "video_D": "t_D"}}
@@ -388,8 +393,8 @@ def _method_table(results) -> Table:
             row[q] = "—" if r is None else " ± ".join(
                 fmt_pm(r.shown(r.value), r.shown(r.value + r.estimate.U) - r.shown(r.value)))
         rows.append(row)
-    return Table(bi("The manual's table: centre of mass and reduced masses by method (± U, k = 2)",
-                    "Таблица методички: координаты центра масс и приведённые массы (± U, k = 2)"),
+    return Table(bi("The manual's table: centre of mass and reduced masses by method (± U)",
+                    "Таблица методички: координаты центра масс и приведённые массы (± U)"),
                  (("method", bi("Method", "Метод")), ("l_shp", bi("l_shp, mm", "l_шп, мм")),
                   ("l_shk", bi("l_shk, mm", "l_шк, мм")), ("m_shp", bi("m_shp, kg", "m_шп, кг")),
                   ("m_shk", bi("m_shk, kg", "m_шк, кг"))),
@@ -447,9 +452,9 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
         checked = compare(prop, experimental)
         flag_estimates(results, checked)
         comparisons = checked + compare(prop, statistical)
-    figures = [Figure("m_shp", bi("Mass at the piston-pin axis by method (bars: k = 2; ticks: Monte "
+    figures = [Figure("m_shp", bi("Mass at the piston-pin axis by method (bars: ± U; ticks: Monte "
                                   "Carlo 95 %)", "Масса на оси поршневого пальца по методам "
-                                  "(отрезки: k = 2; штрихи: Монте-Карло 95 %)"),
+                                  "(отрезки: ± U; штрихи: Монте-Карло 95 %)"),
                       lambda fig, lang: method_chart(
                           fig, [results[f"m_shp_{m}"] for m in METHODS if f"m_shp_{m}" in results],
                           lang))]

@@ -40,7 +40,7 @@ from processing.edges import stream_edges
 from processing.measurement import (ENGINE_SPEED, SAMPLE_RATE, Field, Inputs, LabSpec, Section,
                                     bi, image_section)
 from processing.record_quality import check_pulse_channel, check_record
-from processing.result import (KEY, STRICTLY_POSITIVE, LabResult, Typical, compare,
+from processing.result import (KEY, STRICTLY_POSITIVE, LabResult, Typical, compare, computed,
                                flag_estimates, result_values)
 from processing.signals import image_options, open_channel, read_edge_times, read_figures
 from processing.toothwheel import ToothTrack, calibrate_pitch, recurring_gap, track_teeth
@@ -860,6 +860,7 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
         kind = inputs["engine"].get("kind")
         declared = {k: v for reg in regimes for k, v in _result_names(reg.number, kind).items()}
         results = result_values(prop, declared)
+        results.update(_record_results(regimes, entries))
         # the student's oscillogram reading is compared with the signal; δ tooth by tooth is
         # not (the edges' timing noise biases it up by design: a table saying the two
         # disagree would flag good data), it stands beside δ in the regime table
@@ -877,6 +878,24 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
                         formulas=FORMULAS,
                         references=REFERENCES, warnings=notices,
                         conclusion=report.conclusion(regimes, results, ranges))
+
+
+def _record_results(regimes, entries) -> dict:
+    """What the regime table states of each record besides δ and n: the oscillogram's scale
+    ``mu_<r>`` read off one, and a recording's samples per tooth ``samples_per_tooth_<r>``."""
+    values, declared = {}, {}
+    for reg in regimes:
+        r = reg.number
+        if reg.recording is not None:
+            values[f"samples_per_tooth_{r}"] = reg.recording.samples_per_tooth
+            declared[f"samples_per_tooth_{r}"] = (bi(f"samples per tooth, regime {r}",
+                                                     f"отсчётов на зуб, режим {r}"), "N_z", "")
+    for r, mu in _scales(entries).items():
+        if mu is not None:
+            values[f"mu_{r}"] = mu * 30 / np.pi * 1e-3
+            declared[f"mu_{r}"] = (bi(f"scale of the oscillogram, regime {r}",
+                                      f"масштаб осциллограммы, режим {r}"), "μ", "mm/rpm")
+    return computed(values, declared)
 
 
 def _scales(entries) -> dict[int, float | None]:

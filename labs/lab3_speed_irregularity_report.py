@@ -45,8 +45,8 @@ def regime_table(regimes, results, scales) -> Table:
         ("delta_z", bi("δ tooth by tooth", "δ по зубьям")),
         ("delta_osc", bi("δ oscillogram", "δ по осциллограмме")),
         ("scale", bi("μ, mm per min⁻¹", "μ, мм/мин⁻¹"))) if shown.get(key, True))
-    return Table(bi("Speed irregularity by regime (± U, k = 2)",
-                    "Степень неравномерности по режимам (± U, k = 2)"), cols, rows)
+    return Table(bi("Speed irregularity by regime (± U)",
+                    "Степень неравномерности по режимам (± U)"), cols, rows)
 
 
 def pitch_table(regimes) -> list[Table]:
@@ -71,7 +71,7 @@ def pitch_table(regimes) -> list[Table]:
                          "смещение δ (по зубьям) при равном шаге, %")),
             ("u", bi("u(δ) from the pitch left, %", "u(δ) от остаточной погрешности шага, %")))
     return [Table(bi("How much the wheel's tooth-pitch errors would bias δ",
-                     "Влияние погрешностей шага зубьев на δ"), cols, rows)] if rows else []
+                     "Влияние погрешностей шага зубьев на δ"), cols, rows, "worked")] if rows else []
 
 
 def _recorded(regimes) -> list:

@@ -44,8 +44,8 @@ from processing.balance import phasor_sum
 from processing.diagnostics import InputError, collect_notices
 from processing.dynamics import firing_phases
 from processing.edges import detect_edges
-from processing.measurement import (ENGINE_SPEED, SAMPLE_RATE, Field, Inputs, LabSpec, Section,
-                                    bi, firing_order)
+from processing.measurement import (ENGINE_SPEED, SAMPLE_RATE, Column, Field, Inputs, LabSpec,
+                                    ReadingsTable, Section, bi, firing_order)
 from processing.misfire import CutCylinder, find_cut_cylinder
 from processing.orders import OrderFit, order_fit
 from processing.record_checks import check_tachometer, whole_ratio
@@ -233,6 +233,14 @@ SPEC = LabSpec(
                   **DISPLACEMENT, required=False, symbol="2x"),
         )),
     ),
+    readings=(ReadingsTable(
+        bi("The vibration meter's readings", "Показания виброметра"), "reading",
+        (Column(bi("point", "точка"), "point"), Column(bi("n, min⁻¹", "n, мин⁻¹"), "n"),
+         Column(bi("ignition", "зажигание"), "ignition"),
+         Column(bi("a, m/s²", "a, м/с²"), "a"), Column(bi("v, mm/s", "v, мм/с"), "v"),
+         Column(bi("x, µm", "x, мкм"), "x"), Column(bi("2a, m/s²", "2a, м/с²"), "a_pp"),
+         Column(bi("2v, mm/s", "2v, мм/с"), "v_pp"), Column(bi("2x, µm", "2x, мкм"), "x_pp")),
+        run=bi("Reading", "Отсчёт")),),
 )
 
 
@@ -618,9 +626,12 @@ def free_force_factors(crank_angles) -> tuple[float, float]:
     return (float(abs(phasor_sum(theta, 1.0))), float(abs(phasor_sum(theta, 1.0, order=2))))
 
 
-def _model(recorded: list[Recorded], readings: list[Reading], crank_angles, forces: bool):
+def _model(recorded: list[Recorded], readings: list[Reading], crank_angles, forces: bool,
+           reference: str):
     """Every result from the inputs of :func:`_flat`. The free forces of the cylinders' row
-    are the manual's P_j and P_r summed over the cranks (:func:`free_force_factors`)."""
+    are the manual's P_j and P_r summed over the cranks (:func:`free_force_factors`); each
+    RMS value's level ``L_<q>_<j>`` in dB against the meter's ``reference``
+    (:func:`~processing.band_rms.level_db`)."""
     first, second = free_force_factors(crank_angles)
 
     def model(**x):
@@ -656,6 +667,9 @@ def _model(recorded: list[Recorded], readings: list[Reading], crank_angles, forc
                     name = (f"{base}_pp_meter_{rd.number}" if rd.paired
                             else f"{base}_pp_{rd.number}")
                     out[name] = x[f"m{rd.number}.{key}"]
+        for name in [k for k in out if "_rms_" in k]:
+            q, _, j = name.split("_")
+            out[f"L_{q}_{j}"] = level_db(out[name], q, reference)
         return out
 
     return model
@@ -794,7 +808,8 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20034) -> LabR
         engine = inputs["engine"]
         forces = all(k in engine for k in ("R", "lambda", "m_j"))
         crank_angles = np.mod(phases, 2 * np.pi)
-        prop = propagate(_model(recorded, readings, crank_angles, forces),
+        reference = inputs["meter"]["db_reference"] if "meter" in inputs else "iso1683"
+        prop = propagate(_model(recorded, readings, crank_angles, forces, reference),
                          _flat(inputs, recorded, readings), n_samples=n_samples, seed=seed)
         declared = report.result_names(recorded, readings, forces, "mass" in engine,
                                        inputs["point"])
@@ -805,10 +820,8 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20034) -> LabR
         comparisons = compare(prop, pairs)
         _check_meter(comparisons, results, inputs)
         flag_estimates({k: v for k, v in results.items() if not k.startswith("cut_")}, [])
-    reference = inputs["meter"]["db_reference"] if "meter" in inputs else "iso1683"
     parts = dict(recorded=recorded, readings=readings, results=results, points=inputs["point"],
-                 phases=phases, reference=reference, comparisons=comparisons,
-                 levels=lambda value, q: float(level_db(value, q, reference)))
+                 phases=phases, reference=reference, comparisons=comparisons)
     return LabResult.of(inputs, results, comparisons=comparisons,
                         tables=report.tables(**parts), figures=report.figures(**parts),
                         formulas=report.FORMULAS, references=report.REFERENCES,

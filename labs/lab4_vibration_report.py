@@ -82,6 +82,9 @@ def result_names(recorded, readings, forces: bool, mass: bool, points) -> dict:
             out[f"{q}_meter_{j}"] = (_label(bi(f"{label['en']} by the meter",
                                                f"{label['ru']} по виброметру"), w),
                                      f"{sym}_м{j}", unit, STRICTLY_POSITIVE)
+            out[f"L_{q}_{j}"] = (_label(bi(f"level of the {label['en'][4:]} (RMS)",
+                                           f"уровень {label['ru'][4:]} (СКЗ)"), w),
+                                 f"L_{sym},{j}", "dB")
             out[f"{q}_pp_{j}"] = (_label(bi(f"peak-to-peak {label['en'][4:]}",
                                             f"размах {label['ru'][4:]}"), w), f"2{sym}_{j}",
                                   PP[q], STRICTLY_POSITIVE)
@@ -335,7 +338,7 @@ def _t(lang: str, en: str, ru: str) -> str:
     return ru if lang == "ru" else en
 
 
-def _readings_table(results, place, levels, reference) -> Table:
+def _readings_table(results, place, reference) -> Table:
     ref = DB_REFERENCES[reference]
     cols = (("j", bi("j", "j")), ("point", bi("point", "точка")),
             ("direction", bi("direction", "направление")), ("n", bi("n, min⁻¹", "n, мин⁻¹")),
@@ -354,11 +357,11 @@ def _readings_table(results, place, levels, reference) -> Table:
         for q in QUANTITIES:
             name = f"{q}_rms_{j}"
             row[q] = result_pm(results, name)
-            row[f"L{q}"] = f"{levels(results[name].value, q):.1f}" if name in results else "—"
+            row[f"L{q}"] = result_pm(results, f"L_{q}_{j}")
         row["pp"] = ", ".join(result_pm(results, f"{q}_pp_{j}") for q in QUANTITIES)
         rows.append(row)
-    return Table(bi("Vibration by point, direction and speed (± U, k = 2); dB levels",
-                    "Вибрация по точкам, направлениям и режимам (± U, k = 2); уровни в дБ"),
+    return Table(bi("Vibration by point, direction and speed (± U); dB levels",
+                    "Вибрация по точкам, направлениям и режимам (± U); уровни в дБ"),
                  cols, tuple(rows))
 
 
@@ -428,12 +431,12 @@ def _cut_table(recorded, verdict) -> Table | None:
                     "цилиндр"), cols, tuple(rows))
 
 
-def tables(*, recorded, readings, results, points, reference, comparisons, levels,
+def tables(*, recorded, readings, results, points, reference, comparisons,
            **_) -> list[Table]:
     place = placements(recorded, readings, points)
     from labs.lab4_vibration import verdict
 
-    out = [_readings_table(results, place, levels, reference),
+    out = [_readings_table(results, place, reference),
            _meter_table(results, comparisons), _orders_table(recorded, results),
            _cut_table(recorded, verdict)]
     return [t for t in out if t is not None]

@@ -366,6 +366,7 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
                          _measured_inputs(inputs, lines, spring_lines, dynamometer),
                          n_samples=n_samples, seed=seed)
         results = _reported(result_values(prop, report.RESULTS), lines, spring_lines)
+        results.update(report.loop_results(lines, loops, spring_loop))
         # the branches' own values are there to show the loop: their Monte Carlo intervals
         # are printed (and marked when nonlinear); only the manual's results warn in words
         flag_estimates({k: v for k, v in results.items()
@@ -379,15 +380,18 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
         terms = reduced_mass(m["m_valve"], m["m_spring"], m["J_rocker"], m["a"], m["m_rod"],
                              m["m_tappet"], results["m_g"].value, results["c_total"].value,
                              results["c_rod"].value, results["c_cam"].value, i).to_dict()
+    reduced = dict(zip(PARTS, at_valve(*mean, i))) if len(mean) == 4 else {}
+    results.update(report.valve_results(reduced))
     data = report.Data(
         inputs=inputs, tables=tables,
         parts=[(P, np.stack(part_deformations(*dl, i))) for P, dl in
                (t.branch("mean") for t in tables)],
         lines=lines, loops=loops, spring=spring, spring_lines=spring_lines,
         spring_loop=spring_loop, results=results, mass_terms=terms,
-        at_valve=dict(zip(PARTS, at_valve(*mean, i))) if len(mean) == 4 else {})
+        at_valve=reduced)
     res = LabResult.of(inputs, results, comparisons=comparisons, tables=report.tables(data),
-                       figures=report.figures(data), formulas=report.FORMULAS,
+                       measurements=report.measurements(data), figures=report.figures(data),
+                       formulas=report.FORMULAS,
                        references=report.REFERENCES, warnings=notices,
                        conclusion=report.conclusion(data))
     res.inputs = report.input_rows(res.inputs, data)

@@ -16,7 +16,8 @@ from processing.diagnostics import (GaugeBackwardsWarning, InconsistentInputWarn
 from processing.load_cycle import BRANCHES, LoadCycle
 from processing.measurement import bi
 from processing.reporting.content import fmt_pm, result_pm
-from processing.result import KEY, STRICTLY_POSITIVE, Figure, Table
+from processing.result import KEY, STRICTLY_POSITIVE, Figure, Table, computed
+from processing.uncertainty import Estimate
 
 PARTS = ("rocker", "shaft", "rod", "cam")
 """The chain's links, from the valve to the cam."""
@@ -44,6 +45,73 @@ def result_name(quantity: str, branch: str = "mean") -> str:
 
 def _branch_label(label: dict, branch: str) -> dict:
     return {k: f"{v} ({_BRANCH[branch][k]})" for k, v in label.items()}
+
+
+def _shown(results, name: str, digits: int = 2) -> str:
+    """A result found without an uncertainty (a loop's area or share), in its display unit to
+    ``digits`` decimals; "—" if there is none."""
+    if name not in results:
+        return "—"
+    r = results[name]
+    return f"{r.shown(r.value):.{digits}f}"
+
+
+def valve_results(at_valve: dict) -> dict:
+    """Each link's stiffness as the valve sees it (``c_<link>_at_valve``) and its share of
+    the drive's compliance (``share_<link>``), named results (none without all four)."""
+    if len(at_valve) < 4:
+        return {}
+    compliance = sum(1 / v for v in at_valve.values())
+    values = {f"c_{p}_at_valve": v for p, v in at_valve.items()}
+    values.update({f"share_{p}": 1 / v / compliance for p, v in at_valve.items()})
+    declared = {}
+    for p in at_valve:
+        label = _PART[p][0]
+        declared[f"c_{p}_at_valve"] = (bi(f"{label['en']}: stiffness at the valve",
+                                          f"{label['ru']}: жесткость, приведённая к клапану"),
+                                       f"{_PART[p][1]},кл", "kN/mm")
+        declared[f"share_{p}"] = (bi(f"{label['en']}: share of the drive's compliance",
+                                     f"{label['ru']}: доля податливости привода"),
+                                  f"{_PART[p][1]}⁻¹ share", "%")
+    return computed(values, declared)
+
+
+def loop_results(lines, loops, spring_loop) -> dict:
+    """The gauges' lines and loops as named results: each gauge's deflection per unit load on
+    each branch (``dl<j>_per_P[_load|_unload]``, ± its fit's type A U), its largest loop over
+    the runs (``loop_area_<j>``) and that loop's share of the loading work (``loop_share_<j>``),
+    the widest share of all (``loop_share_max``), and the springs' loop (``loop_*_spring``).
+    A share where no work was done is left out."""
+    values, declared = {}, {}
+    for j in range(4):
+        g = f"Δl{_SUB[j]}"
+        for b in BRANCHES:
+            f = lines[j, b].fit
+            name = result_name(f"dl{j + 1}_per_P", b)
+            values[name] = Estimate(f.slope, f.u_slope, f.dof)
+            declared[name] = (_branch_label(bi(f"gauge {g} per unit load",
+                                               f"показание {g} на единицу нагрузки"), b),
+                              f"d{g}/dP", "um/kN")
+        values[f"loop_area_{j + 1}"] = max(run[j].area for run in loops)
+        values[f"loop_share_{j + 1}"] = max(run[j].share for run in loops)
+        declared[f"loop_area_{j + 1}"] = (bi(f"hysteresis loop of gauge {g}, largest over the "
+                                             "runs", f"петля гистерезиса индикатора {g}, "
+                                             "наибольшая по циклам"), f"A_{j + 1}", "N*mm")
+        declared[f"loop_share_{j + 1}"] = (bi(f"that loop's share of the loading work, gauge {g}",
+                                              f"доля этой петли в работе нагрузки, индикатор "
+                                              f"{g}"), f"A_{j + 1}/W", "%")
+    values["loop_share_max"] = max(h.share for run in loops for h in run)
+    declared["loop_share_max"] = (bi("the widest loop's share of the loading work",
+                                     "доля наибольшей петли в работе нагрузки"), "A/W", "%")
+    if spring_loop is not None:
+        values.update(loop_area_spring=spring_loop.area, loop_share_spring=spring_loop.share)
+        declared.update(
+            loop_area_spring=(bi("hysteresis loop of the valve springs",
+                                 "петля гистерезиса клапанных пружин"), "A_n", "N*mm"),
+            loop_share_spring=(bi("its share of the springs' loading work",
+                                  "её доля в работе нагрузки пружин"), "A_n/W", "%"))
+    return computed({k: v for k, v in values.items()
+                     if math.isfinite(v.value if isinstance(v, Estimate) else v)}, declared)
 
 
 RESULTS = {
@@ -232,45 +300,45 @@ def _run_table(data: Data, r: int) -> Table:
                "Таблица методички: показания индикаторов и приведённые к клапану деформации")
     if len(data.tables) > 1:
         title = bi(f"{title['en']} (run {r + 1})", f"{title['ru']} (цикл {r + 1})")
-    return Table(title, cols, tuple(rows))
+    return Table(title, cols, tuple(rows), "readings")
 
 
 def _stiffness_table(data: Data) -> Table:
-    res, red = data.results, data.at_valve
-    compliance = sum(1 / v for v in red.values()) if red else math.nan
+    res = data.results
     rows = []
-    for p in (*PARTS, "total"):
-        at_valve = res["c_total"].value if p == "total" and "c_total" in res else red.get(p)
-        share = "100" if p == "total" else (f"{100 / red[p] / compliance:.0f}" if red else "—")
+    for p in PARTS:
         rows.append({"part": _PART[p][0], "load": result_pm(res, f"c_{p}_load"),
                      "unload": result_pm(res, f"c_{p}_unload"), "mean": result_pm(res, f"c_{p}"),
-                     "reduced": f"{at_valve / 1e6:.2f}" if at_valve is not None else "—",
-                     "share": share})
+                     "reduced": _shown(res, f"c_{p}_at_valve"),
+                     "share": _shown(res, f"share_{p}", 0)})
+    rows.append({"part": _PART["total"][0], "load": result_pm(res, "c_total_load"),
+                 "unload": result_pm(res, "c_total_unload"), "mean": result_pm(res, "c_total"),
+                 "reduced": result_pm(res, "c_total"), "share": "100"})
     cols = (("part", bi("Link", "Звено")), ("load", bi("c loading, kN/mm", "c нагрузка, кН/мм")),
             ("unload", bi("c unloading, kN/mm", "c разгрузка, кН/мм")),
             ("mean", bi("c mean, kN/mm", "c среднее, кН/мм")),
             ("reduced", bi("at the valve, kN/mm", "приведённая к клапану, кН/мм")),
             ("share", bi("share of the compliance, %", "доля податливости, %")))
-    return Table(bi("Stiffness of the links (± U, k = 2): their own, and as the valve sees them",
-                    "Жесткость звеньев (± U, k = 2): собственная и приведённая к клапану"),
+    return Table(bi("Stiffness of the links (± U): their own, and as the valve sees them",
+                    "Жесткость звеньев (± U): собственная и приведённая к клапану"),
                  cols, tuple(rows))
 
 
 def _line_table(data: Data) -> Table:
     rows = []
+    res = data.results
     for j in range(4):
-        loops = [run[j] for run in data.loops]
-        area, share = max(h.area for h in loops), max(h.share for h in loops)
+        loop = f"{_shown(res, f'loop_area_{j + 1}', 1)} / {_shown(res, f'loop_share_{j + 1}', 0)}"
         for b in BRANCHES:
             line = data.lines[j, b]
             f, c = line.fit, line.curvature
             rows.append({
                 "gauge": f"Δl{_SUB[j]}", "branch": _BRANCH[b],
-                "slope": " ± ".join(fmt_pm(1e9 * f.slope, 2e9 * f.u_slope)),
+                "slope": result_pm(res, result_name(f"dl{j + 1}_per_P", b)),
                 "icpt": " ± ".join(fmt_pm(1e3 * f.intercept, 2e3 * f.u_intercept)),
                 "sd": f"{1e6 * f.residual_sd:.1f}",
                 "curv": f"{c.p_value:.2g} / {100 * c.relative_bend:.1f}" if c is not None else "",
-                "loop": f"{1e3 * area:.1f} / {100 * share:.0f}" if b == "mean" else ""})
+                "loop": loop if b == "mean" else ""})
     cols = (("gauge", bi("Gauge", "Индикатор")), ("branch", bi("Branch", "Ветвь")),
             ("slope", bi("dΔl/dP ± U_A, µm/kN", "dΔl/dP ± U_A, мкм/кН")),
             ("icpt", bi("intercept ± U_A, mm", "начальная ордината ± U_A, мм")),
@@ -286,7 +354,7 @@ def _line_table(data: Data) -> Table:
                     "входит в жесткости) и петли гистерезиса (наибольшие по циклам); прямая "
                     "каждой ветви — без её точки поворота, среднее — прямая посередине между "
                     "ними"),
-                 cols, tuple(rows))
+                 cols, tuple(rows), "worked")
 
 
 def _spring_table(data: Data) -> Table:
@@ -299,10 +367,10 @@ def _spring_table(data: Data) -> Table:
                      if down.size and down[-1] > 0 else "—"})
     cols = (("h", bi("h, mm", "h, мм")), ("load", bi("P loading, N", "P нагрузка, Н")),
             ("unload", bi("P unloading, N", "P разгрузка, Н")))
-    share = 100 * data.spring_loop.share
-    return Table(bi(f"Valve springs' characteristic (loop: {share:.0f} % of the loading work)",
-                    f"Характеристика клапанных пружин (петля: {share:.0f} % работы нагрузки)"),
-                 cols, tuple(rows))
+    share = _shown(data.results, "loop_share_spring", 0)
+    return Table(bi(f"Valve springs' characteristic (loop: {share} % of the loading work)",
+                    f"Характеристика клапанных пружин (петля: {share} % работы нагрузки)"),
+                 cols, tuple(rows), "readings")
 
 
 _MASS_TERMS = {"valve": (bi("valve", "клапан"), "m_кл"),
@@ -321,16 +389,19 @@ def _mass_table(data: Data) -> Table:
             ("g", bi("reduced mass, g", "приведённая масса, г")),
             ("share", bi("share of M, %", "доля M, %")))
     return Table(bi("Oscillating mass reduced to the valve, term by term",
-                    "Приведённая к клапану масса по слагаемым"), cols, rows)
+                    "Приведённая к клапану масса по слагаемым"), cols, rows, "worked")
+
+
+def measurements(data: Data) -> list[Table]:
+    """Each run as the manual tabulates it (the load steps, the gauges' readings loading and
+    unloading, the links' deformations reduced to the valve) and the springs' characteristic."""
+    out = [_run_table(data, r) for r in range(len(data.tables))]
+    return out + ([_spring_table(data)] if data.spring is not None else [])
 
 
 def tables(data: Data) -> list[Table]:
-    """Each run as the manual tabulates it, the links' stiffnesses, the gauges' lines and
-    loops, the springs' characteristic, the reduced mass's terms."""
-    out = [_run_table(data, r) for r in range(len(data.tables))]
-    out += [_stiffness_table(data), _line_table(data)]
-    if data.spring is not None:
-        out.append(_spring_table(data))
+    """The links' stiffnesses, the gauges' lines and loops, the reduced mass's terms."""
+    out = [_stiffness_table(data), _line_table(data)]
     if data.mass_terms:
         out.append(_mass_table(data))
     return out
@@ -445,9 +516,9 @@ def figures(data: Data) -> list[Figure]:
                lambda fig, lang: _draw_parts(fig, data, lang)),
     ]
     if data.at_valve and "c_total" in data.results:
-        out.append(Figure("chain", bi("The chain of stiffnesses at the valve (bars: U, k = 2); "
+        out.append(Figure("chain", bi("The chain of stiffnesses at the valve (bars: ± U); "
                                       "red: the weakest link, the largest share of 1/c",
-                                      "Цепь жесткостей, приведённых к клапану (отрезки: U, k = 2); "
+                                      "Цепь жесткостей, приведённых к клапану (отрезки: ± U); "
                                       "красным — самое слабое звено, наибольшая доля 1/c"),
                           lambda fig, lang: _draw_chain(fig, data, lang), size=(6.4, 3.2)))
     if data.spring is not None:
@@ -591,13 +662,13 @@ def conclusion(data: Data) -> list[dict]:
                         f"M = {result_pm(res, 'M_reduced')} кг; низшая собственная частота "
                         f"ν = {result_pm(res, 'nu_natural')} рад/с = {result_pm(res, 'f_natural')} Гц"
                         f"{order['ru']}"))
-    share = 100 * max(h.share for run in data.loops for h in run)
-    lines.append(bi(f"Loading and unloading do not coincide: the widest loop takes {share:.0f} % "
+    share = _shown(res, "loop_share_max", 0)
+    lines.append(bi(f"Loading and unloading do not coincide: the widest loop takes {share} % "
                     "of the loading work. Friction in the rocker bearing, the ball ends and the "
                     "tappet guide opposes the motion, so the chain carries less than P while "
                     "loaded and more while unloaded, and microslip in the contacts adds its own "
                     "loop; their mean is the elastic line",
-                    f"Кривые нагрузки и разгрузки не совпадают: наибольшая петля — {share:.0f} % "
+                    f"Кривые нагрузки и разгрузки не совпадают: наибольшая петля — {share} % "
                     "работы нагрузки. Трение в опоре коромысла, сферических опорах штанги и "
                     "направляющей толкателя противодействует движению: при нагрузке звенья несут "
                     "меньше P, при разгрузке — больше; микропроскальзывание в контактах добавляет "

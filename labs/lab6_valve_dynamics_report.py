@@ -231,7 +231,7 @@ def tables(*, recorded, results, **_) -> list[Table]:
             ("adv", bi("opening advance, °", "опережение открытия, °")),
             ("lag", bi("closing lag, °", "запаздывание закрытия, °")),
             ("loss", bi("without contact (cam), °", "разрыв (р. вал), °")))
-    return [Table(bi("Records (± U, k = 2)", "Осциллограммы (± U, k = 2)"), cols, rows)]
+    return [Table(bi("Records (± U)", "Осциллограммы (± U)"), cols, rows)]
 
 
 # ------------------------------------------------------------------------ figures

@@ -871,6 +871,8 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20037) -> LabR
                                        chain.criticals if chain else ())
         results = result_values(prop, declared)
         if recorded:
+            results.update(report.record_results(recorded, found, results,
+                                                 settings["f_c"].value))
             _warn(inputs, recorded, found, edges, results)
         flag_estimates(results, comparisons)
     engine = inputs["engine"]

@@ -15,7 +15,7 @@ from processing.diagnostics import (BaselineDriftWarning, InconsistentInputWarni
 from processing.measurement import bi
 from processing.reporting.content import fmt_pm, result_pm
 from processing.resonance import campbell_lines
-from processing.result import KEY, STRICTLY_POSITIVE, Figure, Table
+from processing.result import KEY, STRICTLY_POSITIVE, Figure, Table, computed
 
 RPM = 30 / np.pi
 """min⁻¹ per rad/s."""
@@ -129,7 +129,7 @@ def result_names(recorded, found, modes, criticals=()) -> dict:
                      STRICTLY_POSITIVE),
                "phi_max": (bi("largest peak amplitude over the records (the design value)",
                               "наибольшая пиковая амплитуда по всем режимам (расчётная)"),
-                           "φ_max", "rad", STRICTLY_POSITIVE, KEY)}
+                           "φ_max", "mrad", STRICTLY_POSITIVE, KEY)}
     for r in recorded:
         i = r.number
         out.update({
@@ -142,7 +142,7 @@ def result_names(recorded, found, modes, criticals=()) -> dict:
                           f"число колебаний за оборот K = ν/n, режим {i}"), "K", "",
                        STRICTLY_POSITIVE),
             f"phi_max_{i}": (bi(f"largest peak amplitude, record {i}",
-                                f"наибольшая пиковая амплитуда, режим {i}"), "φ_max", "rad",
+                                f"наибольшая пиковая амплитуда, режим {i}"), "φ_max", "mrad",
                              STRICTLY_POSITIVE),
         })
     for f in found:
@@ -314,7 +314,46 @@ def edge_warning(load: str, edge) -> ResonanceBeyondSweepWarning:
 
 # ------------------------------------------------------------------------ tables
 
-def _records_table(recorded, results, f_c) -> Table:
+def record_results(recorded, found, results, f_c) -> dict:
+    """What the records' and resonances' tables state besides the propagated results: each
+    record's largest amplitude in its mean cycle (``phi_cycle_<i>``), its baseline drift over
+    its range (``drift_ratio_<i>``), its lowest carrying frequency over f_c
+    (``carrying_ratio_<i>``); each resonance's width at 0.7 of its peak (``width_res_<j>``).
+    Undefined ones are left out."""
+    values, declared = {}, {}
+    for r in recorded:
+        t, i = r.trace, r.number
+        if t.cycle is not None:
+            values[f"phi_cycle_{i}"] = results["l"].value * t.cycle.largest
+            declared[f"phi_cycle_{i}"] = (bi(f"largest amplitude of the mean cycle, record {i}",
+                                             f"наибольшая амплитуда среднего цикла, режим {i}"),
+                                          "φ_ц", "mrad")
+        values[f"drift_ratio_{i}"] = t.drift_ratio
+        declared[f"drift_ratio_{i}"] = (bi(f"baseline drift over the range, record {i}",
+                                           f"дрейф нулевой линии к размаху, режим {i}"),
+                                        "drift/range", "")
+        values[f"carrying_ratio_{i}"] = t.lowest_frequency() / f_c
+        declared[f"carrying_ratio_{i}"] = (bi(f"lowest carrying frequency over f_c, record {i}",
+                                              f"низшая несущая частота к f_c, режим {i}"),
+                                           "f_min/f_c", "")
+    for f in found:
+        values[f"width_res_{f.number}"] = f.resonance.width
+        declared[f"width_res_{f.number}"] = (bi(f"width of resonance {f.number} at 0.7 of its "
+                                                "peak", f"ширина резонанса {f.number} на уровне "
+                                                "0,7 пика"), "Δn", "rpm")
+    return computed({k: v for k, v in values.items() if np.isfinite(v)}, declared)
+
+
+def _shown(results, name: str, digits: int) -> str:
+    """A result found without an uncertainty, in its display unit to ``digits`` decimals;
+    "—" if there is none."""
+    if name not in results:
+        return "—"
+    r = results[name]
+    return f"{r.shown(r.value):.{digits}f}"
+
+
+def _records_table(recorded, results) -> Table:
     rows = []
     for r in recorded:
         t, i = r.trace, r.number
@@ -322,11 +361,10 @@ def _records_table(recorded, results, f_c) -> Table:
                      "n": result_pm(results, f"n_{i}"), "nu": result_pm(results, f"nu_{i}"),
                      "K": f"{t.K:.2f}" if np.isfinite(t.K) else "—",
                      "order": f"{t.dominant_order:g}" if t.fit is not None else "—",
-                     "phi": result_pm(results, f"phi_max_{i}", 1e3),
-                     "cycle": f"{1e3 * results['l'].value * t.cycle.largest:.3f}"
-                     if t.cycle is not None else "—",
-                     "drift": f"{t.drift_ratio:.2f}",
-                     "fc": f"{t.lowest_frequency() / f_c:.1f}"})
+                     "phi": result_pm(results, f"phi_max_{i}"),
+                     "cycle": _shown(results, f"phi_cycle_{i}", 3),
+                     "drift": _shown(results, f"drift_ratio_{i}", 2),
+                     "fc": _shown(results, f"carrying_ratio_{i}", 1)})
     cols = (("i", bi("Record", "Режим")), ("load", bi("Load", "Нагрузка")),
             ("cycles", bi("Working cycles", "Рабочих циклов")),
             ("n", bi("n, min⁻¹", "n, мин⁻¹")), ("nu", bi("ν, Hz", "ν, Гц")),
@@ -337,7 +375,7 @@ def _records_table(recorded, results, f_c) -> Table:
             ("cycle", bi("mean cycle's largest, mrad", "наибольшая в среднем цикле, мрад")),
             ("drift", bi("drift / range", "дрейф / размах")),
             ("fc", bi("lowest carrying frequency / f_c", "низшая несущая частота / f_c")))
-    return Table(bi("Records (± U, k = 2)", "Торсиограммы (± U, k = 2)"), cols, rows)
+    return Table(bi("Records (± U)", "Торсиограммы (± U)"), cols, rows)
 
 
 def _resonance_table(found, results, majors) -> Table:
@@ -348,7 +386,7 @@ def _resonance_table(found, results, majors) -> Table:
                      "major": bi("yes", "да") if np.any(np.isclose(majors, r.order))
                      else bi("no", "нет"),
                      "n": result_pm(results, f"n_res_{j}"), "f": result_pm(results, f"f_res_{j}"),
-                     "width": f"{r.width * RPM:.0f}" if np.isfinite(r.width) else "—",
+                     "width": _shown(results, f"width_res_{j}", 0),
                      "records": ", ".join(map(str, f.records)),
                      "resolved": bi("yes", "да") if r.resolved else bi("NO", "НЕТ")})
     cols = (("j", bi("Resonance", "Резонанс")), ("load", bi("Load", "Нагрузка")),
@@ -358,7 +396,7 @@ def _resonance_table(found, results, majors) -> Table:
             ("width", bi("width at 0.7, min⁻¹", "ширина на уровне 0,7, мин⁻¹")),
             ("records", bi("records fitted", "режимы в аппроксимации")),
             ("resolved", bi("resolved by the step", "разрешён шагом")))
-    return Table(bi("Resonances (± U, k = 2)", "Резонансы (± U, k = 2)"), cols, rows)
+    return Table(bi("Resonances (± U)", "Резонансы (± U)"), cols, rows)
 
 
 def _modes_table(modes, results) -> Table:
@@ -374,7 +412,7 @@ def _modes_table(modes, results) -> Table:
     return Table(bi("Equivalent system: natural frequencies and relative amplitudes of the "
                     "discs (1 at the nose, where the torsiograph sits)",
                     "Эквивалентная система: собственные частоты и относительные амплитуды "
-                    "масс (1 на носке, где стоит торсиограф)"), cols, rows)
+                    "масс (1 на носке, где стоит торсиограф)"), cols, rows, "worked")
 
 
 def _critical_table(criticals, results, majors) -> Table:
@@ -391,15 +429,15 @@ def _critical_table(criticals, results, majors) -> Table:
             ("n", bi("critical speed 60 f/k, min⁻¹", "критическая частота 60 f/k, мин⁻¹")))
     return Table(bi("Critical speeds of the equivalent system's modes: the orders whose "
                     "relative phase sum |Σ a_c e^{ikφ_c}|/Σ|a_c| (a_c the mode's amplitude at "
-                    "crank c) reaches 0.1 (± U, k = 2)",
+                    "crank c) reaches 0.1 (± U)",
                     "Критические частоты вращения по формам эквивалентной системы: гармоники, "
                     "относительная фазовая сумма которых |Σ a_c e^{ikφ_c}|/Σ|a_c| (a_c — "
-                    "амплитуда формы на кривошипе c) не меньше 0,1 (± U, k = 2)"), cols, rows)
+                    "амплитуда формы на кривошипе c) не меньше 0,1 (± U)"), cols, rows, keys=2)
 
 
-def tables(*, recorded, found, results, modes, majors, f_c, criticals=(), **_) -> list[Table]:
+def tables(*, recorded, found, results, modes, majors, criticals=(), **_) -> list[Table]:
     """The records, the resonances and (with a chain) its modes and critical speeds."""
-    out = [_records_table(recorded, results, f_c)] if recorded else []
+    out = [_records_table(recorded, results)] if recorded else []
     if found:
         out.append(_resonance_table(found, results, majors))
     if modes is not None:

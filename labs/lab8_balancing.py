@@ -664,9 +664,9 @@ def _phase_table(results, nominal) -> Table:
             rows.append({"name": name, "amplitude": {k: f"{v} ± {U} {unit[k]}" for k in unit},
                          "phase": deg(float(phase)), "peak": deg(float(peak)),
                          "form": _KIND_TEXT[kind]})
-    return Table(bi("Free forces and moments of the crank train: amplitudes (± U, k = 2) and "
+    return Table(bi("Free forces and moments of the crank train: amplitudes (± U) and "
                     "phases (moments about the middle of the cylinder row)",
-                    "Свободные силы и моменты: амплитуды (± U, k = 2) и фазы (моменты "
+                    "Свободные силы и моменты: амплитуды (± U) и фазы (моменты "
                     "относительно середины ряда цилиндров)"),
                  (("name", bi("Quantity", "Величина")), ("amplitude", bi("Amplitude", "Амплитуда")),
                   ("phase", bi("φ, deg", "φ, °")),

@@ -613,6 +613,7 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20039) -> LabR
     kind = inputs.sections.get("damper", {}).get("rubber")
     return LabResult.of(inputs, results, comparisons=comparisons,
                         tables=report.tables(runs, dec, results),
+                        measurements=report.measurements(runs),
                         figures=report.figures(runs, dec) + (
                             read_figures([dec.channel]) if dec is not None else []),
                         formulas=report.FORMULAS, references=report.REFERENCES,

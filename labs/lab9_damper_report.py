@@ -272,7 +272,7 @@ def _readings_table(runs) -> Table:
             ("down", bi("φ unloading, mrad", "φ разгрузка, мрад")))
     return Table(bi("Twist of the rubber layer against the moment (the manual's Table 1)",
                     "Угол закрутки резинового слоя в зависимости от момента (табл. 1 методички)"),
-                 cols, tuple(rows))
+                 cols, tuple(rows), "readings")
 
 
 def _runs_table(runs, results) -> Table:
@@ -294,7 +294,7 @@ def _runs_table(runs, results) -> Table:
             ("E_max", bi("E_max, J", "E_max, Дж")), ("E_loss", bi("E_n, J", "E_n, Дж")),
             ("xi", bi("ξ′_d", "ξ′_d")),
             ("rest", bi("twist left at M = 0, %", "остаточный угол при M = 0, %")))
-    return Table(bi("Static loops (± U, k = 2)", "Статические петли (± U, k = 2)"), cols,
+    return Table(bi("Static loops (± U)", "Статические петли (± U)"), cols,
                  tuple(rows))
 
 
@@ -316,7 +316,7 @@ def _peaks_table(dec) -> Table | None:
     cols = (("n", bi("Period number", "Номер периода")), ("t", bi("t, ms", "t, мс")),
             ("a", unit), ("phi", bi("φ, mrad (calibrated)", "φ, мрад (по тарировке)")),
             ("d", bi("δ to the next, per period", "δ до следующего, на период")))
-    return Table(bi("Peaks of the free decay", "Пики свободных колебаний"), cols, rows)
+    return Table(bi("Peaks of the free decay", "Пики свободных колебаний"), cols, rows, "worked")
 
 
 def _dampers_table(results) -> Table:
@@ -334,13 +334,18 @@ def _dampers_table(results) -> Table:
                     "a full cycle in both directions, about twice one direction's loop",
                     "Шесть демпферов методички (табл. 2) и исследуемый. ξ′_d методички — за "
                     "полный цикл в обе стороны, примерно вдвое больше петли одного направления"),
-                 cols, tuple(rows))
+                 cols, tuple(rows), "reference")
+
+
+def measurements(runs) -> list[Table]:
+    """The manual's Table 1 (the loading programme and the twists), with static runs."""
+    return [_readings_table(runs)] if runs else []
 
 
 def tables(runs, dec, results) -> list[Table]:
-    """Table 1 and the loops' results (with static runs), the peaks (with a decay), and the
-    manual's Table 2 beside this damper (with both)."""
-    out = [_readings_table(runs), _runs_table(runs, results)] if runs else []
+    """The loops' results (with static runs), the peaks (with a decay), and the manual's
+    Table 2 beside this damper (with both)."""
+    out = [_runs_table(runs, results)] if runs else []
     if dec is not None and (peaks := _peaks_table(dec)) is not None:
         out.append(peaks)
     if "C_ratio" in results:

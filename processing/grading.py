@@ -8,10 +8,13 @@ relative tolerance, a z-score where both sides state an uncertainty):
 * the relative tolerance of the teacher's :class:`Policy`, |r − x| ≤ tol·|x|, widened by
   half a unit of the last digit the student wrote (a value rounded to its digits is not
   wrong for that);
-* the z-score z = (r − x)/√(u² + u_r²), |z| ≤ 2.
+* the z-score z = (r − x)/√(u² + u_r²), |z| ≤ k, the coverage factor of our U = k·u (2, or
+  Student's t for the effective degrees of freedom where few readings dominate:
+  :func:`processing.uncertainty.coverage_factor`), so that a value inside the interval the
+  report states agrees.
 
 A right value written to fewer significant figures than the policy asks is *rounded*; one
-written far beyond its uncertainty (its last digit below a thousandth of U = 2u) is
+written far beyond its uncertainty (its last digit below a thousandth of U = k·u) is
 *over-precise*. A wrong value is tried against each candidate :class:`Slip` — the value the
 student would have got through it, a known factor of ours (×1000, rpm taken as rad/s,
 degrees as radians, 2π dropped, diameter for radius) or a lab's own slip re-reduced from
@@ -30,12 +33,13 @@ VERDICTS = ("right", "rounded", "over-precise", "wrong", "missing")
 """Every verdict, best first."""
 
 OVER_PRECISE = 1e-3
-"""A value whose last written digit is worth less than this share of its U = 2u is
+"""A value whose last written digit is worth less than this share of its U = k·u is
 over-precise: GUM rounds U to two figures and the value to the same place (about U/10 to
 U/100); one digit more is tolerated, two are not."""
 
 Z_LIMIT = 2.0
-"""|z| up to which a reported value agrees with ours (about 95 %)."""
+"""|z| up to which a reported value agrees with ours where our u has infinite degrees of
+freedom (about 95 %); the caller gives the coverage factor of its own U otherwise."""
 
 
 @dataclass(frozen=True)
@@ -177,19 +181,21 @@ class Verdict:
     slip: Slip | None = None
 
 
-def agrees(r: Reported, x: float, u: float, policy: Policy) -> tuple[bool, float, float]:
-    """Whether ``r`` agrees with x ± u by the policy's tolerance or by |z| ≤ 2; z and the
-    relative difference."""
+def agrees(r: Reported, x: float, u: float, policy: Policy, *,
+           k: float = Z_LIMIT) -> tuple[bool, float, float]:
+    """Whether ``r`` agrees with x ± u by the policy's tolerance or by |z| ≤ k (the coverage
+    factor of our U = k·u); z and the relative difference."""
     rel = (r.value - x) / abs(x) if x else (math.inf if r.value else 0.0)
     combined = math.hypot(u, r.u)
     z = (r.value - x) / combined if combined > 0 else math.nan
     tolerance = policy.rel_tol * abs(x) + 0.5 * r.last_place
-    ok = abs(r.value - x) <= tolerance or (combined > 0 and abs(z) <= Z_LIMIT)
+    ok = abs(r.value - x) <= tolerance or (combined > 0 and abs(z) <= k)
     return ok, z, rel
 
 
 def judge(name: str, reported: Reported | None, value: float, u: float, unit: str,
-          policy: Policy = Policy(), slips: Iterable[Slip] = FACTOR_SLIPS) -> Verdict:
+          policy: Policy = Policy(), slips: Iterable[Slip] = FACTOR_SLIPS, *,
+          k: float = Z_LIMIT) -> Verdict:
     """Judge one reported value against ours.
 
     Parameters
@@ -205,6 +211,9 @@ def judge(name: str, reported: Reported | None, value: float, u: float, unit: st
     policy : Policy
     slips : iterable of Slip
         Candidates for a wrong value, tried in order.
+    k : float
+        The coverage factor of our expanded uncertainty U = k·u (the report's and the JSON's
+        ``k``): a reported value within U of ours agrees.
 
     Returns
     -------
@@ -222,9 +231,9 @@ def judge(name: str, reported: Reported | None, value: float, u: float, unit: st
     """
     if reported is None:
         return Verdict(name, "missing", None, value, u)
-    ok, z, rel = agrees(reported, value, u, policy)
+    ok, z, rel = agrees(reported, value, u, policy, k=k)
     if ok:
-        scale = 2.0 * max(u, reported.u)
+        scale = k * max(u, reported.u)
         if reported.digits < policy.sig_figs and abs(rel) > 1e-12:
             verdict = "rounded"
         elif scale > 0 and reported.last_place < OVER_PRECISE * scale and reported.digits > 3:
@@ -237,7 +246,7 @@ def judge(name: str, reported: Reported | None, value: float, u: float, unit: st
         s = slip.candidate(name, value, unit)
         if s is None or not math.isfinite(s):
             continue
-        ok, _, rel_s = agrees(reported, s, u * abs(s / value) if value else u, policy)
+        ok, _, rel_s = agrees(reported, s, u * abs(s / value) if value else u, policy, k=k)
         if ok and abs(rel_s) < min(closest, abs(rel)):
             best, closest = slip, abs(rel_s)
     return Verdict(name, "wrong", reported, value, u, z, rel, best)

@@ -25,7 +25,8 @@ import math
 import os
 import tomllib
 import warnings
-from collections.abc import Mapping
+from collections import defaultdict
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, NamedTuple
@@ -158,14 +159,100 @@ class Section:
 
 
 @dataclass(frozen=True)
+class Column:
+    """A column of a :class:`ReadingsTable`: a field of the table's section (its readings
+    one per row, or its single value on every row, as written), or a quantity ``of`` the
+    row's other cells (a period T = t/n), printed with ``digits`` significant figures.
+
+    ``heading`` is ``{"en", "ru"}`` and names the unit the cells are in: the field's declared
+    unit (the manual's)."""
+
+    heading: Mapping[str, str]
+    field: str = ""
+    of: Callable[[Mapping[str, float]], float] | None = None
+    digits: int = 4
+
+
+@dataclass(frozen=True)
+class ReadingsTable:
+    """One of the manual's tables of readings, with the columns the manual prints: a row per
+    run (the i-th reading of each repeated field of ``section``), or, for an array of tables
+    (``[[reading]]``), a row per entry. A lab declares them in its :class:`LabSpec`; the
+    report's measurements section draws them."""
+
+    title: Mapping[str, str]
+    section: str
+    columns: tuple[Column, ...]
+    run: Mapping[str, str] = field(default_factory=lambda: bi("Run", "Опыт"))
+
+    def rows(self, entries: list[Mapping[str, Any]], spec: Section) -> list[dict]:
+        """The table's rows: each column's text keyed by its heading's English, the run's
+        number first (key ``"run"``). A column with nothing to show (its field given
+        nowhere) is left out; there are no rows when no field of the table repeats."""
+        values = [{c.field: _in_field_unit(spec.field(c.field), entry[c.field])
+                   for c in self.columns if c.field and c.field in entry}
+                  for entry in entries]
+        if spec.many:
+            cells = [{k: v[0] for k, v in row.items()} for row in values]
+        else:
+            count = max((len(v) for v in values[0].values()), default=0)
+            cells = [{k: v[i] if len(v) == count else v[0] for k, v in values[0].items()
+                      if len(v) in (1, count)} for i in range(count)]
+        if len(cells) < 2:
+            return []
+        rows = [{"run": str(i), **{c.heading["en"]: self._text(c, row) for c in self.columns}}
+                for i, row in enumerate(cells, 1)]
+        shown = [c.heading["en"] for c in self.columns
+                 if any(row[c.heading["en"]] != "—" for row in rows)]
+        return [{k: row[k] for k in ("run", *shown)} for row in rows]
+
+    @staticmethod
+    def _text(c: Column, cells: Mapping[str, Any]) -> str:
+        """One cell: a field's reading as written (``g``), a text as it is, a derived
+        quantity to ``c.digits`` figures; "—" where there is none."""
+        if c.of is None:
+            x = cells.get(c.field, math.nan)
+            return x if isinstance(x, str) else f"{x:g}" if math.isfinite(x) else "—"
+        x = c.of(defaultdict(lambda: math.nan, cells))
+        return f"{x:#.{c.digits}g}".rstrip(".") if math.isfinite(x) else "—"
+
+
+def period_columns(count: str, times: Mapping[str, str]) -> tuple[Column, ...]:
+    """The manual's columns for timed oscillations: the count n, then for each stopwatch field
+    of ``times`` (field → its symbol) the time t of n oscillations and the period T = t/n, in
+    seconds (lab 1's and lab 2's tables: run, n, t, T)."""
+    def period(time):
+        return lambda cells: cells[time] / cells[count]
+
+    cols = [Column(bi("n", "n"), count)]
+    for time, symbol in times.items():
+        sub = symbol[1:]
+        cols += [Column(bi(f"{symbol}, s", f"{symbol}, с"), time),
+                 Column(bi(f"T{sub} = {symbol}/n, s", f"T{sub} = {symbol}/n, с"),
+                        of=period(time))]
+    return tuple(cols)
+
+
+def _in_field_unit(f: Field, v) -> list:
+    """A field's readings (or its one value) in the field's declared unit; a count as a
+    number, a choice or a text as it is."""
+    if isinstance(v, Measured):
+        k = si_factor(f.unit)
+        return [r / k for r in v.readings] if len(v.readings) > 1 else [v.value / k]
+    return [v if isinstance(v, str) else float(v)]
+
+
+@dataclass(frozen=True)
 class LabSpec:
-    """What a lab is and what it reads: id, number, titles and its sections."""
+    """What a lab is and what it reads: id, number, titles, its sections and the manual's
+    tables of readings the report shows (:class:`ReadingsTable`)."""
 
     id: str
     number: str
     title: Mapping[str, str]
     goal: Mapping[str, str]
     sections: tuple[Section, ...]
+    readings: tuple[ReadingsTable, ...] = ()
 
     def section(self, name: str) -> Section:
         return next(s for s in self.sections if s.name == name)
@@ -263,6 +350,18 @@ class Inputs:
                 flat.update({f"{key}.{k}": v for k, v in e.items()})
         return flat
 
+    def readings(self) -> list[tuple[ReadingsTable, list[dict]]]:
+        """The manual's tables of readings the lab declares (:attr:`LabSpec.readings`), each
+        with its rows for every entry of its section the file has."""
+        out = []
+        for table in self.spec.readings if self.spec else ():
+            entries = self.sections.get(table.section)
+            if entries is not None:
+                rows = table.rows(entries if isinstance(entries, list) else [entries],
+                                  self.spec.section(table.section))
+                out += [(table, rows)] if rows else []
+        return out
+
     def rows(self) -> list[dict]:
         """The measured inputs as report rows, each in its field's declared unit."""
         rows = []
@@ -288,7 +387,11 @@ class Inputs:
 def _row(where: str, sec: Section, f: Field, v) -> dict:
     row = {"section": where, "section_label": dict(sec.label), "name": f.name,
            "symbol": f.display_symbol, "label": dict(f.label)}
-    if isinstance(v, Measured):
+    if isinstance(v, Measured) and f.series and len(v.readings) > 1:
+        k = si_factor(f.unit)   # a programme of steps: its steps, not their mean ± u
+        row.update(unit=f.unit, series=True, readings=[r / k for r in v.readings],
+                   si={"unit": si_unit(f.unit), "readings": list(v.readings)})
+    elif isinstance(v, Measured):
         k = si_factor(f.unit)
         row.update(value=v.value / k, u=v.u / k, unit=f.unit,
                    readings=[r / k for r in v.readings] if len(v.readings) > 1 else [],

@@ -108,7 +108,7 @@ class ResultValue:
 
     def to_dict(self) -> dict:
         e = self.estimate
-        return {"value": e.value, "u": _finite(e.u), "U": _finite(e.U), "k": 2, "unit": self.unit,
+        return {"value": e.value, "u": _finite(e.u), "U": _finite(e.U), "k": _finite(e.k), "unit": self.unit,
                 "relative_U": _finite(e.relative_U),
                 "interval95": [_finite(x) for x in e.interval95],
                 "dof": _finite(e.dof), "nonlinear": e.nonlinear,
@@ -134,7 +134,8 @@ class Comparison:
 
     @property
     def agree(self) -> bool:
-        """Whether |a − b| ≤ U(a − b), the expanded (k = 2) uncertainty of the difference."""
+        """Whether |a − b| ≤ U(a − b), the expanded uncertainty of the difference (k from its
+        effective degrees of freedom, :func:`~processing.uncertainty.coverage_factor`)."""
         return abs(self.difference.value) <= self.difference.U
 
     def relative_to(self, reference: float) -> float:
@@ -142,7 +143,7 @@ class Comparison:
 
     def to_dict(self, results: Mapping[str, ResultValue]) -> dict:
         d = self.difference
-        return {"a": self.a, "b": self.b, "difference": d.value, "u": d.u, "U": d.U,
+        return {"a": self.a, "b": self.b, "difference": d.value, "u": d.u, "U": d.U, "k": _finite(d.k),
                 "relative": self.relative_to(results[self.b].value), "agree": self.agree}
 
 
@@ -157,6 +158,22 @@ class Table:
     title: Mapping[str, str]
     columns: tuple[tuple[str, Mapping[str, str]], ...]
     rows: tuple[Mapping[str, Any], ...]
+    kind: str = "results"
+    """What the table holds: ``"results"`` (named results: every number of it but its
+    :attr:`keys` is one in the JSON's ``results`` or ``inputs``), ``"worked"`` (a worked calculation step by step, or the points a
+    result was found from: the JSON's ``tables`` carries it as printed), ``"readings"`` (the
+    manual's table of readings) or ``"reference"`` (the manual's printed data, beside ours)."""
+    keys: int = 1
+    """How many first columns name the row (a regime, a record, a mode and an order)."""
+
+    def to_dict(self) -> dict:
+        """The table as the English report prints it: title, column headings, cells."""
+        def cell(x):
+            return x["en"] if isinstance(x, Mapping) else str(x)
+
+        return {"title": self.title["en"], "kind": self.kind,
+                "columns": [h["en"] for _, h in self.columns],
+                "rows": [[cell(r.get(k, "")) for k, _ in self.columns] for r in self.rows]}
 
 
 @dataclass(frozen=True)
@@ -186,6 +203,9 @@ class LabResult:
     results: dict[str, ResultValue]
     comparisons: list[Comparison] = field(default_factory=list)
     tables: list[Table] = field(default_factory=list)
+    measurements: list[Table] = field(default_factory=list)
+    """The manual's tables of readings (rows of runs, the manual's columns): the report's
+    measurements section."""
     figures: list[Figure] = field(default_factory=list)
     formulas: list[Mapping[str, str]] = field(default_factory=list)
     references: list[Mapping[str, str]] = field(default_factory=list)
@@ -196,8 +216,16 @@ class LabResult:
     @classmethod
     def of(cls, inputs, results: dict[str, ResultValue], **parts) -> LabResult:
         """The result of reducing ``inputs`` (a :class:`~processing.measurement.Inputs`): the
-        title block, goal, input table and source come from the file and its lab's spec."""
+        title block, goal, input table, source and the tables of readings its lab's spec
+        declares (before any the lab adds in ``parts["measurements"]``) come from the file and
+        its lab's spec."""
         spec = inputs.spec
+        declared = [Table(t.title, (("run", t.run), *((c.heading["en"], c.heading)
+                                                      for c in t.columns
+                                                      if c.heading["en"] in rows[0])),
+                          tuple(rows), "readings")
+                    for t, rows in inputs.readings()]
+        parts["measurements"] = declared + list(parts.get("measurements", ()))
         return cls(spec.id, spec.number, spec.title, spec.goal, inputs.meta, inputs.rows(),
                    results, source=inputs.file, **parts)
 
@@ -246,16 +274,18 @@ class LabResult:
             "inputs": {f"{row['section']}.{row['name']}": _input_json(row) for row in self.inputs},
             "results": {k: v.to_dict() for k, v in self.results.items()},
             "comparisons": [c.to_dict(self.results) for c in self.comparisons],
+            "tables": [t.to_dict() for t in (*self.measurements, *self.tables)],
             "warnings": [w.to_dict() for w in self.warnings],
             "toolkit": {"name": "dynlab", "version": __version__},
         }
 
     def to_pandas(self):
-        """The results as a DataFrame: value, u, U (k = 2), unit, 95 % interval."""
+        """The results as a DataFrame: value, u, k, U = k·u, unit, Monte Carlo 95 % interval."""
         import pandas as pd
 
         return pd.DataFrame(
-            [{"name": k, "value": v.value, "u": v.u, "U": v.estimate.U, "unit": v.unit,
+            [{"name": k, "value": v.value, "u": v.u, "k": v.estimate.k, "U": v.estimate.U,
+              "unit": v.unit,
               "low95": v.estimate.interval95[0], "high95": v.estimate.interval95[1]}
              for k, v in self.results.items()]).set_index("name")
 
@@ -264,6 +294,8 @@ def _input_json(row: dict) -> dict:
     """An input in SI (the JSON contract); counts, choices and text as they are."""
     if "si" not in row:
         return {"value": row["value"], "unit": ""}
+    if row.get("series"):
+        return {"readings": row["si"]["readings"], "unit": row["si"]["unit"]}
     out = {k: row["si"][k] for k in ("value", "u", "unit")}
     if row["si"]["readings"]:
         out["readings"] = row["si"]["readings"]
@@ -284,11 +316,37 @@ def result_values(prop: Propagation, declared: Mapping[str, tuple]) -> dict[str,
     def marker(rest, kind):
         return next((r for r in rest if isinstance(r, kind)), None)
 
-    return {name: ResultValue(name, prop[name], si_unit(disp) if disp else "", label, symbol,
+    return {name: ResultValue(name, prop[name], _si(disp), label, symbol,
                               disp, signed=SIGNED in rest, positive=STRICTLY_POSITIVE in rest,
                               within=marker(rest, Within), key=KEY in rest,
                               typical=marker(rest, Typical))
             for name, (label, symbol, disp, *rest) in declared.items() if name in prop}
+
+
+def computed(estimates: Mapping[str, Estimate | float],
+             declared: Mapping[str, tuple]) -> dict[str, ResultValue]:
+    """Results found outside a propagation (a loop's area from the readings as they are, a
+    line's slope with its fit's own type A uncertainty), declared as :func:`result_values`
+    takes them: ``name → (label, symbol, display unit)``. A plain number is exact (its
+    report shows no U). Names not in ``estimates`` are left out.
+
+    Examples
+    --------
+    >>> r = computed({"A": 2.5}, {"A": ({"en": "area", "ru": "площадь"}, "A", "N*mm")})
+    >>> r["A"].unit, r["A"].u
+    ('kg*m^2/s^2', 0.0)
+    """
+    def estimate(x):
+        return x if isinstance(x, Estimate) else Estimate(float(x), 0.0, math.inf)
+
+    return {name: ResultValue(name, estimate(estimates[name]), _si(disp), label, symbol, disp)
+            for name, (label, symbol, disp, *_) in declared.items() if name in estimates}
+
+
+def _si(unit: str) -> str:
+    """The SI unit a result declared in ``unit`` is carried in (JSON); "" for a pure
+    number."""
+    return si_unit(unit) if unit else ""
 
 
 def with_key(declared: Mapping[str, tuple], names) -> dict[str, tuple]:

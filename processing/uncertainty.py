@@ -28,6 +28,41 @@ NONLINEAR_TOLERANCE = 0.10
 """Allowed shift of a 68 % interval end, as a fraction of the linear half-width."""
 
 
+COVERAGE = math.erf(math.sqrt(2.0))
+"""The coverage probability of an expanded uncertainty, 95.45 % (the normal law's ± 2σ, the p
+of GUM Table G.2): its t factor is k = 2 for infinite degrees of freedom, so that an estimate
+of type B parts alone keeps U = 2u, while one dominated by a few readings gets Student's wider
+factor."""
+
+
+def coverage_factor(dof: float) -> float:
+    """Coverage factor k = t_p(ν_eff) for p = :data:`COVERAGE` (JCGM 100:2008, G.4.1, Table
+    G.2): the Student t quantile at the effective degrees of freedom of Welch–Satterthwaite.
+
+    With few readings the normal law's k = 2 understates the interval (three readings alone:
+    ν = 2, a k = 2 interval covers the truth only 82 % of the time); t_p(ν) restores the
+    coverage and agrees with the Monte Carlo interval of GUM Supplement 1.
+
+    Parameters
+    ----------
+    dof : float
+        Effective degrees of freedom ν_eff (``inf`` for type B only).
+
+    Returns
+    -------
+    float
+        k; 2 for infinite ν_eff.
+
+    Examples
+    --------
+    >>> round(coverage_factor(2), 2), round(coverage_factor(10), 2), coverage_factor(math.inf)
+    (4.53, 2.28, 2.0)
+    """
+    if not math.isfinite(dof):
+        return 2.0
+    return float(stats.t.ppf(0.5 + COVERAGE / 2, dof))
+
+
 @dataclass(frozen=True)
 class Measured:
     """A measured input quantity with its uncertainty budget, in SI units.
@@ -139,14 +174,15 @@ class Estimate:
     nonlinear: bool = False
 
     @property
-    def U(self) -> float:
-        """Expanded uncertainty, coverage factor k = 2."""
-        return 2.0 * self.u
+    def k(self) -> float:
+        """The coverage factor of :attr:`U`: :func:`coverage_factor` of the effective degrees
+        of freedom (2 where they are infinite, 4.53 for three readings alone)."""
+        return coverage_factor(self.dof)
 
     @property
-    def k95(self) -> float:
-        """Coverage factor for 95 % from Student's t with the effective degrees of freedom."""
-        return float(stats.t.ppf(0.975, self.dof)) if math.isfinite(self.dof) else 1.959964
+    def U(self) -> float:
+        """Expanded uncertainty U = k·u, k = t₉₅.₄₅(ν_eff) (:func:`coverage_factor`)."""
+        return self.k * self.u
 
     @property
     def relative_U(self) -> float:

@@ -41,7 +41,7 @@ name                          meaning                                     SI uni
 ``crank_radius``              crank radius, R                             m
 ``offset_ratio``              piston-pin offset over crank radius, z=k/R  1
 ``readings``                  repeated readings of one quantity           as given
-``u``, ``U``                  standard, expanded (k = 2) uncertainty      as value
+``u``, ``U``                  standard, expanded (k·u) uncertainty        as value
 ============================  ==========================================  ========
 """
 from __future__ import annotations
@@ -183,10 +183,18 @@ def magnitude_verdict(value: float, unit: str) -> tuple[str, tuple[float, float,
     return ("ok" if lo <= size <= hi else "suspect"), plausible
 
 
+LEVEL_UNITS = ("dB",)
+"""Units of levels, 20 lg of a ratio to a stated reference (a vibration meter's dB scale): a
+level is carried in its unit as it is (there is no SI unit to convert it to, and pint's
+logarithmic dB would turn 122 dB into a ratio)."""
+
+
 @cache
 def _to_base(unit: str) -> tuple[float, float]:
     """(factor, offset) with x·factor + offset the SI base value of x in ``unit`` (the
-    offset is 0 but for temperatures): pint asked once per unit."""
+    offset is 0 but for temperatures; a level's is as it is): pint asked once per unit."""
+    if unit in LEVEL_UNITS:
+        return 1.0, 0.0
     zero = float(ureg.Quantity(0.0, unit).to_base_units().magnitude)
     return float(ureg.Quantity(1.0, unit).to_base_units().magnitude) - zero, zero
 
@@ -243,9 +251,11 @@ def si_factor(unit: str) -> float:
 def si_unit(unit: str) -> str:
     """The SI unit, written compactly, of a quantity declared in ``unit``.
 
-    >>> si_unit("mm"), si_unit("g*cm^2")
-    ('m', 'kg*m^2')
+    >>> si_unit("mm"), si_unit("g*cm^2"), si_unit("dB")
+    ('m', 'kg*m^2', 'dB')
     """
+    if unit in LEVEL_UNITS:
+        return unit
     base = ureg.Quantity(1.0, unit).to_base_units().units
     text = f"{base:~C}".replace("**", "^")
     return text or "1"

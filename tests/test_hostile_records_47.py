@@ -45,7 +45,7 @@ def refused(capsys, tmp_path, toml: Path, blamed: Path, field: str, problem: str
 
 
 def within_key(result, key: dict, names, *, first: int = 1) -> None:
-    """Every named result within its expanded uncertainty (k = 2) of the key; a file that
+    """Every named result within its expanded uncertainty U = k·u of the key; a file that
     keeps one record of the sample numbers its measurements from 1, the key from ``first``."""
     for name in names:
         r = result[name]

@@ -139,7 +139,7 @@ def test_counter_edge_times_are_reduced_like_a_recording(tmp_path):
 def test_stated_uncertainty_covers_the_truth(tmp_path, pitch_error_deg):
     """Counter edge times of 40 engines (2 % cycle-to-cycle variation, 20 cycles) with 1.5 µs
     of timing jitter (a 20 dB sensor at 20 samples per tooth), on an ideal wheel and on an
-    uncalibrated one with 0.05° tooth errors: U(δ) (k = 2) holds the true δ in at least 90 %
+    uncalibrated one with 0.05° tooth errors: U(δ) = k·u holds the true δ in at least 90 %
     of them. On the ideal wheel U is tight too: a fifth of the errors exceed U/2. (On the
     rough wheel U is mostly the choice of harmonics: the whole orders cannot tell the wheel
     from the engine without a calibration, which the report asks for.)"""

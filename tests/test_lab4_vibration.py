@@ -174,7 +174,7 @@ def test_variants_put_engines_of_their_own_on_the_bench_and_their_keys_are_held(
                                                                                  tmp_path):
     """Seed 0 is the scene's engine, mounts and 10.2 mV/(m/s²) chart; seeds 1 and 2 draw
     their own (:data:`labs.lab4_vibration.BENCH_ENGINES`), stated in the file's [engine] and
-    [sensor] tables; every value of seed 2's answer key lies within the U (k = 2) of its
+    [sensor] tables; every value of seed 2's answer key lies within the U = k·u of its
     result, as seed 1's does, and the cut cylinder is found."""
     engine, block, chart = lab4.bench_variant(0)
     assert (engine, block, chart) == (Engine(), Block(), "10.2 mV/(m/s^2)")

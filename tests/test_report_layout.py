@@ -135,3 +135,118 @@ def test_columns_are_as_wide_as_their_longest_number():
     assert widths[1] >= stringWidth("0.000069", _FONT, 8) + PADDING
     assert widths[2] >= stringWidth("0.01815\u00a0±\u00a00.00084", _FONT, 8) + PADDING
     assert sum(widths) == pytest.approx(200.0)
+
+
+# ------------------------------------------------------------------ the JSON holds the report
+
+SIGNIFICANT = 3
+"""Digits from which a number in a table is a measured or computed value (fewer: a count, an
+index, the two digits of a U, which follows from u in the JSON)."""
+
+
+def _significant(token: str) -> int:
+    return len(token.lstrip("-−+").replace(".", "").lstrip("0"))
+
+
+def _written(token: str, pool) -> bool:
+    """Whether ``token`` is one of ``pool`` (numbers as the report's units give them) times a
+    power of ten (a table's ·10⁻⁴, a percentage), rounded to the digits it is written with."""
+    x = abs(float(token.replace("−", "-")))
+    half = 0.5 * 10.0 ** -len(token.partition(".")[2]) * 1.0001
+    return any(abs(abs(v) * 10.0 ** e - x) <= half for v in pool for e in range(-9, 10))
+
+
+def _json_numbers(res, data: dict) -> list[float]:
+    """The JSON's results (value, U, 95 % interval) in each result's display unit, and the
+    inputs as entered."""
+    pool = []
+    for name, j in data["results"].items():
+        r = res.results[name]
+        value = r.shown(j["value"])
+        pool.append(value)
+        if j["U"] is not None:
+            pool.append(r.shown(j["value"] + j["U"]) - value)
+        pool += [r.shown(x) for x in j["interval95"] if x is not None]
+    for row in res.inputs:
+        if isinstance(row.get("value"), (int, float)):
+            pool.append(float(row["value"]))
+        pool += [float(x) for x in row.get("readings", [])]
+    return pool
+
+
+@pytest.mark.parametrize("path", SAMPLES, ids=ids(SAMPLES))
+def test_every_number_of_a_results_table_is_a_named_result_in_the_json(path):
+    """A teacher comparing JSON finds every value a results table prints (lab 4's dB levels,
+    lab 5's loops, lab 7's phase sums and critical speeds…) among the named results, with
+    its unit; worked tables, readings and the manual's data travel in the JSON's "tables"."""
+    import json
+
+    from processing.reporting.render import to_json
+
+    res = reduced(path)
+    data = json.loads(to_json(res))
+    pool = _json_numbers(res, data)
+    assert all(j["unit"] is not None for j in data["results"].values())
+    missing = []
+    for table in res.tables:
+        if table.kind != "results":
+            continue
+        for row in table.rows:
+            for key, _ in table.columns[table.keys:]:
+                cell = row.get(key, "")
+                for token in NUMBER.findall(cell["en"] if isinstance(cell, dict) else str(cell)):
+                    if _significant(token) >= SIGNIFICANT and not _written(token, pool):
+                        missing.append(f"{table.title['en'][:40]} | {key}: {token}")
+    assert not missing, f"{len(missing)} numbers not in the JSON: {missing[:8]}"
+    shown = [t.title["en"] for t in (*res.measurements, *res.tables)]
+    assert [t["title"] for t in data["tables"]] == shown, "every table also as printed"
+
+
+def test_the_known_gaps_are_named_results():
+    """The issue's list: lab 4's dB levels, lab 5's loops and their largest share, lab 7's
+    phase sums and critical speeds."""
+    names = {lab: set(reduced(ROOT / "sample_data" / lab / f).results)
+             for lab, f in (("lab4", "lab4_seed4.toml"), ("lab5", "valve_train.toml"),
+                            ("lab7", "lab7_seed7.toml"))}
+    assert {"L_a_1", "L_v_1", "L_x_1"} <= names["lab4"]
+    assert {"loop_area_1", "loop_share_1", "loop_share_max", "loop_share_spring"} <= names["lab5"]
+    assert any(n.startswith("phase_sum_") for n in names["lab7"])
+    assert any(n.startswith("n_crit_") for n in names["lab7"])
+    assert reduced(ROOT / "sample_data/lab4/lab4_seed4.toml")["L_a_1"].unit == "dB"
+
+
+# ------------------------------------------------------------------ measurements as the manual's
+
+def test_lab1_measurements_are_the_manual_table_run_n_t_T():
+    res = reduced(ROOT / "sample_data/lab1/flywheel.toml")
+    trifilar = next(t for t in res.measurements if t.title["en"].startswith("Trifilar"))
+    assert [h["en"] for _, h in trifilar.columns][:4] == ["Run", "n", "t, s", "T = t/n, s"]
+    assert len(trifilar.rows) == 3
+    for row in trifilar.rows:
+        assert float(row["T = t/n, s"]) == pytest.approx(float(row["t, s"]) / float(row["n"]),
+                                                         abs=5e-4)
+
+
+@pytest.mark.parametrize("lang", LANGS)
+def test_measurements_come_before_the_results_in_html_and_pdf(lang):
+    from processing.reporting.i18n import text
+
+    path = ROOT / "sample_data/lab1/flywheel.toml"
+    t = text(lang)
+    html = to_html(reduced(path), lang, pngs=[])
+    assert html.index(f"<h2>{t['inputs']}</h2>") < html.index(f"<h2>{t['all_results']}</h2>")
+    pages = " ".join(pdf_pages(path, lang))
+    title = build(reduced(path), lang)["measurements"][0]["title"]
+    assert pages.index(title[:30]) < pages.index(t["all_results"])
+
+
+def test_a_loading_programme_is_its_steps_and_a_reading_without_u_shows_none():
+    """Lab 9's loads are a programme, not one quantity measured again (no mean ± u); lab 4's
+    meter readings state no u, so none is shown (not 0)."""
+    lab9 = build(reduced(ROOT / "sample_data/lab9/table1.toml"), "en")["inputs"]
+    moment = next(r for r in lab9 if r["symbol"] == "M")
+    assert moment["value"] == "" and moment["u"] == ""
+    assert moment["readings"].startswith("90, 180, 270, 315")
+    lab4 = build(reduced(ROOT / "sample_data/lab4/lab4_seed4.toml"), "en")["inputs"]
+    assert all(r["u"] != "0" for r in lab4)
+    assert any(r["section"].startswith("reading") and r["value"] and r["u"] == "" for r in lab4)

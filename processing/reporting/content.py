@@ -121,7 +121,7 @@ def build(res, lang: str = "en") -> dict:
         lo, hi = (r.shown(x) for x in e.interval95)
         results.append({
             "name": name, "label": r.label[lang], "symbol": r.symbol, "value": v,
-            "U": "—" if exact else U, "exact": exact,
+            "U": "—" if exact else U, "k": "—" if exact else f"{e.k:.2g}", "exact": exact,
             "unit": unit_text(r.display_unit, lang), "rel": f"{100 * e.relative_U:.2g}\u00a0%"
             if math.isfinite(e.relative_U) and not exact else "—",
             "interval": f"[{lo:.5g}, {hi:.5g}]" if math.isfinite(lo) and not exact else "—",
@@ -137,17 +137,21 @@ def build(res, lang: str = "en") -> dict:
             "agree": t["yes"] if c.agree else t["no"], "ok": c.agree})
     inputs = []
     for row in res.inputs:
-        if "u" in row:
+        if row.get("series"):           # a programme of steps: the steps, no mean or u
+            v, u, readings = "", "", _readings(row["readings"], lang)
+        elif "u" in row:
             v, u = fmt_pm(row["value"], row["u"])
+            u = u if row["u"] > 0 else ""       # a reading without a stated u shows none
             readings = _readings(row.get("readings", []), lang)
         else:
             v, u, readings = str(row["value"]), "", ""
         inputs.append({"section": row["section"], "symbol": row["symbol"],
                        "label": row["label"][lang], "value": v, "u": u,
                        "unit": unit_text(row["unit"], lang), "readings": readings})
-    tables = [{"title": tb.title[lang], "columns": [h[lang] for _, h in tb.columns],
-               "rows": [[_cell(r.get(k, ""), lang) for k, _ in tb.columns] for r in tb.rows]}
-              for tb in res.tables]
+    tables, measurements = ([{"title": tb.title[lang], "columns": [h[lang] for _, h in tb.columns],
+                              "rows": [[_cell(r.get(k, ""), lang) for k, _ in tb.columns]
+                                       for r in tb.rows]} for tb in group]
+                            for group in (res.tables, res.measurements))
     return _localized({
         "summary": _summary(res, results, lang),
         "university": meta.pop("university", UNIVERSITY[lang]),
@@ -157,6 +161,7 @@ def build(res, lang: str = "en") -> dict:
         "inputs": inputs, "results": results,
         "uncertain": any(not r["exact"] for r in results),
         "inputs_uncertain": any(row.get("u", 0) for row in res.inputs), "comparisons": comparisons, "tables": tables,
+        "measurements": measurements,
         "formulas": [f[lang] for f in res.formulas],
         "references": [r[lang] for r in res.references],
         "warnings": [w.text(lang) for w in res.warnings],

@@ -7,7 +7,7 @@ from processing.units import unit_text
 
 
 def method_chart(fig, results, lang: str = "en") -> None:
-    """One quantity estimated by several methods: value, k = 2 bar and Monte Carlo 95 % ticks.
+    """One quantity estimated by several methods: value, ± U bar and Monte Carlo 95 % ticks.
 
     Parameters
     ----------

@@ -97,9 +97,9 @@ def _results_table(table, c, t):
         return table([t["quantity"], t["value"], t["unit"]],
                      [[f"{r['label']} ({r['name']})", r["value"], r["unit"]]
                       for r in c["results"]])
-    return table([t["quantity"], t["value"], t["U"], t["unit"], t["rel"], t["interval"],
+    return table([t["quantity"], t["value"], t["U"], "k", t["unit"], t["rel"], t["interval"],
                   t["budget"]],
-                 [[f"{r['label']} ({r['name']})", r["value"], r["U"], r["unit"], r["rel"],
+                 [[f"{r['label']} ({r['name']})", r["value"], r["U"], r["k"], r["unit"], r["rel"],
                    r["interval"], r["budget"]] for r in c["results"]])
 
 
@@ -154,6 +154,10 @@ def to_pdf(res, lang: str = "en", pngs=()) -> bytes:
     story += [p(t["see_warnings"], "h3")]
     story += [p(w, "warn") for w in c["warnings"]] or [p(t["no_warnings"])]
     story += [p(t["goal"], "h2"), p(c["goal"])]
+    if c["measurements"]:
+        story += [p(t["inputs"], "h2")]
+        for tb in c["measurements"]:
+            story += [p(tb["title"], "h3"), table(tb["columns"], tb["rows"])]
     story += [p(t["formulas"], "h2")] + [p("• " + f) for f in c["formulas"]]
     story += [p(t["all_results"], "h2"), _results_table(table, c, t),
               p(t["uncertainty_note" if c["uncertain"] else "exact_note"], "small")]
