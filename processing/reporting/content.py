@@ -6,6 +6,7 @@ the chosen language; renderers only lay them out.
 from __future__ import annotations
 
 import math
+import re
 
 from processing.numerals import localize_numbers
 from processing.units import unit_text
@@ -46,8 +47,42 @@ def _budget(r, lang: str, names: dict[str, str], top: int = 3) -> str:
     file → how the report names it) or, failing that, by its key."""
     items = sorted(r.estimate.contributions.items(), key=lambda kv: -kv[1])
     total = sum(c * c for _, c in items) or 1.0
-    return ", ".join(f"{names.get(k, k)} {100 * c * c / total:.0f} %"
+    return ", ".join(f"{names.get(k, _model_name(k) if names else k)} "
+                     f"{100 * c * c / total:.0f} %"
                      for k, c in items[:top] if c * c / total >= 0.005)
+
+
+GREEK = {"alpha": "α", "beta": "β", "gamma": "γ", "delta": "δ", "epsilon": "ε", "zeta": "ζ",
+         "eta": "η", "theta": "θ", "kappa": "κ", "lambda": "λ", "mu": "μ", "nu": "ν", "xi": "ξ",
+         "pi": "π", "rho": "ρ", "sigma": "σ", "tau": "τ", "phi": "φ", "chi": "χ", "psi": "ψ",
+         "omega": "ω"}
+"""Greek letters a key spells in Latin (``omega``), as a Russian report prints them."""
+
+_WORD = re.compile(r"[a-z]{3,}(?:_[a-z0-9]+)*")
+"""A key that is an English word (``tdc_channel``, ``shape``), not a symbol (``m_ref``)."""
+
+
+def _symbol(symbol: str, lang: str) -> str:
+    """An input's symbol as a report prints it: in Russian, a key that is an English word
+    (an input the manual gives no symbol) is left out, its description says what it is.
+
+    >>> _symbol("tdc_channel", "ru"), _symbol("m_ref", "ru"), _symbol("shape", "en")
+    ('', 'm_ref', 'shape')
+    """
+    return "" if lang == "ru" and _WORD.fullmatch(symbol) and symbol not in GREEK else symbol
+
+
+def _model_name(key: str) -> str:
+    """A measurement model's input that is no field of the file, as a Russian budget names it:
+    its last part (a Greek letter spelt out written as the letter) and the part before it
+    where that is a symbol, not an English word (``r7.omega`` → ``ω (r7)``).
+
+    >>> _model_name("r7.omega"), _model_name("chain.c4"), _model_name("lever")
+    ('ω (r7)', 'c4', 'lever')
+    """
+    head, _, last = key.rpartition(".")
+    last = GREEK.get(last, last)
+    return f"{last} ({head})" if head and not _WORD.fullmatch(head) else last
 
 
 def _input_names(rows, lang: str) -> dict[str, str]:
@@ -193,7 +228,7 @@ def build(res, lang: str = "en") -> dict:
             readings = _readings(row.get("readings", []), lang)
         else:
             v, u, readings = _plain_value(row, lang), "", ""
-        inputs.append({"section": _section(row, lang), "symbol": row["symbol"],
+        inputs.append({"section": _section(row, lang), "symbol": _symbol(row["symbol"], lang),
                        "label": row["label"][lang], "value": v, "u": u,
                        "unit": unit_text(row["unit"], lang), "readings": readings})
     tables = [{"title": tb.title[lang], "columns": [h[lang] for _, h in tb.columns],
@@ -209,10 +244,10 @@ def build(res, lang: str = "en") -> dict:
         "uncertain": any(not r["exact"] for r in results),
         "inputs_uncertain": any(row.get("u", 0) for row in res.inputs), "comparisons": comparisons, "tables": tables,
         "formulas": [f[lang] for f in res.formulas],
-        "references": [r[lang] for r in res.references],
         "warnings": [w.text(lang) for w in res.warnings],
         "warning_codes": [w.code for w in res.warnings],
         "conclusion": [c[lang] for c in res.conclusion],
         "figures": [(f.name, f.caption[lang]) for f in res.figures],
     }, lang) | {"t": t, "lang": lang, "source": res.source,
+                "references": [r[lang] for r in res.references],   # cited as published
                 "meta": [(t.get(k, k), v) for k, v in meta.items() if v]}
