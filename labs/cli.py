@@ -7,6 +7,9 @@
     dynlab kinematics --lambda 0.25 [--offset z] [--step 5] [--approx] [--format table|csv]
 
 Bad input prints one message naming the file, the field and the fix, and exits with 2.
+The command's own lines and its messages are in the language of ``--lang``, or, where a
+command is given none, of the locale (``LC_ALL``, ``LC_MESSAGES``, ``LANG`` beginning with
+``ru``); a message the toolkit has no Russian for is printed in English.
 """
 from __future__ import annotations
 
@@ -27,6 +30,24 @@ from .registry import LABS, evaluate, lab_module
 # so that `dynlab list` and `--help` answer at once.
 
 EXIT_INPUT = 2
+
+
+def locale_lang(environ=os.environ) -> str:
+    """The language of the command's messages when no ``--lang`` is given: the locale's
+    (the first of ``LC_ALL``, ``LC_MESSAGES``, ``LANG`` that is set, as POSIX reads them).
+
+    >>> locale_lang({"LANG": "ru_RU.UTF-8"}), locale_lang({"LC_ALL": "C", "LANG": "ru_RU"})
+    ('ru', 'en')
+    """
+    for name in ("LC_ALL", "LC_MESSAGES", "LANG"):
+        if environ.get(name):
+            return "ru" if environ[name].lower().startswith("ru") else "en"
+    return "en"
+
+
+def say(lang: str, en: str, ru: str) -> str:
+    """One of the command's own lines in ``lang``."""
+    return ru if lang == "ru" else en
 
 
 MAX_SEED = 2**63 - 1
@@ -67,7 +88,9 @@ def _write(result, out: Path, stem: str, formats, lang: str) -> list[Path]:
         return write_reports(result, out, stem, formats, lang)
     except OSError as exc:
         raise InputError(f"cannot write the reports there ({exc.strerror or exc})",
-                         "give --out a folder you can write to", file=str(out)) from None
+                         "give --out a folder you can write to", file=str(out),
+                         ru=(f"отчёты туда не записать ({exc.strerror or exc})",
+                             "укажите в --out папку, в которую можно писать")) from None
 
 
 def _stems(files) -> list[str]:
@@ -89,13 +112,15 @@ def _stems(files) -> list[str]:
     return stems
 
 
-def _unique(files) -> list[str]:
+def _unique(files, lang: str = "en") -> list[str]:
     """The files, each once (a file given twice is reduced once, and the user told)."""
     seen, kept = set(), []
     for f in files:
         key = resolved(f)
         if key in seen:
-            print(f"note: {f} is given more than once; it is reduced once", file=sys.stderr)
+            print(say(lang, f"note: {f} is given more than once; it is reduced once",
+                      f"примечание: {f} указан не один раз; он обработан однажды"),
+                  file=sys.stderr)
             continue
         seen.add(key)
         kept.append(f)
@@ -109,13 +134,13 @@ def _internal(exc: Exception, where: str | None = None) -> str:
 
 
 def _run_files(files, out: Path | None, formats, lang: str, as_json: bool,
-               confine: bool = False, debug: bool = False) -> int:
+               confine: bool = False, debug: bool = False, says: str = "en") -> int:
     """Reduce each file; write its reports to ``out`` (None: write nothing) in ``formats``
     (None: every format). A bad file, or one the toolkit fails on, is reported and the others
     are reduced; a path that is no measurement file is refused before the reduction's and the
-    reports' libraries are loaded."""
+    reports' libraries are loaded. The messages are in ``says``, the reports in ``lang``."""
     failures, crashes, documents = 0, 0, []
-    files = _unique(files)
+    files = _unique(files, says)
     for path, stem in _progress(list(zip(files, _stems(files))), "reducing"):
         try:
             regular(path, MEASUREMENT)
@@ -127,7 +152,7 @@ def _run_files(files, out: Path | None, formats, lang: str, as_json: bool,
                 if out is not None else []
             written = _write(result, out, stem, formats, lang) if out is not None else []
         except InputError as exc:
-            print(f"error: {exc}", file=sys.stderr)
+            print(exc.line(says), file=sys.stderr)
             failures += 1
             continue
         except Exception as exc:
@@ -140,7 +165,8 @@ def _run_files(files, out: Path | None, formats, lang: str, as_json: bool,
             documents.append(to_json(result))
         else:
             print(to_terminal(result, lang))
-            print("  → " + ", ".join(str(p) + (" (replaced)" if p in replaced else "")
+            replaced_word = say(says, " (replaced)", " (заменён)")
+            print("  → " + ", ".join(str(p) + (replaced_word if p in replaced else "")
                                      for p in written))
     if documents:
         print(documents[0] if len(files) == 1 else "[\n" + ",\n".join(documents) + "\n]")
@@ -153,7 +179,7 @@ def _run(args) -> int:
     if out is not None:
         _writable_folder(out, "--out", "the reports")
     return _run_files(args.files, out, args.format, args.lang, args.json, args.confine,
-                      args.debug)
+                      args.debug, args.says)
 
 
 def _demo(args) -> int:
@@ -164,7 +190,8 @@ def _demo(args) -> int:
     data = sample_dir(args.data)
     files = sorted(data.glob("*/*.toml"))
     out = Path(args.out)
-    print(f"dynlab demo: {len(files)} sample files from {data} → {out}/")
+    print(say(args.says, f"dynlab demo: {len(files)} sample files from {data} → {out}/",
+              f"dynlab demo: {len(files)} файлов примеров из {data} → {out}/"))
     results = []
     for path in _progress(files, "demo"):
         results.append(evaluate(path))
@@ -172,7 +199,9 @@ def _demo(args) -> int:
     for result in results:
         print()
         print(to_terminal(result, args.lang))
-    print(f"\nreports (html, pdf, json) for {len(results)} files written to {out.resolve()}")
+    print(say(args.says, f"\nreports (html, pdf, json) for {len(results)} files written to "
+                         f"{out.resolve()}",
+              f"\nотчёты (html, pdf, json) по {len(results)} файлам записаны в {out.resolve()}"))
     return 0
 
 
@@ -183,7 +212,9 @@ def _template(args) -> int:
     text = template(module.SPEC, args.lang)
     if args.output:
         _write_file(Path(args.output), text, "-o")
-        print(f"wrote {args.output}: fill it in, then run: dynlab run {args.output}")
+        print(say(args.says, f"wrote {args.output}: fill it in, then run: dynlab run {args.output}",
+                  f"записан {args.output}: заполните его, затем запустите: dynlab run "
+                  f"{args.output}"))
     else:
         sys.stdout.write(text)
     return 0
@@ -200,12 +231,18 @@ def _write_file(path: Path, text: str, option: str) -> None:
         kind = None
     if kind is not None and not stat.S_ISREG(kind):
         raise InputError("it exists and is not a regular file", f"give {option} the name of "
-                         "a new file, or of a file to replace", file=str(path))
+                         "a new file, or of a file to replace", file=str(path),
+                         ru=("он существует и не является обычным файлом",
+                             f"укажите в {option} имя нового файла или файла, который можно "
+                             "заменить"))
     try:
         path.write_text(text, encoding="utf-8")
     except OSError as exc:
         raise InputError(f"cannot write it ({exc.strerror or exc})", f"give {option} a file "
-                         "in a folder you can write to", file=str(path)) from None
+                         "in a folder you can write to", file=str(path),
+                         ru=(f"его не записать ({exc.strerror or exc})",
+                             f"укажите в {option} файл в папке, в которую можно писать")
+                         ) from None
 
 
 def _kinematics(args) -> int:
@@ -213,7 +250,9 @@ def _kinematics(args) -> int:
 
     if not 0 < args.step <= 180:
         raise InputError(f"--step must be in (0, 180] degrees, got {args.step:g}",
-                         "give a step such as 5 or 15")
+                         "give a step such as 5 or 15",
+                         ru=(f"--step должен лежать в (0, 180] градусов, а не {args.step:g}",
+                             "задайте шаг, например 5 или 15"))
     table = kinematics_table(args.lambda_, args.offset, step_deg=args.step,
                              method="approx" if args.approx else "exact")
     table = table.rename(columns={"alpha_deg": "alpha", "beta_deg": "beta",
@@ -251,21 +290,29 @@ def _check(args) -> int:
             files.append(p)
     if folders and not files:
         raise InputError("no .toml submission in the folder", "give the folder holding the "
-                         "students' measurement files", file=str(folders[0]))
-    files = _unique(files)              # a file given twice is no pair of copies
+                         "students' measurement files", file=str(folders[0]),
+                         ru=("в папке нет ни одного файла .toml",
+                             "укажите папку с файлами измерений студентов"))
+    files = _unique(files, args.says)              # a file given twice is no pair of copies
     policy = read_policy(args.policy)
     if args.keys is not None and not folders:
         raise InputError("--keys goes with a class folder", "give the folder of the students' "
-                         "subfolders (as dynlab synth --students wrote them)", file=args.keys)
+                         "subfolders (as dynlab synth --students wrote them)", file=args.keys,
+                         ru=("--keys задают вместе с папкой группы",
+                             "укажите папку с подпапками студентов (как их записал dynlab "
+                             "synth --students)"))
     if args.keys is not None and not Path(args.keys).is_dir():
         raise InputError("--keys is not a folder", "give the folder of the answer keys, "
                          "KEYDIR/<id>/answer_key.json, as dynlab synth --students wrote it",
-                         file=args.keys)
+                         file=args.keys,
+                         ru=("--keys — не папка", "укажите папку ключей ответов, "
+                             "KEYDIR/<id>/answer_key.json, как её записал dynlab synth "
+                             "--students"))
     out = Path(args.out)
     if folders:
         _writable_folder(out, "--out", "the class summary")
     alone = len(files) == 1 and not folders
-    checks, refused = [], {}
+    checks, refused, said = [], {}, []      # refused: for the summary; said: on stderr
     for path in _progress(files, "check"):
         try:
             key = None if args.keys is None else read_key(_key_of(path, folders, args.keys))
@@ -273,11 +320,13 @@ def _check(args) -> int:
         except InputError as exc:
             if alone:
                 raise
-            refused[str(path)] = str(exc)
+            refused[str(path)] = exc.text(args.lang)
+            said.append(exc.line(args.says))
         except Exception as exc:
             if alone or args.debug:
                 raise
             refused[str(path)] = _internal(exc, str(path))
+            said.append(refused[str(path)])
     unknown_expected(checks, policy)
     pairs = copied_pairs(checks)
     if args.json:
@@ -287,36 +336,42 @@ def _check(args) -> int:
         for c in checks:
             print(terminal(c, args.lang))
         for a, b in pairs:
-            print(f"same readings: {a} and {b}")
-    for file, message in refused.items():
-        print(message if message.startswith("internal error") else f"error: {message}",
-              file=sys.stderr)
+            print(say(args.says, f"same readings: {a} and {b}",
+                      f"одинаковые отсчёты: {a} и {b}"))
+    for line in said:
+        print(line, file=sys.stderr)
     if folders:
         try:
             written = write_summary(out, checks, refused, pairs, args.lang)
         except OSError as exc:
             raise InputError(f"cannot write the summary there ({exc.strerror or exc})",
-                             "give --out a folder you can write to", file=str(out)) from None
-        print(f"class summary: {', '.join(str(w) for w in written)}", file=sys.stderr)
+                             "give --out a folder you can write to", file=str(out),
+                             ru=(f"сводку туда не записать ({exc.strerror or exc})",
+                                 "укажите в --out папку, в которую можно писать")) from None
+        print(say(args.says, "class summary: ", "сводка по группе: ")
+              + ", ".join(str(w) for w in written), file=sys.stderr)
     return EXIT_INPUT if refused else 0
 
 
 def _writable_folder(out: Path, option: str, what: str) -> None:
     """Refuse an output folder that is a file, or lies under one, or that the system cannot
     make (nothing is written yet)."""
-    problem = None
+    problem = problem_ru = None
     try:
         for p in (out, *out.parents):
             if p.exists():
                 if not p.is_dir():
                     problem = f"{'it' if p == out else repr(str(p))} is a file, not a folder"
+                    problem_ru = f"{'это' if p == out else repr(str(p))} — файл, а не папка"
                 break
     except OSError as exc:
-        problem = exc.strerror or str(exc)
+        problem = problem_ru = exc.strerror or str(exc)
     if problem is not None:
         raise InputError(f"cannot write {what} there: {problem}",
                          f"give {option} a folder you can write to (a new one is made)",
-                         file=str(out))
+                         file=str(out), ru=(f"туда не записать: {problem_ru}",
+                                            f"укажите в {option} папку, в которую можно писать "
+                                            "(новая будет создана)"))
 
 
 def _is_folder(path: Path) -> bool:
@@ -369,12 +424,16 @@ def _synth(args) -> int:
     if write is None:
         scenes = [k for k, m in LABS.items() if hasattr(m, "write_synthetic")]
         raise InputError(f"{args.lab} has no synthetic scene yet",
-                         f"use one of {', '.join(scenes)}")
+                         f"use one of {', '.join(scenes)}",
+                         ru=(f"у {args.lab} пока нет синтетической сцены",
+                             f"выберите одну из {', '.join(scenes)}"))
     takes = inspect.signature(write).parameters
     foreign = [name for name in given if name not in takes]
     if foreign:
         raise InputError(f"dynlab synth {args.lab} takes no {', '.join(foreign)}",
-                         f"leave those options out for {args.lab}")
+                         f"leave those options out for {args.lab}",
+                         ru=(f"dynlab synth {args.lab} не принимает {', '.join(foreign)}",
+                             f"уберите эти параметры для {args.lab}"))
     fmt = given.get("fmt", takes["fmt"].default if "fmt" in takes else None)
     _check_format(module, args.lab, fmt, given.get("sample_rate"))
     given.update({k: round(given[k] * 1e3, 6) for k in ("sample_rate",) if k in given})
@@ -391,7 +450,10 @@ def _synth(args) -> int:
     except OSError as exc:
         raise InputError(f"cannot write the synthetic measurement there "
                          f"({exc.strerror or exc})", "give --out a folder you can write to, "
-                         "on a disk with room", file=str(out)) from None
+                         "on a disk with room", file=str(out),
+                         ru=(f"синтетическое измерение туда не записать "
+                             f"({exc.strerror or exc})", "укажите в --out папку, в которую "
+                             "можно писать, на диске со свободным местом")) from None
     for path in written.values():
         print(path)
     return 0
@@ -404,12 +466,22 @@ def _check_format(module, lab: str, fmt: str | None, sample_rate: float | None) 
         return
     if fmt not in formats:
         raise InputError(f"--format {fmt}: {lab} writes its records as "
-                         f"{', '.join(formats)}", f"give --format {' or '.join(formats)}")
+                         f"{', '.join(formats)}", f"give --format {' or '.join(formats)}",
+                         ru=(f"--format {fmt}: {lab} записывает свои записи как "
+                             f"{', '.join(formats)}", f"задайте --format {' или '.join(formats)}"))
     if fmt == "wav" and sample_rate is not None and \
             abs(sample_rate * 1e3 - round(sample_rate * 1e3)) > 1e-6:
         raise InputError(f"--sample-rate {sample_rate:g} kHz is not a whole number of "
                          "samples per second, which a WAV file stores",
-                         "give a sound card's rate, e.g. --sample-rate 44.1 or 48")
+                         "give a sound card's rate, e.g. --sample-rate 44.1 or 48",
+                         ru=(f"--sample-rate {sample_rate:g} кГц — не целое число отсчётов в "
+                             "секунду, а WAV-файл хранит только целое",
+                             "задайте частоту звуковой карты, например --sample-rate 44.1 "
+                             "или 48"))
+
+
+LANG_HELP = ("language of the reports and the messages: en or ru (default: en; the messages "
+             "follow a Russian locale)")
 
 
 def parser() -> argparse.ArgumentParser:
@@ -424,7 +496,7 @@ def parser() -> argparse.ArgumentParser:
                      "alone nothing is written)")
     run.add_argument("--format", type=_formats,
                      help="comma list of html,pdf,json (default: all)")
-    run.add_argument("--lang", choices=LANGS, default="en")
+    run.add_argument("--lang", choices=LANGS, help=LANG_HELP)
     run.add_argument("--json", action="store_true", help="print the result JSON to stdout")
     run.add_argument("--confine", action="store_true",
                      help="read no file outside each measurement file's folder (for checking "
@@ -433,12 +505,12 @@ def parser() -> argparse.ArgumentParser:
     sub.add_parser("list", help="list the labs").set_defaults(func=_list)
     tpl = sub.add_parser("template", help="write a blank measurement file for a lab")
     tpl.add_argument("lab")
-    tpl.add_argument("--lang", choices=LANGS, default="en")
+    tpl.add_argument("--lang", choices=LANGS, help=LANG_HELP)
     tpl.add_argument("-o", "--output", help="file to write (default: print)")
     tpl.set_defaults(func=_template)
     demo = sub.add_parser("demo", help="reduce the bundled sample data into reports")
     demo.add_argument("--out", default="dynlab-reports")
-    demo.add_argument("--lang", choices=LANGS, default="en")
+    demo.add_argument("--lang", choices=LANGS, help=LANG_HELP)
     demo.add_argument("--data", help="the sample_data folder (default: found automatically)")
     demo.set_defaults(func=_demo)
     kin = sub.add_parser("kinematics", help="table of dimensionless piston motion s, v, j")
@@ -459,7 +531,7 @@ def parser() -> argparse.ArgumentParser:
     chk.add_argument("--keys", metavar="KEYDIR", help="the answer keys of the variants "
                      "(KEYDIR/<id>/answer_key.json for FOLDER/<id>/): their results are "
                      "expected")
-    chk.add_argument("--lang", choices=LANGS, default="en")
+    chk.add_argument("--lang", choices=LANGS, help=LANG_HELP)
     chk.add_argument("--json", action="store_true", help="print the verdicts as JSON")
     chk.set_defaults(func=_check)
     syn = sub.add_parser("synth", help="write a synthetic measurement with its answer key")
@@ -502,10 +574,13 @@ def parser() -> argparse.ArgumentParser:
 
 def main(argv=None) -> int:
     args = parser().parse_args(argv)
+    args.says = getattr(args, "lang", None) or locale_lang()     # the messages' language
+    if hasattr(args, "lang"):
+        args.lang = args.lang or "en"          # a report's language is asked, not guessed
     try:
         return args.func(args)
     except InputError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(exc.line(args.says), file=sys.stderr)
         return EXIT_INPUT
     except BrokenPipeError:
         # the reader of stdout stopped (`dynlab run ... | head`): nothing is wrong with the

@@ -275,6 +275,15 @@ RIG_RADIUS = {**LENGTH, "plausible": ("10 mm", "500 mm")}
 SUSPENSION = {**LENGTH, "plausible": ("100 mm", "3000 mm")}
 """Lengths of a suspension's threads or wire."""
 
+SHAPES = {"cylinder": bi("cylinder", "цилиндр"), "thin_rod": bi("thin rod", "тонкий стержень"),
+          "torus": bi("torus", "тор"), "point_mass": bi("point mass", "точечная масса")}
+"""The simple bodies of the analytic model, as a report names them."""
+
+AXES = {"axial": bi("axial", "продольная"), "transverse": bi("transverse", "поперечная"),
+        "end": bi("transverse, through the end", "поперечная, через торец"),
+        "centre": bi("transverse, through the centre", "поперечная, через центр")}
+"""The axes of a simple body the model's inertia is taken about, as a report names them."""
+
 SPEC = LabSpec(
     id="lab1", number="1",
     title=bi("Moments of inertia of engine parts", "Определение моментов инерции деталей двигателя"),
@@ -299,9 +308,9 @@ SPEC = LabSpec(
                         "count — число одинаковых частей."),
                 fields=(
             Field("shape", bi("shape", "форма"), kind="choice",
-                  choices=("cylinder", "thin_rod", "torus", "point_mass")),
+                  choices=SHAPES),
             Field("axis", bi("axis", "ось"), kind="choice", default="axial",
-                  choices=("axial", "transverse", "end", "centre")),
+                  choices=AXES),
             Field("m", bi("mass of the part", "масса части"), **MASS, required=False),
             Field("rho", bi("density (instead of m)", "плотность (вместо m)"), unit="kg/m^3",
                   limit="100 kg/m^3", required=False, symbol="ρ", example="7200",
@@ -673,8 +682,10 @@ def _part_names(inputs: Inputs) -> dict:
 def _parts_table(inputs: Inputs, prop) -> Table:
     rows = []
     for i, p in enumerate(inputs["analytic"]):
-        label = f"{p['shape']} ({p['axis']})" + (f" ×{p['count']}" if p["count"] > 1 else "")
-        rows.append({"part": label + (" — hole" if p["hole"] else ""),
+        count = f" ×{p['count']}" if p["count"] > 1 else ""
+        hole = bi(" — hole", " — отверстие") if p["hole"] else bi("", "")
+        rows.append({"part": {lang: f"{SHAPES[p['shape']][lang]} ({AXES[p['axis']][lang]})"
+                              f"{count}{hole[lang]}" for lang in ("en", "ru")},
                      "m": f"{prop[f'm_part_{i}'].value:.4g}",
                      "J": f"{prop[f'J_part_{i}'].value:.5g}"})
     return Table(bi("Analytic model: the parts", "Расчётная модель: части детали"),

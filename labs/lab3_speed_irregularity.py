@@ -92,9 +92,14 @@ TACH_REFUSE = 0.15
 which the marks read are not the TDC marks (a lid's edge or a trace taken for their line, a
 wrong mark period): refused instead of warned."""
 
-PHOTO_FIX = ("photograph the oscillogram again, sharp and whole, with its speed trace, zero line "
-             "and marks in the frame")
+PHOTO_FIX = {"en": "photograph the oscillogram again, sharp and whole, with its speed trace, "
+                   "zero line and marks in the frame",
+             "ru": "сфотографируйте осциллограмму заново, резко и целиком, с линией скорости, "
+                   "нулевой линией и отметками в кадре"}
 """What to do about a flat or noise-only trace read off a photograph."""
+
+TOOTH_PULSES = {"en": "tooth pulses", "ru": "импульсов зубьев"}
+"""The pulses of the toothed wheel's sensor, as a message names them."""
 
 ORDINATE = dict(unit="mm", limit="0.5 mm", plausible=("1 mm", "500 mm"))
 """A height read off an oscillogram's paper with a ruler."""
@@ -130,11 +135,16 @@ SPEC = LabSpec(
             Field("cylinders", bi("number of cylinders", "число цилиндров"), kind="count",
                   required=False, symbol="i"),
             Field("kind", bi("kind (for the typical range)", "тип (для сравнения)"),
-                  kind="choice", choices=tuple(REFERENCE_RANGES), required=False),
+                  kind="choice", required=False,
+                  choices={k: TYPICAL_FOR[k] for k in REFERENCE_RANGES}),
         )),
         Section("analysis", bi("Signal analysis", "Обработка сигнала"), fields=(
             Field("edge_method", bi("edge timing between samples", "интерполяция фронта"),
-                  kind="choice", choices=EDGE_METHODS, default="fit"),
+                  kind="choice", default="fit",
+                  choices=dict(zip(EDGE_METHODS, (
+                      bi("linear", "линейная"), bi("cubic", "кубическая"),
+                      bi("fitted edge", "по подобранному фронту"),
+                      bi("matched pulse", "по образцу импульса"))))),
             Field("orders", bi("highest order of ω(α) fitted (default: chosen from the noise)",
                                "наибольший порядок гармоник ω(α) (по умолчанию — по шуму)"),
                   kind="count", required=False),
@@ -380,7 +390,7 @@ def _oscillogram(inputs: Inputs, i: int, entry: dict, revolutions: int) -> Oscil
                            "not both", field)
     channel = _speed_trace(inputs, i, entry)
     check_record(channel.value[np.isfinite(channel.value)], channel.sample_rate, file=str(path),
-                 field=field, channel=str(channel.name), purpose="δ", fix=PHOTO_FIX)
+                 field=field, channel=str(channel.name), purpose={"en": "δ", "ru": "δ"}, fix=PHOTO_FIX)
     tdc = channel.marks.get("tdc", np.array([]))
     starts = tdc[::revolutions]
     if starts.size < 3:
@@ -544,7 +554,7 @@ def _signal_edges(inputs: Inputs, i: int, entry: dict, method: str):
     path = entry["signal"]
     channel = open_channel(path, channel=entry.get("channel"), sample_rate=rate,
                            field=f"{where}.signal")
-    check_pulse_channel(channel, field=f"{where}.signal", pulses="tooth pulses")
+    check_pulse_channel(channel, field=f"{where}.signal", pulses=TOOTH_PULSES)
     times = _edges_of(channel, method)
     if times.size < 3:
         raise InputError(f"no tooth pulses found in channel '{channel.name}' "
@@ -556,7 +566,7 @@ def _signal_edges(inputs: Inputs, i: int, entry: dict, method: str):
     if "tdc_channel" in entry:
         mark = open_channel(path, channel=entry["tdc_channel"], sample_rate=rate,
                             field=f"{where}.tdc_channel")
-        check_pulse_channel(mark, field=f"{where}.tdc_channel", pulses="TDC marks")
+        check_pulse_channel(mark, field=f"{where}.tdc_channel", pulses={"en": "TDC marks", "ru": "отметок ВМТ"})
         tdc = _edges_of(mark, method)
     return times, tdc, channel.sample_rate * float(np.median(np.diff(times)))
 
@@ -587,7 +597,7 @@ def _calibration(inputs: Inputs, method: str):
     path = wheel["calibration"]
     channel = open_channel(path, channel=wheel.get("calibration_channel"),
                            field="wheel.calibration")
-    check_pulse_channel(channel, field="wheel.calibration", pulses="tooth pulses")
+    check_pulse_channel(channel, field="wheel.calibration", pulses=TOOTH_PULSES)
     track = _track(inputs, _edges_of(channel, method), "wheel.calibration", path)
     try:
         return calibrate_pitch(track)

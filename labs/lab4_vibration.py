@@ -57,8 +57,11 @@ from processing.torsiogram import Revolutions, revolutions, steady_crank_angle
 from processing.uncertainty import Measured, propagate
 from processing.units import parse_quantity
 
-DIRECTIONS = ("vertical", "transverse", "longitudinal")
-IGNITION = ("all", "cut")
+DIRECTIONS = {"vertical": bi("vertical", "вертикальное"),
+              "transverse": bi("transverse", "поперечное"),
+              "longitudinal": bi("longitudinal", "продольное")}
+IGNITION = {"all": bi("all cylinders", "все цилиндры"),
+            "cut": bi("one cylinder cut", "один цилиндр отключён")}
 RPM = 30 / np.pi
 """min⁻¹ per rad/s."""
 
@@ -174,7 +177,9 @@ SPEC = LabSpec(
                                      "(10⁻⁶ m/s², 10⁻⁹ m/s, 10⁻¹² m) or GOST 25275 "
                                      "(3·10⁻⁴ m/s², 5·10⁻⁸ m/s, 8·10⁻¹² m)",
                                      "опорные значения шкалы дБ: ISO 1683 или ГОСТ 25275"),
-                  kind="choice", choices=("iso1683", "gost25275"), default="iso1683"),
+                  kind="choice", default="iso1683",
+                  choices={"iso1683": bi("ISO 1683", "ISO 1683"),
+                           "gost25275": bi("GOST 25275", "ГОСТ 25275")}),
         )),
         Section("point", bi("Measuring point", "Точка измерения"), many=True, required=True,
                 fields=(
@@ -197,7 +202,9 @@ SPEC = LabSpec(
                             "(an ignition pickup), or TDC once per revolution",
                             "отметки: ВМТ сгорания 1-го цилиндра раз за цикл (датчик "
                             "зажигания) или ВМТ раз за оборот"),
-                  kind="choice", choices=("cycle", "revolution"), default="cycle"),
+                  kind="choice", default="cycle",
+                  choices={"cycle": bi("once a cycle", "раз за цикл"),
+                           "revolution": bi("once a revolution", "раз за оборот")}),
             Field("sample_rate", bi("sample rate, if the file does not say",
                                     "частота дискретизации, если её нет в файле"),
                   **SAMPLE_RATE, required=False, symbol="f_s"),
@@ -458,7 +465,7 @@ def _record(inputs: Inputs, i: int, entry: dict, points: int, phases) -> Recorde
     data = [c.read().astype(float) * c.volts_per_code for c in accelerometers]
     for name, x in zip(names, data):
         check_record(x, rate, file=str(path), field=f"{where}.channels", channel=name,
-                     least_duration=LEAST_DURATION, purpose="the meter's band reading",
+                     least_duration=LEAST_DURATION, purpose={"en": "the meter's band reading", "ru": "показания прибора в полосе"},
                      broadband=True)
     strokes = inputs["engine"]["strokes"]
     timing = _timing(entry, tdc, rate, data[0].size, strokes, refuse, where)

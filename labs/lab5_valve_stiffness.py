@@ -106,7 +106,7 @@ SPEC = LabSpec(
         Section("gauges", bi("Dial gauges", "Индикаторы"), required=True, fields=(
             Field("unit", bi("unit of the gauge readings: divisions or mm",
                              "единицы показаний индикаторов: деления или мм"),
-                  kind="choice", choices=("div", "mm")),
+                  kind="choice", choices={"div": bi("divisions", "деления"), "mm": bi("mm", "мм")}),
             Field("division", bi("scale value of a division", "цена деления"), unit="mm",
                   default="0.01 mm", symbol="e", plausible=("0.001 mm", "0.1 mm")),
             Field("scale_limit", bi("limit of a gauge's proportional (scale) error",

@@ -15,6 +15,7 @@ from processing.diagnostics import (GaugeBackwardsWarning, InconsistentInputWarn
                                     LargeHysteresisWarning, TableCurvatureWarning)
 from processing.load_cycle import BRANCHES, LoadCycle
 from processing.measurement import bi
+from processing.numerals import plural
 from processing.reporting.content import fmt_pm, result_pm
 from processing.result import KEY, STRICTLY_POSITIVE, Figure, Table, computed
 from processing.uncertainty import Estimate
@@ -692,7 +693,9 @@ def input_rows(rows: list[dict], data: Data) -> list[dict]:
         si = {names[0]: cycle.x.tolist(), **{n: y.tolist() for n, y in zip(names[1:], cycle.y)}}
         header = row["value"].strip().splitlines()[0].strip()
         new = {k: v for k, v in row.items() if k != "u"}
-        new["value"] = f"{header} — {cycle.x.size} rows"
+        new["value"] = f"{header} — {plural(cycle.x.size, ('row', 'rows'), 'en')}"
+        new["value_label"] = bi(new["value"], f"{header} — "
+                                f"{plural(cycle.x.size, ('строка', 'строки', 'строк'), 'ru')}")
         new["label"] = bi(f"{row['label']['en']} (SI in JSON: N, m)",
                           f"{row['label']['ru']} (в JSON — СИ: Н, м)")
         new["si"] = {"value": si, "u": None, "unit": "N, m", "readings": []}

@@ -75,8 +75,10 @@ CLIPPED_FORCE = (
     "(P_min) этого режима в результаты не включена")
 """What a clipped force channel's warning says the reduction did (English, Russian)."""
 
-PHOTO_FIX = ("photograph the oscillogram again, sharp and whole, with each valve's trace, its "
-             "zero and the marks in the frame")
+PHOTO_FIX = {"en": "photograph the oscillogram again, sharp and whole, with each valve's "
+                   "trace, its zero and the marks in the frame",
+             "ru": "сфотографируйте осциллограмму заново, резко и целиком, с линией каждого "
+                   "клапана, её нулём и отметками в кадре"}
 """What to do about a flat or noise-only trace read off a photograph."""
 
 MARKS_FIX = ("check the time-mark generator's lead to the recorder and record again, or leave "
@@ -113,7 +115,7 @@ SPEC = LabSpec(
                 required=True, many=True, help=report.VALVE_HELP, fields=(
             Field("name", bi("which valve: in (inlet) or ex (exhaust)",
                              "клапан: in (впускной) или ex (выпускной)"), kind="choice",
-                  choices=VALVES),
+                  choices={"in": bi("inlet", "впускной"), "ex": bi("exhaust", "выпускной")}),
             Field("channel", bi("its channel in the records (default: its name)",
                                 "его канал в записях (по умолчанию — имя клапана)"),
                   kind="text", required=False),
@@ -288,12 +290,11 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
         traces = {v: c.read().astype(float) * c.volts_per_code
                   for v, c in zip(names, channels)}
         labels = {v: str(c.name) for v, c in zip(names, channels)}
-        tdc = _pulse_marks(channels[len(names)], rate, f"{where}.tdc_channel", "TDC marks",
-                           SENSOR_FIX)
+        tdc = _pulse_marks(channels[len(names)], rate, f"{where}.tdc_channel", {"en": "TDC marks", "ru": "отметок ВМТ"}, SENSOR_FIX)
         if len(channels) > len(names) + 1:
             marks = channels[-1]
             check_time_marks(inputs, "engine", marks.name,
-                             _pulse_marks(marks, rate, f"{where}.marks_channel", "time marks",
+                             _pulse_marks(marks, rate, f"{where}.marks_channel", {"en": "time marks", "ru": "отметок времени"},
                                           MARKS_FIX), rate,
                              lambda problem, fix, key: InputError(
                                  problem, fix, file=marks.path, field=f"{where}.{key}"),
@@ -301,7 +302,7 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
         photos = {}
     for valve, x in traces.items():
         check_record(x, rate, file=str(path), field=field, channel=labels[valve],
-                     purpose="the valve's forces", fix=PHOTO_FIX if photos else SENSOR_FIX,
+                     purpose={"en": "the valve's forces", "ru": "сил в клапане"}, fix=PHOTO_FIX if photos else SENSOR_FIX,
                      clipped_effect=CLIPPED_FORCE)
     size = next(iter(traces.values())).size
     return np.arange(size) / rate, traces, tdc, photos
@@ -319,7 +320,7 @@ def _distinct(inputs: Inputs, uses: list[tuple[str, object, str]]) -> None:
         seen[str(channel)] = use
 
 
-def _pulse_marks(channel, rate: float, field: str, pulses: str, fix: str) -> np.ndarray:
+def _pulse_marks(channel, rate: float, field: str, pulses: dict, fix: dict) -> np.ndarray:
     """The marks' times of a recorded pulse channel, refused flat or noise only. [s]"""
     x = channel.read().astype(float) * channel.volts_per_code
     check_pulses(x, rate, file=str(channel.path), field=field, channel=str(channel.name),

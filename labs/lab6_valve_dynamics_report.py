@@ -20,6 +20,8 @@ RPM_SI = math.pi / 30
 
 VALVE_WORDS = {"in": bi("inlet", "впускной"), "ex": bi("exhaust", "выпускной")}
 VALVE_GENITIVE = {"in": "впускного", "ex": "выпускного"}
+VALVE_SHORT_RU = {"in": "вп.", "ex": "вып."}
+"""The valves as a Russian figure's legend names them."""
 
 # ------------------------------------------------------------------------ the file's help
 
@@ -168,12 +170,12 @@ def bent_calibration(valve: str, bend) -> TableCurvatureWarning:
 def contact_lost(lost, seps, results) -> ContactLossWarning:
     items = ", ".join(f"{i} ({v}, δ = {_mm(c)} mm, {w / RPM_SI:.0f} min⁻¹: "
                       f"{math.degrees(a):.1f}°)" for i, v, a, c, w in lost)
-    items_ru = ", ".join(f"{i} ({v}, δ = {_mm(c)} мм, {w / RPM_SI:.0f} мин⁻¹: "
+    items_ru = ", ".join(f"{i} ({VALVE_SHORT_RU[v]}, δ = {_mm(c)} мм, {w / RPM_SI:.0f} мин⁻¹: "
                          f"{math.degrees(a):.1f}°)" for i, v, a, c, w in lost)
     where = "; ".join(f"{s.valve}, δ = {_mm(s.clearance)} mm from about "
                       f"{results[s.name].value / RPM_SI:.0f} min⁻¹" for s in seps
                       if s.name in results)
-    where_ru = "; ".join(f"{s.valve}, δ = {_mm(s.clearance)} мм — примерно с "
+    where_ru = "; ".join(f"{VALVE_SHORT_RU[s.valve]}, δ = {_mm(s.clearance)} мм — примерно с "
                          f"{results[s.name].value / RPM_SI:.0f} мин⁻¹" for s in seps
                          if s.name in results)
     return ContactLossWarning(
@@ -191,7 +193,7 @@ def contact_lost(lost, seps, results) -> ContactLossWarning:
 def poor_oscillation(poor, limit: float) -> FreeOscillationWarning:
     items = ", ".join(f"{i} ({v}: " + ("none fitted" if u is None else f"u {100 * u:.1f} %")
                       + ")" for i, v, u in poor)
-    items_ru = ", ".join(f"{i} ({v}: " + ("не найдена" if u is None else f"u {100 * u:.1f} %")
+    items_ru = ", ".join(f"{i} ({VALVE_SHORT_RU[v]}: " + ("не найдена" if u is None else f"u {100 * u:.1f} %")
                          + ")" for i, v, u in poor)
     return FreeOscillationWarning(
         f"records {items}: the drive's free oscillations are too few or too weak after the "
@@ -329,7 +331,7 @@ def _draw_forces(fig, recorded, results, seps, lang):
                            label=_t(lang, f"separation, δ = {_mm(s.clearance)}: {n_sep:.0f}",
                                     f"разрыв, δ = {_mm(s.clearance)}: {n_sep:.0f}"))
         ax.axhline(0, color="0.3", lw=0.6)
-        ax.set_ylabel(_t(lang, f"force, N ({v})", f"сила, Н ({v})"))
+        ax.set_ylabel(_t(lang, f"force, N ({v})", f"сила, Н ({VALVE_WORDS[v]['ru']})"))
         ax.grid(alpha=0.3)
         ax.legend(fontsize=6, ncol=2)
     axes[-1].set_xlabel(_t(lang, "n, min⁻¹", "n, мин⁻¹"))
@@ -343,7 +345,7 @@ def _draw_phases(fig, recorded, results, lang):
             val = np.degrees([results[f"phi_crank_{v}_{r.number}"].value for r in recs])
             U = np.degrees([results[f"phi_crank_{v}_{r.number}"].estimate.U for r in recs])
             ax.errorbar(n, val, U, fmt="o-", ms=4, lw=1, capsize=2,
-                        label=f"φ {v}, δ = {_mm(c)}")
+                        label=f"φ {v if lang == 'en' else VALVE_SHORT_RU[v]}, δ = {_mm(c)}")
     ax.set_xlabel(_t(lang, "n, min⁻¹", "n, мин⁻¹"))
     ax.set_ylabel(_t(lang, "opening duration, crank °", "продолжительность открытия, ° п.к.в."))
     ax.grid(alpha=0.3)

@@ -205,7 +205,9 @@ SPEC = LabSpec(
                   **SAMPLE_RATE, required=False, symbol="f_s"),
             Field("n", bi("speed by the tachometer", "частота вращения по тахометру"),
                   **ENGINE_SPEED, limit="5 rpm", required=False, symbol="n_t"),
-            Field("load", bi("load", "нагрузка"), kind="choice", choices=LOADS,
+            Field("load", bi("load", "нагрузка"), kind="choice", choices=dict(zip(LOADS, (
+                      bi("idle", "холостой ход"), bi("part load", "частичная нагрузка"),
+                      bi("full load", "полная нагрузка")))),
                   default="full"),
         )),
         image_section(),
@@ -447,7 +449,7 @@ def _recorded(inputs: Inputs, where: str, entry: dict, refuse):
     _check_length(inputs, entry, trace.size, rate, refuse)
     check_record(trace, rate, file=file,
                  field=f"{where}.{'channel' if 'channel' in entry else 'signal'}",
-                 channel=channels[0].name, purpose="the torsiogram's orders")
+                 channel=channels[0].name, purpose={"en": "the torsiogram's orders", "ru": "гармоник торсиограммы"})
     tdc_times = _tdc_marks(inputs, entry, tdc, rate, channels[1].name, refuse)
     if len(channels) == 3:
         x = channels[2].read().astype(float)
@@ -523,7 +525,7 @@ def _photographed(inputs: Inputs, where: str, entry: dict):
                          "revolutions", file=str(path), field=field)
     trace = channel.read() * 1e3
     check_record(trace, channel.sample_rate, file=str(path), field=field,
-                 channel=channel.name, purpose="the torsiogram's orders")
+                 channel=channel.name, purpose={"en": "the torsiogram's orders", "ru": "гармоник торсиограммы"})
     try:
         revolutions(tdc_times, per_revolution=inputs["torsiograph"]["tdc_per_revolution"])
     except InputError as exc:

@@ -395,11 +395,11 @@ _DECLARED = {
                 "(амплитуда)"), "F_j2", "N"),
     "M_r_free": (bi("free centrifugal moment, counterweights included (amplitude)",
                     "свободный момент центробежных сил с противовесами (амплитуда)"),
-                 "M_r free", "N*m"),
+                 "ΣM_r", "N*m"),
     "M_j1_free": (bi("free first-order moment (amplitude)", "свободный момент сил I порядка "
-                     "(амплитуда)"), "M_j1 free", "N*m"),
+                     "(амплитуда)"), "ΣM_j1", "N*m"),
     "M_j2_free": (bi("free second-order moment (amplitude)", "свободный момент сил II порядка "
-                     "(амплитуда)"), "M_j2 free", "N*m"),
+                     "(амплитуда)"), "ΣM_j2", "N*m"),
     "omega": (bi("crankshaft angular speed", "угловая скорость коленчатого вала"), "ω", "rad/s"),
 }
 RESULTS = with_key(_DECLARED, KEY_RESULTS)

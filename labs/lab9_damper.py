@@ -73,8 +73,10 @@ DECAY_CLIPPED = (
     "по оставшемуся")
 """What a clipped decay record's warning says the reduction did (English, Russian)."""
 
-PHOTO_FIX = ("photograph the paper record again, sharp and whole, with its trace and time "
-             "marks in the frame")
+PHOTO_FIX = {"en": "photograph the paper record again, sharp and whole, with its trace and "
+                   "time marks in the frame",
+             "ru": "сфотографируйте бумажную запись заново, резко и целиком, с линией записи и "
+                   "отметками времени в кадре"}
 """What to do about a flat or noise-only trace read off a photograph."""
 
 SPEC = LabSpec(
@@ -91,7 +93,8 @@ SPEC = LabSpec(
         Section("damper", bi("The damper", "Демпфер"), fields=(
             Field("rubber", bi("rubber of the layer (for the typical C_d/C)",
                                "резина слоя (для типичного C_d/C)"), kind="choice",
-                  choices=tuple(RUBBER_RATIO), required=False),
+                  choices={"natural": bi("natural", "натуральная"),
+                           "synthetic": bi("synthetic", "синтетическая")}, required=False),
         )),
         Section("run", bi("Static loop: one run of loading and unloading (Table 1)",
                           "Статическая петля: один опыт нагружения и разгружения (табл. 1)"),
@@ -99,7 +102,9 @@ SPEC = LabSpec(
                 help=report.RUN_HELP,
                 fields=(
                     Field("direction", bi("direction of the twist", "направление закрутки"),
-                          kind="choice", choices=tuple(DIRECTIONS), default="forward"),
+                          kind="choice", default="forward",
+                          choices={"forward": bi("forward", "прямое"),
+                                   "reverse": bi("reverse", "обратное")}),
                     Field("M", bi("moment, in the order applied", "момент в порядке нагружения"),
                           unit="N*m", limit="0.5 N*m", allow_zero=True, symbol="M",
                           example="[90, 180, 270, 315, 270, 180, 90, 0]", series=True,
@@ -490,7 +495,7 @@ def _record_decay(inputs: Inputs, scale) -> Decay:
                      "record the whole decay, from before the release until the swing dies "
                      "into the noise")
     quality = check_record(x, channel.sample_rate, file=str(path), field="decay.signal",
-                           channel=str(channel.name), purpose="the decrement", clip_refused=1.0,
+                           channel=str(channel.name), purpose={"en": "the decrement", "ru": "декремента"}, clip_refused=1.0,
                            fix=PHOTO_FIX if is_image(path) else SENSOR_FIX,
                            clipped_effect=DECAY_CLIPPED)
     clipped = clipped_mask(x) if quality.clipped else None

@@ -37,7 +37,9 @@ def lab_module(lab_id: str, file: str | None = None):
     if lab_id not in LABS:
         raise InputError(f"unknown lab {lab_id!r}",
                          f"use one of {', '.join(LABS)} ('dynlab list' shows them)",
-                         file=file, field="lab" if file else None)
+                         file=file, field="lab" if file else None,
+                         ru=(f"неизвестная работа {lab_id!r}",
+                             f"укажите одну из {', '.join(LABS)} (их показывает 'dynlab list')"))
     return LABS[lab_id]
 
 
@@ -55,7 +57,9 @@ def evaluate(path: str | Path, *, data: dict | None = None, confine: bool = Fals
     if lab_id is None:
         raise InputError("the file does not say which lab it is",
                          f"add a first line lab = \"lab1\" (one of {', '.join(LABS)})",
-                         file=str(path), field="lab")
+                         file=str(path), field="lab",
+                         ru=("в файле не сказано, к какой работе он относится",
+                             f"добавьте первой строкой lab = \"lab1\" (одну из {', '.join(LABS)})"))
     module = lab_module(str(lab_id), str(path))
     with collect_notices() as notices:
         inputs = load(path, module.SPEC, data, confine=confine)

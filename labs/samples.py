@@ -16,4 +16,6 @@ def sample_dir(given: str | None = None) -> Path:
         if c.is_dir() and any(c.glob("*/*.toml")):
             return c
     raise InputError("no sample data found", "run from the dynlab source folder, or give "
-                     "--data DIR with the sample_data folder", file=str(candidates[0]))
+                     "--data DIR with the sample_data folder", file=str(candidates[0]),
+                     ru=("данные примеров не найдены", "запустите из папки исходников dynlab "
+                         "или задайте --data DIR с папкой sample_data"))

@@ -70,11 +70,15 @@ class Split:
     quoted: str
     readings: tuple[float, ...] = ()
 
-    def problem(self, what: str) -> str:
+    def problem(self, what: str, lang: str = "en") -> str:
         """What went wrong, showing the line."""
-        return f"line {self.line}, `{self.text}`: {what}"
+        return f"{'строка' if lang == 'ru' else 'line'} {self.line}, `{self.text}`: {what}"
 
-    def fix(self) -> str:
+    def fix(self, lang: str = "en") -> str:
+        if lang == "ru":
+            return (f"пишите десятичные точки, {self.fixed}, или возьмите каждое число в "
+                    f"кавычки, {self.quoted} (целые числа в массиве — с пробелом после каждой "
+                    f"запятой)")
         return (f"write decimal points, {self.fixed}, or put each number in quotes, "
                 f"{self.quoted} (whole numbers in an array take a space after each comma)")
 

@@ -366,19 +366,45 @@ class InputError(ValueError):
         The measurement file.
     field : str, optional
         Dotted path of the field in the file, e.g. ``trifilar.l``.
+    ru : (str, str), optional
+        The problem and the fix in Russian (the command line's ``--lang ru``, or a Russian
+        locale). A message without them is printed in English in either language.
+
+    Examples
+    --------
+    >>> e = InputError("l must be > 0 mm, got -1", "measure the thread again",
+    ...                file="a.toml", field="trifilar.l",
+    ...                ru=("l должна быть > 0 мм, а не -1", "измерьте нить заново"))
+    >>> e.line("en")
+    "error: a.toml, field 'trifilar.l': l must be > 0 mm, got -1. Fix: measure the thread again"
+    >>> e.line("ru")
+    "ошибка: a.toml, поле 'trifilar.l': l должна быть > 0 мм, а не -1. Как исправить: измерьте нить заново"
     """
 
-    def __init__(self, problem: str, fix: str, *, file: str | None = None, field: str | None = None):
-        self.problem, self.fix, self.file, self.field = problem, fix, file, field
+    def __init__(self, problem: str, fix: str, *, file: str | None = None,
+                 field: str | None = None, ru: tuple[str, str] | None = None):
+        self.problem, self.fix, self.file, self.field, self.ru = problem, fix, file, field, ru
         super().__init__(str(self))
 
     def __str__(self) -> str:
-        where = ", ".join(p for p in (self.file, f"field '{self.field}'" if self.field else None) if p)
-        return f"{where + ': ' if where else ''}{self.problem}. Fix: {self.fix}"
+        return self.text("en")
+
+    def text(self, lang: str = "en") -> str:
+        """The message in ``lang`` (English where it has no Russian): where, what, the fix."""
+        ru = lang == "ru" and self.ru is not None
+        field = ("поле '{}'" if ru else "field '{}'").format(self.field) if self.field else None
+        where = ", ".join(p for p in (self.file, field) if p)
+        problem, fix = self.ru if ru else (self.problem, self.fix)
+        return f"{where + ': ' if where else ''}{problem}. {'Как исправить' if ru else 'Fix'}: {fix}"
+
+    def line(self, lang: str = "en") -> str:
+        """The one line the command line prints for it, in ``lang`` where it can."""
+        return f"{'ошибка' if lang == 'ru' and self.ru is not None else 'error'}: {self.text(lang)}"
 
     def located(self, file: str) -> InputError:
         """The same error, attributed to ``file`` if it had no file yet."""
-        return InputError(self.problem, self.fix, file=self.file or file, field=self.field)
+        return InputError(self.problem, self.fix, file=self.file or file, field=self.field,
+                          ru=self.ru)
 
 
 def first(values) -> float:

@@ -23,6 +23,7 @@ from __future__ import annotations
 import difflib
 import math
 import os
+import re
 import tomllib
 import warnings
 from collections import defaultdict
@@ -101,8 +102,9 @@ class Field:
         Whether repeated readings (an array) are expected, e.g. stopwatch times.
     allow_zero : bool
         Quantities must be > 0 unless this is set (then ≥ 0).
-    choices : tuple of str
-        Allowed values of a ``choice``.
+    choices : tuple of str, or dict
+        Allowed values of a ``choice``; a dict gives each its words for a report
+        (``{"in": {"en": "inlet", "ru": "впускной"}}``).
     example : optional
         A typical value, shown in the template's comment.
     maximum : str, optional
@@ -129,7 +131,7 @@ class Field:
     default: Any = None
     repeated: bool = False
     allow_zero: bool = False
-    choices: tuple[str, ...] = ()
+    choices: tuple[str, ...] | Mapping[str, Mapping[str, str]] = ()
     example: Any = None
     maximum: str | None = None
     plausible: tuple[str, str] | None = None
@@ -289,7 +291,9 @@ def image_section(name: str = "image", *, zero_default: str | None = "mean",
         Field("zero", zero_help or bi("deflection from the trace's mean level or from its "
                                       "zero line", "отклонение от среднего уровня линии или "
                                       "от её нулевой линии"),
-              kind="choice", choices=("mean", "line"), default=zero_default,
+              kind="choice", default=zero_default,
+              choices={"mean": bi("from the mean level", "от среднего уровня"),
+                       "line": bi("from the zero line", "от нулевой линии")},
               required=False),
         Field("bridge", bi("longest gap in a trace to interpolate across",
                            "наибольший разрыв линии, заполняемый интерполяцией"),
@@ -308,7 +312,9 @@ def firing_order(inputs, field: str = "engine.firing_order") -> list[int] | None
     parts = text.replace(",", "-").replace(" ", "").split("-")
     if not all(p.isdigit() for p in parts):
         raise inputs.error(f"firing order '{text}' is not a list of cylinder numbers",
-                           "write it as 1-3-4-2", field)
+                           "write it as 1-3-4-2", field,
+                           ru=(f"порядок работы '{text}' — не список номеров цилиндров",
+                               "запишите его как 1-3-4-2"))
     return [int(p) for p in parts]
 
 
@@ -379,9 +385,11 @@ class Inputs:
                         rows.append(_row(where, sec, f, v))
         return rows
 
-    def error(self, problem: str, fix: str, field: str) -> InputError:
-        """An :class:`InputError` located in this file."""
-        return InputError(problem, fix, file=self.file, field=field)
+    def error(self, problem: str, fix: str, field: str,
+              ru: tuple[str, str] | None = None) -> InputError:
+        """An :class:`InputError` located in this file (``ru``: the problem and fix in
+        Russian)."""
+        return InputError(problem, fix, file=self.file, field=field, ru=ru)
 
 
 def _row(where: str, sec: Section, f: Field, v) -> dict:
@@ -399,6 +407,8 @@ def _row(where: str, sec: Section, f: Field, v) -> dict:
                        "readings": list(v.readings) if len(v.readings) > 1 else []})
     else:
         row.update(value=v, unit="")
+        if isinstance(f.choices, Mapping) and v in f.choices:
+            row["value_label"] = dict(f.choices[v])
     return row
 
 
@@ -422,7 +432,9 @@ def read_toml(path: str | Path) -> TomlDocument:
     except UnicodeDecodeError:
         raise InputError("not a text file (not UTF-8)",
                          "give a TOML measurement file; 'dynlab template LAB' writes one",
-                         file=str(path)) from None
+                         file=str(path), ru=("не текстовый файл (не UTF-8)",
+                                             "укажите файл измерений TOML; его заготовку "
+                                             "пишет 'dynlab template LAB'")) from None
     try:
         return TomlDocument(tomllib.loads(text), text)
     except tomllib.TOMLDecodeError as exc:
@@ -432,16 +444,43 @@ def read_toml(path: str | Path) -> TomlDocument:
             raise InputError(split.problem("a decimal comma outside quotes: TOML takes a "
                                            "comma for the separator between values, so the "
                                            "file does not parse"), split.fix(),
-                             file=str(path), field=field) from None
+                             file=str(path), field=field,
+                             ru=(split.problem("десятичная запятая вне кавычек: в TOML запятая "
+                                               "разделяет значения, и файл не читается", "ru"),
+                                 split.fix("ru"))) from None
         raise InputError(f"not a valid TOML file ({exc})",
                          "correct the syntax: key = value, strings in quotes, "
                          "arrays in [ ]; compare with 'dynlab template LAB'",
-                         file=str(path)) from None
+                         file=str(path),
+                         ru=(f"файл не по правилам TOML{_toml_place(str(exc))}",
+                             "исправьте запись: ключ = значение, строки в кавычках, массивы в "
+                             "[ ]; сравните с 'dynlab template LAB'")) from None
 
 
-def _did_you_mean(word: str, options) -> str:
+def _toml_place(message: str) -> str:
+    """Where a TOML parser's (English) message places the fault, in Russian: " (строка 2,
+    столбец 6)", or nothing.
+
+    >>> _toml_place("Expected ']' (at line 2, column 6)"), _toml_place("Invalid value")
+    (' (строка 2, столбец 6)', '')
+    """
+    found = re.search(r"line (\d+), column (\d+)", message)
+    return f" (строка {found[1]}, столбец {found[2]})" if found else ""
+
+
+def _did_you_mean(word: str, options, lang: str = "en") -> str:
     close = difflib.get_close_matches(word, list(options), n=1, cutoff=0.5)
+    if lang == "ru":
+        return f"вы имели в виду '{close[0]}'?" if close else \
+            f"известные ключи: {', '.join(options)}"
     return f"did you mean '{close[0]}'?" if close else f"known keys: {', '.join(options)}"
+
+
+def _unknown_key(key: str, where: str, where_ru: str,
+                 options) -> tuple[str, str, tuple[str, str]]:
+    """The problem, the fix and their Russian of an unknown ``key`` in ``where``."""
+    return (f"unknown key '{key}' in {where}", _did_you_mean(key, options),
+            (f"неизвестный ключ '{key}' в {where_ru}", _did_you_mean(key, options, "ru")))
 
 
 def load(path: str | Path, spec: LabSpec, data: dict | None = None, *,
@@ -469,9 +508,11 @@ def load(path: str | Path, spec: LabSpec, data: dict | None = None, *,
     data = read_toml(path) if data is None else data
     unknown = set(data) - {"lab", "meta"} - {s.name for s in spec.sections}
     for key in sorted(unknown):
-        raise InputError(f"unknown section or key '{key}'",
-                         _did_you_mean(key, ["lab", "meta"] + [s.name for s in spec.sections]),
-                         file=file, field=key)
+        options = ["lab", "meta"] + [s.name for s in spec.sections]
+        raise InputError(f"unknown section or key '{key}'", _did_you_mean(key, options),
+                         file=file, field=key,
+                         ru=(f"неизвестный раздел или ключ '{key}'",
+                             _did_you_mean(key, options, "ru")))
     meta = _load_meta(data.get("meta", {}), file)
     folder = Path(path).parent
     where = _Where(file, folder, folder.resolve() if confine else None,
@@ -484,7 +525,10 @@ def load(path: str | Path, spec: LabSpec, data: dict | None = None, *,
                 raise InputError(f"section [{sec.name}] is missing",
                                  f"add the section [{sec.name}] ({sec.label['en']}); "
                                  f"'dynlab template {spec.id}' shows its fields", file=file,
-                                 field=sec.name)
+                                 field=sec.name,
+                                 ru=(f"нет раздела [{sec.name}]",
+                                     f"добавьте раздел [{sec.name}] ({sec.label['ru']}); его "
+                                     f"поля показывает 'dynlab template {spec.id}'"))
             continue
         if sec.many:
             if isinstance(raw, dict):
@@ -492,14 +536,18 @@ def load(path: str | Path, spec: LabSpec, data: dict | None = None, *,
             if not isinstance(raw, list) or not raw or not all(isinstance(r, dict) for r in raw):
                 raise InputError(f"[[{sec.name}]] must be one or more tables",
                                  f"write each entry as a [[{sec.name}]] table", file=file,
-                                 field=sec.name)
+                                 field=sec.name,
+                                 ru=(f"[[{sec.name}]] — это одна или несколько таблиц",
+                                     f"запишите каждую запись таблицей [[{sec.name}]]"))
             sections[sec.name] = [_load_section(sec, r, where, f"{sec.name}[{i}]")
                                   for i, r in enumerate(raw)]
         else:
             if not isinstance(raw, dict):
                 raise InputError(f"'{sec.name}' must be a table [{sec.name}]",
                                  f"write the values under a line [{sec.name}]", file=file,
-                                 field=sec.name)
+                                 field=sec.name,
+                                 ru=(f"'{sec.name}' должен быть таблицей [{sec.name}]",
+                                     f"запишите значения под строкой [{sec.name}]"))
             sections[sec.name] = _load_section(sec, raw, where, sec.name)
     return Inputs(spec.id, file, meta, sections, spec)
 
@@ -507,11 +555,13 @@ def load(path: str | Path, spec: LabSpec, data: dict | None = None, *,
 def _load_meta(raw, file: str) -> dict[str, str]:
     if not isinstance(raw, dict):
         raise InputError("[meta] must be a table", "write student, group, date under [meta]",
-                         file=file, field="meta")
+                         file=file, field="meta",
+                         ru=("[meta] должен быть таблицей",
+                             "запишите student, group, date под строкой [meta]"))
     for key in raw:
         if key not in META_KEYS:
-            raise InputError(f"unknown key '{key}' in [meta]", _did_you_mean(key, META_KEYS),
-                             file=file, field=f"meta.{key}")
+            problem, fix, ru = _unknown_key(key, "[meta]", "[meta]", META_KEYS)
+            raise InputError(problem, fix, file=file, field=f"meta.{key}", ru=ru)
     return {k: _short_text(str(v), f"meta.{k}") for k, v in raw.items()}
 
 
@@ -541,8 +591,8 @@ def _load_section(sec: Section, raw: dict, src: _Where, where: str) -> dict:
     names = [f.name for f in sec.fields]
     for key in raw:
         if key not in names:
-            raise InputError(f"unknown key '{key}' in [{sec.name}]", _did_you_mean(key, names),
-                             file=file, field=f"{where}.{key}")
+            problem, fix, ru = _unknown_key(key, f"[{sec.name}]", f"[{sec.name}]", names)
+            raise InputError(problem, fix, file=file, field=f"{where}.{key}", ru=ru)
     out = {}
     for f in sec.fields:
         path = f"{where}.{f.name}"
@@ -552,38 +602,51 @@ def _load_section(sec: Section, raw: dict, src: _Where, where: str) -> dict:
             elif f.required:
                 raise InputError(f"'{f.name}' ({f.label['en']}) is missing",
                                  f"add a line {f.name} = ... in [{sec.name}]"
-                                 + (f", in {f.unit}" if f.unit else ""), file=file, field=path)
+                                 + (f", in {f.unit}" if f.unit else ""), file=file, field=path,
+                                 ru=(f"нет '{f.name}' ({f.label['ru']})",
+                                     f"добавьте строку {f.name} = ... в [{sec.name}]"
+                                     + (f", в {unit_text(f.unit, 'ru')}" if f.unit else "")))
             continue
         out[f.name] = _convert(f, raw[f.name], src, path)
     return out
 
 
 def _convert(f: Field, raw, src: _Where, path: str):
-    def fail(problem, fix):
-        return InputError(problem, fix, file=src.file, field=path)
+    def fail(problem, fix, ru=None):
+        return InputError(problem, fix, file=src.file, field=path, ru=ru)
 
     if raw == "" or raw == []:
         raise fail(f"'{f.name}' ({f.label['en']}) is empty",
                    "fill in the value you measured" + (f" (in {f.unit}, or a string like "
-                                                       f"'12.5 {f.unit}')" if f.unit else ""))
+                                                       f"'12.5 {f.unit}')" if f.unit else ""),
+                   ru=(f"'{f.name}' ({f.label['ru']}) не заполнено",
+                       "впишите измеренное значение" + (
+                           f" (в {unit_text(f.unit, 'ru')} или строкой вида "
+                           f"'12,5 {unit_text(f.unit, 'ru')}')" if f.unit else "")))
     if f.kind == "text":
         return _short_text(str(raw), path)
     if f.kind == "file":
         return _file(f, raw, src, fail)
     if f.kind == "flag":
         if not isinstance(raw, bool):
-            raise fail(f"'{f.name}' must be true or false, got {raw!r}", "write true or false")
+            raise fail(f"'{f.name}' must be true or false, got {raw!r}", "write true or false",
+                       ru=(f"'{f.name}' — это true или false, а не {raw!r}",
+                           "напишите true или false"))
         return raw
     if f.kind == "choice":
         if raw not in f.choices:
             raise fail(f"'{raw}' is not one of {', '.join(f.choices)}",
-                       _did_you_mean(str(raw), f.choices))
+                       _did_you_mean(str(raw), f.choices),
+                       ru=(f"'{raw}' — не из списка {', '.join(f.choices)}",
+                           _did_you_mean(str(raw), f.choices, "ru")))
         return raw
     if f.kind == "count":
         least = 0 if f.allow_zero else 1
         if isinstance(raw, bool) or not isinstance(raw, int) or raw < least:
             raise fail(f"'{f.name}' must be a whole number ≥ {least}, got {raw!r}",
-                       "write the count as a whole number, e.g. 20")
+                       "write the count as a whole number, e.g. 20",
+                       ru=(f"'{f.name}' должно быть целым числом ≥ {least}, а не {raw!r}",
+                           "запишите число целым, например 20"))
         return raw
     return _measured(f, raw, fail, src, path)
 
@@ -592,13 +655,23 @@ def _file(f: Field, raw, src: _Where, fail) -> Path:
     """A file named by the measurement, resolved against its folder (and kept in it)."""
     if not isinstance(raw, str):
         raise fail(f"'{f.name}' must be a file name in quotes, got {raw!r}",
-                   f"write e.g. {f.name} = \"record.csv\" (relative to this file's folder)")
+                   f"write e.g. {f.name} = \"record.csv\" (relative to this file's folder)",
+                   ru=(f"'{f.name}' — это имя файла в кавычках, а не {raw!r}",
+                       f"напишите, например, {f.name} = \"record.csv\" (относительно папки "
+                       f"этого файла)"))
     target = src.folder / os.path.expanduser(raw)
     if src.root is not None and not resolved(target).is_relative_to(src.root):
         raise fail(f"'{raw}' lies outside the submission's folder {src.root}",
                    "copy the file into the folder of the measurement file and name it "
-                   "relative to it (files outside are not read in confined mode)")
+                   "relative to it (files outside are not read in confined mode)",
+                   ru=(f"'{raw}' лежит вне папки работы {src.root}",
+                       "скопируйте файл в папку файла измерений и укажите его относительно "
+                       "неё (при проверке группы файлы вне её не читаются)"))
     return target
+
+
+_WHAT_RU = {"value": "значение", "limit": "предел погрешности", "u": "неопределённость u"}
+"""The part of a value a message names (``what`` of :func:`_scalar`), in Russian."""
 
 
 class _Reading(NamedTuple):
@@ -615,11 +688,15 @@ def _measured(f: Field, raw, fail, src: _Where, path: str) -> Measured:
     if isinstance(raw, dict):
         for key in raw:
             if key not in _TABLE_KEYS:
-                raise fail(f"unknown key '{key}' in the table of '{f.name}'",
-                           _did_you_mean(key, _TABLE_KEYS))
+                problem, fix, ru = _unknown_key(key, f"the table of '{f.name}'",
+                                                f"таблице '{f.name}'", _TABLE_KEYS)
+                raise fail(problem, fix, ru=ru)
         if ("value" in raw) == ("readings" in raw):
             raise fail(f"the table of '{f.name}' needs exactly one of 'value' or 'readings'",
-                       "write { value = ... } for one reading or { readings = [...] } for repeats")
+                       "write { value = ... } for one reading or { readings = [...] } for repeats",
+                       ru=(f"в таблице '{f.name}' нужен ровно один из ключей 'value' или "
+                           f"'readings'", "напишите { value = ... } для одного отсчёта или "
+                           "{ readings = [...] } для повторных"))
         unit = _table_unit(f, raw["unit"], fail) if "unit" in raw else f.unit
         body = raw.get("value", raw.get("readings"))
         if "limit" in raw:
@@ -630,11 +707,16 @@ def _measured(f: Field, raw, fail, src: _Where, path: str) -> Measured:
         unit, body = f.unit, raw
     if isinstance(body, list):
         if not body:
-            raise fail(f"'{f.name}' has an empty list of readings", "write at least one reading")
+            raise fail(f"'{f.name}' has an empty list of readings", "write at least one reading",
+                       ru=(f"у '{f.name}' пустой список отсчётов",
+                           "запишите хотя бы один отсчёт"))
         if len(body) > MAX_READINGS:
             raise fail(f"'{f.name}' has {len(body)} readings; at most {MAX_READINGS} are taken",
                        "repeat a reading a few times (the manual asks for three); a long "
-                       "series belongs in a recording file")
+                       "series belongs in a recording file",
+                       ru=(f"у '{f.name}' {len(body)} отсчётов; принимается не более "
+                           f"{MAX_READINGS}", "повторите отсчёт несколько раз (методика "
+                           "требует трёх); длинный ряд — это файл записи"))
         _refuse_split(f, body, src, fail)
         readings = [_scalar(f, b, unit, fail) for b in body]
         limits = [r.limit for r in readings if r.limit is not None]
@@ -668,7 +750,10 @@ def _refuse_split(f: Field, body: list, src: _Where, fail) -> None:
     meant = ", ".join(f"{r:g}" for r in split.readings)
     raise fail(split.problem(f"a decimal comma outside quotes: TOML takes a comma for a "
                              f"separator, so '{f.name}' holds {len(body)} numbers "
-                             f"({shown}), not the readings {meant}"), split.fix())
+                             f"({shown}), not the readings {meant}"), split.fix(),
+               ru=(split.problem(f"десятичная запятая вне кавычек: в TOML запятая разделяет "
+                                 f"значения, и в '{f.name}' {len(body)} чисел ({shown}), а не "
+                                 f"отсчёты {meant}", "ru"), split.fix("ru")))
 
 
 def _table_unit(f: Field, unit, fail) -> str:
@@ -676,16 +761,20 @@ def _table_unit(f: Field, unit, fail) -> str:
     from .units import _dimension_name, ureg
 
     fix = f"write the unit of {f.label['en']}, e.g. unit = \"{f.unit}\""
+    fix_ru = f"укажите единицу величины «{f.label['ru']}», например unit = \"{f.unit}\""
     try:
         dim = ureg.Quantity(1.0, unit).dimensionality if isinstance(unit, str) else None
     except Exception:
         dim = None
     if dim is None:
-        raise fail(f"unit {unit!r} of '{f.name}' is not known", fix)
+        raise fail(f"unit {unit!r} of '{f.name}' is not known", fix,
+                   ru=(f"единица {unit!r} у '{f.name}' неизвестна", fix_ru))
     want = ureg.Quantity(1.0, f.unit).dimensionality
     if dim != want:
         raise fail(f"unit {unit!r} of '{f.name}' is {_dimension_name(dim)}, but "
-                   f"{_dimension_name(want)} is expected (unit like '{f.unit}')", fix)
+                   f"{_dimension_name(want)} is expected (unit like '{f.unit}')", fix,
+                   ru=(f"единица {unit!r} у '{f.name}' — {_dimension_name(dim, 'ru')}, а ожидается "
+                       f"{_dimension_name(want, 'ru')} (единица вроде '{f.unit}')", fix_ru))
     return unit
 
 
@@ -694,26 +783,36 @@ def _scalar(f: Field, raw, unit, fail, *, what: str = "value",
     allow_zero = f.allow_zero if allow_zero is None else allow_zero
     if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
         raise fail(f"the {what} of '{f.name}' must be a number or a string with a unit, "
-                   f"got {raw!r}", f"write e.g. {f.name} = \"12.5 {f.unit}\"")
+                   f"got {raw!r}", f"write e.g. {f.name} = \"12.5 {f.unit}\"",
+                   ru=(f"{_WHAT_RU[what]} '{f.name}' — это число или строка с единицей, а не "
+                       f"{raw!r}", f"напишите, например, {f.name} = \"12,5 {f.unit}\""))
     if isinstance(raw, str):
         try:
             value, limit, written = read_quantity(raw, unit)
         except QuantityError as exc:
+            fix_ru = exc.fix_ru or (f"напишите число и единицу величины «{f.label['ru']}», "
+                                    f"например \"12,5 {f.unit}\"")
             raise fail(str(exc), exc.fix or f"write a number and a unit of {f.label['en']}, "
-                                            f"e.g. \"12.5 {f.unit}\"") from None
+                                            f"e.g. \"12.5 {f.unit}\"",
+                       ru=(exc.problem_ru, fix_ru) if exc.problem_ru else None) from None
         number = value / number_to_si(1.0, written, f.unit)
     else:
         number, limit, written = float(raw), None, unit
         value = number_to_si(number, unit, f.unit)
     if not math.isfinite(value):
         raise fail(f"the {what} of '{f.name}' is not a finite number ({raw!r})",
-                   "write the number you read")
+                   "write the number you read",
+                   ru=(f"{_WHAT_RU[what]} '{f.name}' — не конечное число ({raw!r})",
+                       "запишите число, которое вы прочли"))
     _check_magnitude(f, value, raw, unit, fail, what)
     if value < 0 or (value == 0 and not allow_zero):
         bound = "≥ 0" if allow_zero else "> 0"
         raise fail(f"'{f.name}' ({f.label['en']}) must be {bound}, got {raw!r}",
                    "check the sign and the reading" if value < 0 else
-                   "a zero reading cannot be right here: check the value")
+                   "a zero reading cannot be right here: check the value",
+                   ru=(f"'{f.name}' ({f.label['ru']}) должно быть {bound}, а не {raw!r}",
+                       "проверьте знак и отсчёт" if value < 0 else
+                       "нулевой отсчёт здесь невозможен: проверьте значение"))
     return _Reading(value, limit, number, written)
 
 
@@ -726,7 +825,10 @@ def _check_magnitude(f: Field, value: float, raw, unit: str, fail, what: str) ->
         if value > top:
             raise fail(f"'{f.name}' ({f.label['en']}) is {raw!r}, above {f.maximum}, "
                        f"where the method makes no sense",
-                       f"check the reading and its unit (the value must stay below {f.maximum})")
+                       f"check the reading and its unit (the value must stay below {f.maximum})",
+                       ru=(f"'{f.name}' ({f.label['ru']}) = {raw!r}, больше {f.maximum}, где "
+                           f"метод теряет смысл", f"проверьте отсчёт и его единицу (значение "
+                           f"должно быть меньше {f.maximum})"))
     verdict, plausible = magnitude_verdict(value, unit)
     if verdict == "ok" or (verdict == "suspect" and f.plausible and what == "value"):
         return
@@ -734,9 +836,15 @@ def _check_magnitude(f: Field, value: float, raw, unit: str, fail, what: str) ->
     shown = (f"{plausible[0] / k:.3g} to {plausible[1] / k:.3g} {unit}" if plausible
              else "any measurable size")
     if verdict == "refused":
+        shown_ru = (f"от {plausible[0] / k:.3g} до {plausible[1] / k:.3g} {unit_text(unit, 'ru')}"
+                    if plausible else "любая измеримая величина")
         raise fail(f"the {what} of '{f.name}' ({f.label['en']}) is {raw!r}, far outside what a "
                    f"lab bench measures ({shown})", f"check the number, its exponent and its "
-                   f"unit (the unit of a plain number here is {unit})")
+                   f"unit (the unit of a plain number here is {unit})",
+                   ru=(f"{_WHAT_RU[what]} '{f.name}' ({f.label['ru']}) = {raw!r}, далеко за "
+                       f"пределами того, что измеряют на стенде ({shown_ru})",
+                       f"проверьте число, его порядок и единицу (единица числа без единицы "
+                       f"здесь — {unit_text(unit, 'ru')})"))
     warnings.warn(ImplausibleValueWarning(
         f"'{f.name}' ({f.label['en']}) = {raw!r} lies outside the usual {shown}: check the "
         f"number and its unit",

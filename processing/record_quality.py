@@ -75,9 +75,27 @@ PULSE_NOISE = 0.5
 """Periodicity (:func:`periodicity`) below which a pulse channel holds no pulses above its
 noise: no shift makes it resemble itself more than the noise's share of its power allows."""
 
-SENSOR_FIX = ("check that the sensor is connected and powered, that its amplifier's gain is set, "
-              "and that the channel named is the one that recorded it; then record again")
+SENSOR_FIX = {"en": "check that the sensor is connected and powered, that its amplifier's gain "
+                    "is set, and that the channel named is the one that recorded it; then "
+                    "record again",
+              "ru": "проверьте, что датчик подключён и запитан, коэффициент усиления "
+                    "установлен и названный канал — тот, что его записал; затем запишите "
+                    "заново"}
 """What to do about a flat or noise-only channel of a recorder."""
+
+
+def _words(x) -> tuple[str, str | None]:
+    """A message's part given as ``{"en": ..., "ru": ...}`` or as English alone (then None
+    for its Russian)."""
+    return (x["en"], x["ru"]) if isinstance(x, dict) else (x, None)
+
+
+def _error(problem, fix, *, file: str, field: str | None) -> InputError:
+    """An :class:`InputError` of parts each in English or both languages (:func:`_words`):
+    Russian when every part has it."""
+    (p, p_ru), (f, f_ru) = _words(problem), _words(fix)
+    return InputError(p, f, file=file, field=field,
+                      ru=(p_ru, f_ru) if p_ru is not None and f_ru is not None else None)
 
 CLIPPED_EFFECT = ("peaks there are cut off and what is read from them is low",
                   "пики срезаны, и определённое по ним занижено")
@@ -239,8 +257,9 @@ def assess(x, rate: float) -> RecordQuality:
 
 
 def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
-                 least_duration: float = 0.0, purpose: str = "the reduction",
-                 clip_refused: float = CLIP_REFUSED, fix: str = SENSOR_FIX,
+                 least_duration: float = 0.0,
+                 purpose: str | dict = {"en": "the reduction", "ru": "обработки"},
+                 clip_refused: float = CLIP_REFUSED, fix: str | dict = SENSOR_FIX,
                  clipped_effect: tuple[str, str] = CLIPPED_EFFECT,
                  broadband: bool = False) -> RecordQuality:
     """Refuse a record that is flat, noise only, too short or clipped beyond a limit; warn
@@ -298,40 +317,68 @@ def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
     ...
     processing.diagnostics.InputError: r.csv, field 'decay.signal': channel 'u' holds no oscillation above its noise: ...
     """
-    def refuse(problem: str, fix: str) -> InputError:
-        return InputError(f"channel '{channel}' {problem}", fix, file=file, field=field)
+    purpose, purpose_ru = _words(purpose)
+
+    def refuse(en: str, ru: str | None, fix) -> InputError:
+        return _error({"en": f"channel '{channel}' {en}",
+                       "ru": ru and f"канал '{channel}' {ru}"}, fix, file=file, field=field)
 
     q = assess(x, rate)
     if q.flat:
         level = float(np.asarray(x, dtype=float)[0]) if q.samples else 0.0
         raise refuse(f"is flat: its {q.samples} samples stay at {level:.6g}"
                      + (f" within {q.spread:.3g}" if q.spread else "")
-                     + f", nothing for {purpose} to read", fix)
+                     + f", nothing for {purpose} to read",
+                     purpose_ru and f"постоянен: его {q.samples} отсчётов остаются на "
+                     f"{level:.6g}" + (f" в пределах {q.spread:.3g}" if q.spread else "")
+                     + f", для {purpose_ru} читать нечего", fix)
     if q.noise_only and not broadband and q.roughness > FAST_ROUGHNESS:
         raise refuse(f"swings from sample to sample (its changes carry {100 * q.roughness:.0f} % "
                      f"of its variance): what it holds is faster than a third of its sample "
-                     f"rate ({rate:.6g} Hz), too fast for {purpose}", "record at a higher "
-                     "sample rate (ten or more samples a period), or give the recorder's true "
-                     "sample rate")
+                     f"rate ({rate:.6g} Hz), too fast for {purpose}",
+                     purpose_ru and f"скачет от отсчёта к отсчёту (на приращения приходится "
+                     f"{100 * q.roughness:.0f} % его дисперсии): записанное быстрее трети "
+                     f"частоты отсчётов ({rate:.6g} Гц), слишком быстро для {purpose_ru}",
+                     {"en": "record at a higher sample rate (ten or more samples a period), or "
+                            "give the recorder's true sample rate",
+                      "ru": "запишите с большей частотой отсчётов (десять и более на период) "
+                            "или укажите истинную частоту отсчётов регистратора"})
     if q.noise_only and not broadband:
         raise refuse(f"holds no oscillation above its noise: its sample-to-sample changes "
                      f"carry {100 * q.roughness:.0f} % of its variance, as white noise does (a "
-                     f"record its sample rate resolves carries a few per cent)", fix)
+                     f"record its sample rate resolves carries a few per cent)",
+                     f"не содержит колебаний выше шума: на приращения от отсчёта к отсчёту "
+                     f"приходится {100 * q.roughness:.0f} % его дисперсии, как у белого шума "
+                     f"(у записи, разрешённой её частотой отсчётов, — несколько процентов)", fix)
     if q.duration < least_duration:
         raise refuse(f"lasts {q.duration:.4g} s ({q.samples} samples); {purpose} needs at "
-                     f"least {least_duration:.4g} s", "record longer, or name the whole "
-                     "recording")
+                     f"least {least_duration:.4g} s",
+                     purpose_ru and f"длится {q.duration:.4g} с ({q.samples} отсчётов); для "
+                     f"{purpose_ru} нужно не меньше {least_duration:.4g} с",
+                     {"en": "record longer, or name the whole recording",
+                      "ru": "запишите дольше или укажите всю запись"})
     if q.clipped > LOGIC_SHARE:
         raise refuse(f"sits at its two extremes in {100 * q.clipped:.0f} % of its samples: a "
                      f"logic channel (TDC or time marks), or a sensor clipped past recognition, "
-                     f"nothing for {purpose} to read", "name the sensor's own channel; if it "
-                     "is the one, lower the amplifier's gain or raise the recorder's range and "
-                     "record again")
+                     f"nothing for {purpose} to read",
+                     purpose_ru and f"в {100 * q.clipped:.0f} % отсчётов стоит на одном из "
+                     f"двух крайних уровней: это логический канал (ВМТ или отметки времени) "
+                     f"или датчик, зашкаленный до неузнаваемости, — для {purpose_ru} читать "
+                     f"нечего",
+                     {"en": "name the sensor's own channel; if it is the one, lower the "
+                            "amplifier's gain or raise the recorder's range and record again",
+                      "ru": "укажите собственный канал датчика; если это он, уменьшите "
+                            "усиление или увеличьте диапазон регистратора и запишите заново"})
     if q.clipped > clip_refused:
         raise refuse(f"is clipped: {100 * q.clipped:.1f} % of its samples sit at the "
                      f"recorder's limits (more than {100 * clip_refused:g} %); its peaks are "
-                     f"cut off", "lower the amplifier's gain or raise the recorder's range, "
-                     "and record again")
+                     f"cut off",
+                     f"зашкален: {100 * q.clipped:.1f} % отсчётов на пределе регистратора "
+                     f"(больше {100 * clip_refused:g} %); его пики срезаны",
+                     {"en": "lower the amplifier's gain or raise the recorder's range, and "
+                            "record again",
+                      "ru": "уменьшите усиление или увеличьте диапазон регистратора и "
+                            "запишите заново"})
     if q.clipped > CLIP_WARNED:
         warnings.warn(ClippedRecordWarning(
             f"{file}, channel '{channel}': {100 * q.clipped:.2f} % of the samples sit at the "
@@ -385,7 +432,8 @@ def periodicity(x) -> float:
 
 
 def check_pulses(x, rate: float, *, file: str, field: str | None, channel: str,
-                 pulses: str = "pulses", fix: str = SENSOR_FIX) -> float:
+                 pulses: str | dict = {"en": "pulses", "ru": "импульсов"},
+                 fix: str | dict = SENSOR_FIX) -> float:
     """Refuse a pulse channel (a toothed wheel's sensor, TDC or time marks) that is flat or
     holds only noise; its clipping is left alone (an edge is timed where a clipped pulse
     crosses its mean level, as where a whole one does).
@@ -429,16 +477,24 @@ def check_pulses(x, rate: float, *, file: str, field: str | None, channel: str,
     processing.diagnostics.InputError: r.csv, field 'record.marks': channel 'm' is flat: its 300 samples stay at 5, no time marks to time. Fix: ...
     """
     x = np.asarray(x, dtype=float)
+    pulses, pulses_ru = _words(pulses)
     if x.size == 0 or np.ptp(x) == 0:
         level = float(x[0]) if x.size else 0.0
-        raise InputError(f"channel '{channel}' is flat: its {x.size} samples stay at "
-                         f"{level:.6g}, no {pulses} to time", fix, file=file, field=field)
+        raise _error({"en": f"channel '{channel}' is flat: its {x.size} samples stay at "
+                            f"{level:.6g}, no {pulses} to time",
+                      "ru": pulses_ru and f"канал '{channel}' постоянен: его {x.size} отсчётов "
+                            f"остаются на {level:.6g}, {pulses_ru} для отсчёта времени нет"},
+                     fix, file=file, field=field)
     repeat = periodicity(x)
     if repeat < PULSE_NOISE:
-        raise InputError(f"channel '{channel}' holds no {pulses} above its noise: no stretch "
-                         f"of it repeats later (its best correlation with itself shifted is "
-                         f"{repeat:.2f}; a train of pulses gives more than {PULSE_NOISE:g}), "
-                         "as white noise does", fix, file=file, field=field)
+        raise _error({"en": f"channel '{channel}' holds no {pulses} above its noise: no "
+                            f"stretch of it repeats later (its best correlation with itself "
+                            f"shifted is {repeat:.2f}; a train of pulses gives more than "
+                            f"{PULSE_NOISE:g}), as white noise does",
+                      "ru": pulses_ru and f"в канале '{channel}' нет {pulses_ru} выше шума: "
+                            f"ни один его участок не повторяется дальше (наибольшая корреляция "
+                            f"с самим собой со сдвигом {repeat:.2f}; у серии импульсов больше "
+                            f"{PULSE_NOISE:g}), как у белого шума"}, fix, file=file, field=field)
     return repeat
 
 
@@ -478,7 +534,12 @@ def irregular_marks(x, error: InputError, *, file: str, field: str | None,
                           f"{repeat:.2f}), and its threshold crossings are irregular",
                           "check that the mark sensor is connected and its level set, and "
                           "that the channel named is the marks' channel", file=file,
-                          field=field)
+                          field=field,
+                          ru=(f"в канале '{channel}' шум, а не импульсы: ни один его участок не "
+                              f"повторяется дальше (наибольшая корреляция с самим собой со "
+                              f"сдвигом {repeat:.2f}), и пересечения порога нерегулярны",
+                              "проверьте, что датчик отметок подключён и его уровень "
+                              "установлен и что названный канал — канал отметок"))
     return error
 
 
@@ -516,16 +577,25 @@ def check_frequency(frequency: float, rate: float, duration: float, *, file: str
                          f"({rate / 2:.6g} Hz at {rate:.6g} Hz sampling): the record cannot "
                          "hold it", "record at a higher sample rate (ten or more samples a "
                          "period), or give the recorder's true sample rate", file=file,
-                         field=field)
+                         field=field,
+                         ru=(f"{what} = {frequency:.4g} Гц — выше частоты Найквиста записи "
+                             f"({rate / 2:.6g} Гц при частоте отсчётов {rate:.6g} Гц): запись "
+                             "не может её содержать", "запишите с большей частотой отсчётов "
+                             "(десять и более на период) или укажите истинную частоту "
+                             "отсчётов регистратора"))
     if not frequency * duration >= 1:
         raise InputError(f"{what} = {frequency:.4g} Hz is slower than one cycle over the "
                          f"record ({duration:.4g} s): the record cannot hold it",
                          "record longer: several periods of the oscillation", file=file,
-                         field=field)
+                         field=field,
+                         ru=(f"{what} = {frequency:.4g} Гц — меньше одного периода за запись "
+                             f"({duration:.4g} с): запись не может её содержать",
+                             "запишите дольше: несколько периодов колебаний"))
 
 
-def check_pulse_channel(channel, *, field: str | None, pulses: str = "pulses",
-                        fix: str = SENSOR_FIX, head: int = PULSE_HEAD) -> float:
+def check_pulse_channel(channel, *, field: str | None,
+                        pulses: str | dict = {"en": "pulses", "ru": "импульсов"},
+                        fix: str | dict = SENSOR_FIX, head: int = PULSE_HEAD) -> float:
     """:func:`check_pulses` on the first ``head`` samples of a recorded channel, read in one
     bounded block however long the recording (a
     :class:`~processing.signals.Channel`: its ``chunks``, ``sample_rate``,

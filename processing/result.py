@@ -373,7 +373,7 @@ def flag_estimates(results: Mapping[str, ResultValue], comparisons, lang_names=N
                 f"{name}: the linear uncertainty is not reliable (the formula is strongly "
                 f"nonlinear over the input uncertainties); trust the Monte Carlo 95 % interval "
                 f"[{lo:.4g}, {hi:.4g}] {unit_text(r.display_unit)}",
-                f"{name}: линейная оценка погрешности ненадёжна (формула сильно нелинейна в "
+                f"{r.label['ru']} ({r.symbol}): линейная оценка погрешности ненадёжна (формула сильно нелинейна в "
                 f"пределах погрешностей входных данных); верен интервал Монте-Карло 95 % "
                 f"[{lo:.4g}, {hi:.4g}] {unit_text(r.display_unit, 'ru')}"))
     for c in comparisons:
@@ -382,13 +382,16 @@ def flag_estimates(results: Mapping[str, ResultValue], comparisons, lang_names=N
             if b.value:
                 gap = f"{100 * c.relative_to(b.value):+.2f} %"
                 bound = f"{100 * c.difference.U / abs(b.value):.2f} %"
+                gap_ru, bound_ru = gap, bound
             else:                       # nothing to scale by: the difference as it is
                 gap, bound = (f"{b.shown(v):+.4g} {unit_text(b.display_unit)}".rstrip()
                               for v in (c.difference.value, c.difference.U))
+                gap_ru, bound_ru = (f"{b.shown(v):+.4g} {unit_text(b.display_unit, 'ru')}"
+                                    .rstrip() for v in (c.difference.value, c.difference.U))
             warnings.warn(MethodsDisagreeWarning(
                 f"{c.a} and {c.b} differ by {gap}, more than the expanded uncertainty of "
                 f"their difference ({bound}): look for a systematic error (a misread length, "
                 f"a wrong count of oscillations)",
-                f"{c.a} и {c.b} различаются на {gap}, больше расширенной неопределённости "
-                f"разности ({bound}): ищите систематическую ошибку (неверно измеренная длина, "
+                f"«{results[c.a].label['ru']}» и «{b.label['ru']}» различаются на {gap_ru}, больше расширенной "
+                f"неопределённости разности ({bound_ru}): ищите систематическую ошибку (неверно измеренная длина, "
                 f"счёт колебаний)"))

@@ -78,6 +78,9 @@ _FORMATS = {".csv": "csv", ".txt": "csv", ".tsv": "csv", ".dat": "csv", ".wav": 
 _FORMAT_HINTS = {"csv": ".csv or .txt (a table of numbers)", "wav": ".wav (a sound-card recording)",
                  "hdf5": ".h5 or .hdf5", "image": ".png, .jpg or .tif (a photograph or scan of "
                  "a paper record)"}
+_FORMAT_HINTS_RU = {"csv": ".csv или .txt (таблица чисел)", "wav": ".wav (запись звуковой карты)",
+                    "hdf5": ".h5 или .hdf5", "image": ".png, .jpg или .tif (снимок или скан "
+                    "бумажной записи)"}
 _IMAGES = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp")
 _FORMATS.update(dict.fromkeys(_IMAGES, "image"))
 _FILE_KINDS = {"csv": TABLE, "image": IMAGE}
@@ -180,12 +183,20 @@ class Channel:
                     raise InputError(f"channel '{self.name}' cannot be read at samples {a}–"
                                      f"{b - 1}: the file is damaged or cut short ({exc})",
                                      "copy the recording again from the recorder, or export "
-                                     "it anew", file=self.path, field=self.field) from None
+                                     "it anew", file=self.path, field=self.field,
+                                     ru=(f"канал '{self.name}' не читается в отсчётах {a}–"
+                                         f"{b - 1}: файл повреждён или обрезан",
+                                         "скопируйте запись с регистратора заново или "
+                                         "экспортируйте её снова")) from None
                 if len(block) != b - a:
                     raise InputError(f"channel '{self.name}' ends at sample {a + len(block)}, "
                                      f"before the {self.length} samples its header announces: "
                                      "the file is cut short", "copy the recording again whole",
-                                     file=self.path, field=self.field)
+                                     file=self.path, field=self.field,
+                                     ru=(f"канал '{self.name}' кончается на отсчёте "
+                                         f"{a + len(block)}, раньше {self.length} отсчётов, "
+                                         "объявленных в заголовке: файл обрезан",
+                                         "скопируйте запись заново целиком"))
                 self._check_finite(block, a)
                 yield block
 
@@ -201,7 +212,11 @@ class Channel:
                          f"is {float(block[k])}",
                          "the recorder writes NaN/inf for lost or overranged samples: check the "
                          "sensor's range and record again, or reduce a stretch without them",
-                         file=self.path, field=self.field)
+                         file=self.path, field=self.field,
+                         ru=(f"канал '{self.name}': отсчёт {i} (t = {i / self.sample_rate:.6g} с) "
+                             f"равен {float(block[k])}", "регистратор пишет NaN/inf вместо "
+                             "потерянных или зашкаливших отсчётов: проверьте диапазон датчика "
+                             "и запишите заново или обработайте участок без них"))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -211,8 +226,8 @@ class _Source:
     path: Path
     field: str | None
 
-    def error(self, problem: str, fix: str) -> InputError:
-        return InputError(problem, fix, file=str(self.path), field=self.field)
+    def error(self, problem: str, fix: str, ru: tuple[str, str] | None = None) -> InputError:
+        return InputError(problem, fix, file=str(self.path), field=self.field, ru=ru)
 
     def channel(self, name: str, rate: float, length: int, dtype, opener,
                 volts_per_code: float = 1.0) -> Channel:
@@ -514,10 +529,15 @@ def _file_format(src: _Source, allowed: tuple[str, ...]) -> str:
     if kind not in allowed:
         raise src.error(f"unknown file type '{src.path.suffix or '(no extension)'}'",
                         "give a " + ", a ".join(_FORMAT_HINTS[k] for k in allowed)
-                        + " file; export the recorder's data to one of these")
+                        + " file; export the recorder's data to one of these",
+                        ru=(f"неизвестный тип файла '{src.path.suffix or '(без расширения)'}'",
+                            "укажите файл " + ", или ".join(_FORMAT_HINTS_RU[k] for k in allowed)
+                            + "; экспортируйте данные регистратора в один из них"))
     if info.st_size == 0:
         raise src.error("the file is empty (0 bytes)", "the recorder did not write it: "
-                        "record or export again")
+                        "record or export again",
+                        ru=("файл пуст (0 байт)", "регистратор его не записал: запишите или "
+                            "экспортируйте заново"))
     return kind
 
 
@@ -527,13 +547,16 @@ def _given_rate(src: _Source, sample_rate) -> float | None:
     if isinstance(sample_rate, bool) or not isinstance(sample_rate, (int, float, np.number)) \
             or not (math.isfinite(sample_rate) and sample_rate > 0):
         raise src.error(f"sample_rate must be a positive number of Hz, got {sample_rate!r}",
-                        "give the recorder's sampling frequency in Hz")
+                        "give the recorder's sampling frequency in Hz",
+                        ru=(f"sample_rate — положительное число герц, а не {sample_rate!r}",
+                            "укажите частоту отсчётов регистратора в герцах"))
     return float(sample_rate)
 
 
 def _rate(src: _Source, found: float | None, given: float | None,
-          missing: tuple[str, str]) -> float:
-    """The sample rate: the file's, else the given one; they must agree if both exist."""
+          missing: tuple) -> float:
+    """The sample rate: the file's, else the given one; they must agree if both exist.
+    ``missing``: the problem, the fix and their Russian when there is neither."""
     if found is None:
         if given is None:
             raise src.error(*missing)
@@ -541,7 +564,10 @@ def _rate(src: _Source, found: float | None, given: float | None,
     if given is not None and abs(found - given) > RATE_TOLERANCE * found:
         raise src.error(f"the file's sample rate is {found:.6g} Hz but sample_rate = "
                         f"{given:.6g} Hz was given", "drop sample_rate (the file's rate is "
-                        "used), or check that this is the right file")
+                        "used), or check that this is the right file",
+                        ru=(f"частота отсчётов файла {found:.6g} Гц, а задано sample_rate = "
+                            f"{given:.6g} Гц", "уберите sample_rate (будет взята частота "
+                            "файла) или проверьте, тот ли это файл"))
     return found
 
 
@@ -565,22 +591,35 @@ def _pick(src: _Source, options: list[str], selector, what: str) -> str:
             return options[selector]
         raise src.error(f"there is no {what} {selector}: the file has {len(options)} "
                         f"({_listing(options)})",
-                        f"give an index from 0 to {len(options) - 1}, or a name")
+                        f"give an index from 0 to {len(options) - 1}, or a name",
+                        ru=(f"нет {_WHAT_RU.get(what, what)} {selector}: в файле их "
+                            f"{len(options)} ({_listing(options, lang='ru')})",
+                            f"укажите номер от 0 до {len(options) - 1} или имя"))
     if isinstance(selector, str) and selector.strip() in options:
         return selector.strip()
-    raise src.error(f"the file has no {what} {selector!r}", _suggest(str(selector), options))
+    raise src.error(f"the file has no {what} {selector!r}", _suggest(str(selector), options),
+                    ru=(f"в файле нет {_WHAT_RU.get(what, what)} {selector!r}",
+                        _suggest(str(selector), options, "ru")))
 
 
-def _suggest(word: str, options: list[str]) -> str:
+_WHAT_RU = {"column": "столбца", "dataset": "набора данных", "channel": "канала"}
+"""What :func:`_pick` looks for, in the genitive a Russian message takes."""
+
+
+def _suggest(word: str, options: list[str], lang: str = "en") -> str:
     lower = [o.lower() for o in options]
     close = difflib.get_close_matches(word.strip().lower(), lower, n=1, cutoff=0.5)
+    if lang == "ru":
+        guess = f"вы имели в виду '{options[lower.index(close[0])]}'? " if close else ""
+        return f"{guess}в файле есть {_listing(options, lang=lang)}"
     guess = f"did you mean '{options[lower.index(close[0])]}'? " if close else ""
     return f"{guess}the file has {_listing(options)}"
 
 
-def _listing(options: list[str], most: int = 12) -> str:
+def _listing(options: list[str], most: int = 12, lang: str = "en") -> str:
     shown = ", ".join(f"'{o}'" for o in options[:most])
-    return shown + (f" and {len(options) - most} more" if len(options) > most else "")
+    more = " и ещё {}" if lang == "ru" else " and {} more"
+    return shown + (more.format(len(options) - most) if len(options) > most else "")
 
 
 def _time_scale(name: str) -> float | None:
@@ -608,17 +647,24 @@ class _Table:
         first = next(lines, None)
         if first is None:
             raise src.error("no data: only blank or comment lines", "export the recording "
-                            "again as a table of numbers")
+                            "again as a table of numbers",
+                            ru=("нет данных: только пустые строки или комментарии",
+                                "экспортируйте запись заново как таблицу чисел"))
         sep = _separator(first[1])
         header = any(f.strip(" \"'") and not _is_number(f) for f in _split(first[1], sep))
         data_line = next(lines, None) if header else first
         if data_line is None:
             raise src.error("no data: only a header row", "export the recording with its rows "
-                            "of numbers")
+                            "of numbers", ru=("нет данных: только строка заголовка",
+                                              "экспортируйте запись со строками чисел"))
         if not any(_is_number(c) for c in _split(data_line[1], sep)):
             raise src.error(f"row {data_line[0]} holds no number: this is text, not a table "
                             "of readings", "give the recording exported as a table of numbers "
-                            "(a header row, then one row of numbers per sample)")
+                            "(a header row, then one row of numbers per sample)",
+                            ru=(f"в строке {data_line[0]} нет ни одного числа: это текст, а не "
+                                "таблица отсчётов", "укажите запись, экспортированную "
+                                "таблицей чисел (строка заголовка, затем по строке чисел на "
+                                "отсчёт)"))
         decimal = "," if sep != "," and "," in data_line[1] else "."
         try:
             with warnings.catch_warnings():
@@ -632,10 +678,17 @@ class _Table:
                 raise src.error("the rows have more cells than the header: the numbers seem to "
                                 "use decimal commas while commas also separate the columns",
                                 "export the table with ';' (or tabs) between the columns, or "
-                                "with '.' as the decimal point") from None
+                                "with '.' as the decimal point",
+                                ru=("в строках больше ячеек, чем в заголовке: похоже, в числах "
+                                    "десятичные запятые, а запятые же разделяют столбцы",
+                                    "экспортируйте таблицу с ';' (или табуляцией) между "
+                                    "столбцами или с '.' как десятичным знаком")) from None
             raise src.error(f"not a regular table ({exc})".replace("\n", " "),
                             "give every row the same number of cells, and every column a name "
-                            "in the header") from None
+                            "in the header",
+                            ru=("таблица неправильная: в строках разное число ячеек",
+                                "дайте каждой строке одинаковое число ячеек, а каждому столбцу "
+                                "имя в заголовке")) from None
         return cls(src, _clean_columns(frame, header), text, header, decimal)
 
     @property
@@ -660,23 +713,32 @@ class _Table:
                 raise self.src.error(
                     f"row {self.line(row)}, column '{name}': {column.iloc[row]!r} is not a number",
                     "write plain numbers in every cell (units go in the header, e.g. 't, ms') "
-                    "with one decimal separator throughout")
+                    "with one decimal separator throughout",
+                    ru=(f"строка {self.line(row)}, столбец '{name}': {column.iloc[row]!r} — не "
+                        "число", "пишите в каждой ячейке только числа (единицы — в заголовке, "
+                        "например 't, ms') с одним десятичным разделителем во всей таблице"))
             column = numeric
         values = column.to_numpy()
         finite = np.isfinite(values)
         if not finite.all():
             row = int(np.argmin(finite))
             what = "is empty" if np.isnan(values[row]) else f"is {values[row]}"
+            what_ru = "пуст" if np.isnan(values[row]) else f"равен {values[row]}"
             raise self.src.error(f"row {self.line(row)}, column '{name}' {what}",
                                  "fill in the missing value or delete the row (a gap in a "
-                                 "sampled signal means the recording must be cut there)")
+                                 "sampled signal means the recording must be cut there)",
+                                 ru=(f"строка {self.line(row)}, столбец '{name}' {what_ru}",
+                                     "впишите недостающее значение или удалите строку (пропуск "
+                                     "в оцифрованном сигнале значит, что запись надо разрезать "
+                                     "здесь)"))
         return values
 
 
 def _read_text(src: _Source) -> str:
     """The table's text: UTF-8, else Windows-1251 (Russian Excel); binary data refused."""
     return read_text(src.path, TABLE, field=src.field, legacy="cp1251",
-                     fix="give a .csv/.txt table of numbers, or the recording's real extension")
+                     fix="give a .csv/.txt table of numbers, or the recording's real extension",
+                     fix_ru="укажите таблицу чисел .csv/.txt или настоящее расширение записи")
 
 
 def _content_lines(text: str) -> Iterator[tuple[int, str]]:
@@ -743,10 +805,15 @@ def _csv_channels(src: _Source, selectors: list, given: float | None) -> list[Ch
     data = [n for n in table.names if n != time]
     if not data:
         raise src.error(f"only a time column '{time}', no data column",
-                        "add the sensor's column next to the time column")
+                        "add the sensor's column next to the time column",
+                        ru=(f"только столбец времени '{time}', столбца данных нет",
+                            "добавьте столбец датчика рядом со столбцом времени"))
+    alone = len(table.names) == 1
     rate = _rate(src, found, given, (
-        f"{'one column' if len(table.names) == 1 else 'no time column'} and no sample rate",
-        "add a time column t [s] as the first column, or give sample_rate"))
+        f"{'one column' if alone else 'no time column'} and no sample rate",
+        "add a time column t [s] as the first column, or give sample_rate",
+        (f"{'один столбец' if alone else 'нет столбца времени'} и не задана частота отсчётов",
+         "добавьте первым столбцом время t [с] или задайте sample_rate")))
     channels = []
     for selector in selectors:
         name = _pick(src, data, selector, "column")
@@ -770,7 +837,9 @@ def _time_base(src: _Source, table: _Table) -> tuple[str | None, float | None]:
     t = table.numbers(first) * scale
     if len(t) < 2:
         raise src.error("one row: a sample rate needs at least two times",
-                        "export the whole recording")
+                        "export the whole recording",
+                        ru=("одна строка: для частоты отсчётов нужны хотя бы два момента "
+                            "времени", "экспортируйте всю запись"))
     _check_rising(src, table, first, t)
     steps = np.diff(t)
     typical = np.median(steps)
@@ -791,7 +860,11 @@ def _check_rising(src: _Source, table: _Table, name: str, t: np.ndarray) -> None
         k = int(np.argmax(falls))
         raise src.error(f"column '{name}' is not strictly increasing at row {table.line(k + 1)}"
                         f" ({t[k + 1]:.9g} s after {t[k]:.9g} s)", "times must rise: remove "
-                        "repeated rows, and split a recording whose counter restarted")
+                        "repeated rows, and split a recording whose counter restarted",
+                        ru=(f"столбец '{name}' не возрастает строго в строке "
+                            f"{table.line(k + 1)} ({t[k + 1]:.9g} с после {t[k]:.9g} с)",
+                            "время должно расти: удалите повторные строки и разделите запись, "
+                            "счётчик которой начался заново"))
 
 
 def _edge_column(src: _Source, table: _Table, column) -> str:
@@ -808,9 +881,11 @@ def _edge_column(src: _Source, table: _Table, column) -> str:
 def _wav_channels(src: _Source, selectors: list, given: float | None) -> list[Channel]:
     rate, layout = _wav_layout(src)
     if layout.frames == 0:
-        raise src.error("the WAV file holds no samples", "record again")
+        raise src.error("the WAV file holds no samples", "record again",
+                        ru=("в WAV-файле нет отсчётов", "запишите заново"))
     rate = _rate(src, float(rate) if rate > 0 else None, given,
-                 ("the WAV header gives no sample rate", "give sample_rate"))
+                 ("the WAV header gives no sample rate", "give sample_rate",
+                  ("в заголовке WAV нет частоты отсчётов", "задайте sample_rate")))
     names = [f"channel {k}" for k in range(layout.count)]
     channels = []
     for selector in selectors:
@@ -832,15 +907,26 @@ def _wav_layout(src: _Source) -> tuple[int, _WavOpener]:
         if "mmap length is greater than file size" in str(exc):
             raise src.error(f"the file is cut short: its header announces more samples than "
                             f"its {src.path.stat().st_size} bytes hold",
-                            "copy the recording again whole from the recorder") from None
+                            "copy the recording again whole from the recorder",
+                            ru=(f"файл обрезан: заголовок объявляет больше отсчётов, чем "
+                                f"вмещают его {src.path.stat().st_size} байт",
+                                "скопируйте запись с регистратора заново целиком")) from None
         raise src.error(f"not a readable WAV file ({exc})",
-                        "export the recording as a PCM (8/16/24/32-bit) or float WAV") from None
+                        "export the recording as a PCM (8/16/24/32-bit) or float WAV",
+                        ru=("WAV-файл не читается: это не запись RIFF/RF64",
+                            "экспортируйте запись как WAV PCM (8/16/24/32 бит) или с "
+                            "плавающей точкой")) from None
     except (struct.error, EOFError):
         raise src.error("the WAV header is cut short or damaged",
-                        "copy the recording again whole, or export it anew") from None
+                        "copy the recording again whole, or export it anew",
+                        ru=("заголовок WAV обрезан или повреждён",
+                            "скопируйте запись заново целиком или экспортируйте её снова")
+                        ) from None
     except ZeroDivisionError:
         raise src.error("the WAV header says the file has no channels",
-                        "export the recording again as a mono or stereo WAV") from None
+                        "export the recording again as a mono or stereo WAV",
+                        ru=("по заголовку WAV в файле нет каналов",
+                            "экспортируйте запись заново как моно- или стерео-WAV")) from None
     count = 1 if data.ndim == 1 else data.shape[1]
     return rate, _WavOpener(src.path, data.offset, data.shape[0], count, data.dtype.itemsize,
                             data.dtype)
@@ -917,7 +1003,9 @@ def _hdf5_channels(src: _Source, selectors: list, given: float | None) -> list[C
         f = h5py.File(src.path, "r")
     except OSError as exc:
         raise src.error(f"not a readable HDF5 file ({exc})",
-                        "give an HDF5 file (.h5) as the recorder or write_hdf5 writes it") from None
+                        "give an HDF5 file (.h5) as the recorder or write_hdf5 writes it",
+                        ru=("файл HDF5 не читается", "укажите файл HDF5 (.h5), как его пишет "
+                            "регистратор или write_hdf5")) from None
     with f:
         datasets = _datasets(f)
         return [_hdf5_channel(src, f, _dataset_name(src, datasets, s), given) for s in selectors]
@@ -943,7 +1031,11 @@ def _dataset_name(src: _Source, datasets: dict[str, h5py.Dataset], selector) -> 
         raise src.error(f"{len(one_d)} one-dimensional datasets, so which is the channel is not "
                         f"clear (datasets: {listing})",
                         "name the dataset of the channel" if one_d else
-                        "store each channel as a 1-D dataset")
+                        "store each channel as a 1-D dataset",
+                        ru=(f"одномерных наборов данных: {len(one_d)}, и какой из них канал, "
+                            f"неясно (наборы: {listing})",
+                            "назовите набор данных канала" if one_d else
+                            "храните каждый канал одномерным набором данных"))
     if not isinstance(selector, str):
         raise src.error(f"an HDF5 channel is a dataset path, got {selector!r}",
                         f"give the dataset's path (datasets: {listing})")
@@ -956,10 +1048,14 @@ def _hdf5_channel(src: _Source, f: h5py.File, name: str, given: float | None) ->
         raise src.error(f"dataset '{name}' holds {ds.dtype} of shape {ds.shape}, not a channel",
                         "store each channel as a 1-D dataset of numbers")
     if ds.shape[0] == 0:
-        raise src.error(f"dataset '{name}' holds no samples", "record again")
+        raise src.error(f"dataset '{name}' holds no samples", "record again",
+                        ru=(f"в наборе данных '{name}' нет отсчётов", "запишите заново"))
     _check_storage(src, name, ds)
     missing = (f"no sample rate for dataset '{name}'",
-               "add the attribute sample_rate [Hz] to the dataset or the file, or give sample_rate")
+               "add the attribute sample_rate [Hz] to the dataset or the file, or give sample_rate",
+               (f"у набора данных '{name}' нет частоты отсчётов",
+                "добавьте набору данных или файлу атрибут sample_rate [Гц] или задайте "
+                "sample_rate"))
     rate = _rate(src, _attr(src, name, (ds, f), ("sample_rate", "fs")), given, missing)
     volts = _attr(src, name, (ds, f), ("volts_per_code",))
     return src.channel(name, rate, ds.shape[0], ds.dtype,

@@ -56,7 +56,8 @@ RU_UNITS = {"kg": "кг", "mm": "мм", "m": "м", "s": "с", "g": "г", "deg": 
             "rad": "рад", "N": "Н", "Pa": "Па", "J": "Дж", "MPa": "МПа", "kN": "кН", "L": "л",
             "cm": "см", "kW": "кВт", "MW": "МВт", "Hz": "Гц", "min": "мин", "rpm": "мин⁻¹",
             "W": "Вт", "ms": "мс", "um": "мкм", "mrad": "мрад", "kHz": "кГц", "V": "В",
-            "mV": "мВ", "kgf": "кгс", "kPa": "кПа", "kJ": "кДж", "rps": "об/с"}
+            "mV": "мВ", "kgf": "кгс", "kPa": "кПа", "kJ": "кДж", "rps": "об/с", "dB": "дБ",
+            "us": "мкс", "uV": "мкВ", "MHz": "МГц", "h": "ч", "px": "пикс"}
 """How a Russian report prints a unit's symbols (:func:`unit_text`)."""
 
 EN_UNITS = {"um": "µm", "us": "µs", "uV": "µV"}
@@ -104,11 +105,14 @@ _PLUS_MINUS = re.compile(r"\s*(?:±|\+/-|\+-)\s*")
 
 
 class QuantityError(ValueError):
-    """A value's text that cannot be read, with how to write it (``fix``)."""
+    """A value's text that cannot be read, with how to write it (``fix``), and both in
+    Russian (``ru``: the problem, and the fix or None)."""
 
-    def __init__(self, problem: str, fix: str | None = None):
+    def __init__(self, problem: str, fix: str | None = None,
+                 ru: tuple[str, str | None] | None = None):
         super().__init__(problem)
         self.fix = fix
+        self.problem_ru, self.fix_ru = ru or (None, None)
 
 
 def dimension(unit: str) -> str:
@@ -125,15 +129,25 @@ def dimension(unit: str) -> str:
         or "dimensionless"
 
 
-_NAMES = {"m": "a length", "kg": "a mass", "s": "a time", "": "a plain number or angle",
-          "m/s^2": "an acceleration", "Pa": "a pressure or modulus",
-          "kg*m^2": "a moment of inertia", "1/s": "a frequency or speed"}
+_NAMES = {"m": ("a length", "длина"), "kg": ("a mass", "масса"), "s": ("a time", "время"),
+          "": ("a plain number or angle", "безразмерное число или угол"),
+          "m/s^2": ("an acceleration", "ускорение"),
+          "Pa": ("a pressure or modulus", "давление или модуль упругости"),
+          "kg*m^2": ("a moment of inertia", "момент инерции"),
+          "1/s": ("a frequency or speed", "частота или скорость вращения")}
 
 
-def _dimension_name(unit: str) -> str:
+def _dimension_name(unit: str, lang: str = "en") -> str:
+    """What a quantity of ``unit`` is, in words of ``lang``.
+
+    >>> _dimension_name("mm"), _dimension_name("g", "ru"), _dimension_name("N", "ru")
+    ('a length', 'масса', 'величина размерности [length] * [mass] * [time] ** -2')
+    """
     names = {dimension(u): name for u, name in _NAMES.items()}
     key = dimension(unit)
-    return names.get(key, f"a quantity of dimension {key}")
+    if key in names:
+        return names[key][lang == "ru"]
+    return f"величина размерности {key}" if lang == "ru" else f"a quantity of dimension {key}"
 
 
 PLAUSIBLE = {dimension(si): (lo, hi, si) for lo, hi, si in (
@@ -316,10 +330,16 @@ def decimal_point(text: str) -> str:
         if commas == 1 and not points:
             return number.replace(",", ".")
         how = "two commas" if not points else "both a comma and a point"
+        how_ru = "две запятые" if not points else "и запятая, и точка"
         raise QuantityError(f"{text!r}: the number {number} holds {how}: a thousands "
                             f"separator cannot be told from a decimal one",
                             "write the number with one decimal separator (a point or a comma) "
-                            "and no thousands separator, e.g. \"1234.5\" or \"1234,5\"")
+                            "and no thousands separator, e.g. \"1234.5\" or \"1234,5\"",
+                            ru=(f"{text!r}: в числе {number} {how_ru}: разделитель тысяч не "
+                                f"отличить от десятичного",
+                                "запишите число с одним десятичным разделителем (точкой или "
+                                "запятой) и без разделителя тысяч, например \"1234.5\" или "
+                                "\"1234,5\""))
     return _GROUPED.sub(point, text)
 
 
@@ -375,17 +395,25 @@ def read_quantity(text: str, expected_unit: str) -> tuple[float, float | None, s
                             f"between two digits) separates two values",
                             "write one value per text, with a decimal comma between digits "
                             "(\"30,62\"); repeated readings go in an array, "
-                            "t = [\"30,62\", \"30,81\"]")
+                            "t = [\"30,62\", \"30,81\"]",
+                            ru=(f"не прочесть {written!r}: запятая не между двумя цифрами — не "
+                                f"десятичная и разделяет два значения",
+                                "пишите одно значение в строке, с десятичной запятой между "
+                                "цифрами (\"30,62\"); повторные отсчёты — массивом, "
+                                "t = [\"30,62\", \"30,81\"]"))
     parts = _PLUS_MINUS.split(text.strip())
     if len(parts) > 2 or not parts[0]:
-        raise QuantityError(f"cannot read {written!r} as a value with a unit")
+        raise QuantityError(f"cannot read {written!r} as a value with a unit",
+                            ru=(f"не прочесть {written!r} как значение с единицей", None))
     main, tol = parts[0], parts[1] if len(parts) == 2 else None
     percent = tol is not None and tol.rstrip().endswith("%")
     if percent:                           # an instrument's accuracy, relative to the value
         tol = tol.rstrip()[:-1].strip()
         if not _is_number(tol):
             raise QuantityError(f"cannot read the ± limit in {written!r}: a limit in per cent "
-                                f"is a number before the % sign")
+                                f"is a number before the % sign",
+                                ru=(f"не прочесть предел ± в {written!r}: предел в процентах — "
+                                    f"это число перед знаком %", None))
     if tol is not None and _is_number(main) and not percent:
         unit_part = _unit_of(tol)
         main = f"{main} {unit_part}" if unit_part else main
@@ -400,7 +428,9 @@ def read_quantity(text: str, expected_unit: str) -> tuple[float, float | None, s
         limit = _to_si(tol, expected_unit, written)
         if limit < 0:
             raise QuantityError(f"the ± limit in {written!r} is negative: a limit of error is "
-                                f"a half-width, ≥ 0")
+                                f"a half-width, ≥ 0",
+                                ru=(f"предел ± в {written!r} отрицателен: предел погрешности — "
+                                    f"полуширина, ≥ 0", None))
     return value, limit, unit
 
 
@@ -433,18 +463,25 @@ def _to_si(s: str, expected_unit: str, whole: str) -> float:
         return to_si(float(s), expected_unit)
     if not re.match(r"^\s*[-+]?(?:\d|\.\d)", s):
         raise QuantityError(f"cannot read {whole!r}: it should start with a number, e.g. "
-                            f"'12.5 {expected_unit}'")
+                            f"'12.5 {expected_unit}'",
+                            ru=(f"не прочесть {whole!r}: значение начинается с числа, например "
+                                f"'12,5 {expected_unit}'", None))
     number, unit = _NUMBER_AND_UNIT.match(s).group(1), _unit_of(s)
     try:
         dimension = _dimensionality(unit)
     except Exception as exc:
-        raise QuantityError(f"cannot read {whole!r} as a value with a unit ({exc})") from None
+        raise QuantityError(f"cannot read {whole!r} as a value with a unit ({exc})",
+                            ru=(f"не прочесть {whole!r} как значение с единицей (единица не "
+                                f"разобрана)",
+                                None)) from None
     if dimension != _dimensionality(expected_unit):
+        given = str(ureg.Unit(unit))
         raise QuantityError(
-            f"{whole!r} is {_dimension_name(str(ureg.Unit(unit)))}, but "
-            f"{_dimension_name(expected_unit)} "
-            f"is expected (unit like '{expected_unit}')"
-        )
+            f"{whole!r} is {_dimension_name(given)}, but {_dimension_name(expected_unit)} "
+            f"is expected (unit like '{expected_unit}')",
+            ru=(f"{whole!r} — {_dimension_name(given, 'ru')}, а ожидается "
+                f"{_dimension_name(expected_unit, 'ru')} (единица вроде '{expected_unit}')",
+                None))
     return number_to_si(float(number), unit, expected_unit)
 
 

@@ -6,6 +6,7 @@ the chosen language; renderers only lay them out.
 from __future__ import annotations
 
 import math
+import re
 
 from processing.numerals import localize_numbers
 from processing.units import unit_text
@@ -41,11 +42,66 @@ def result_pm(results, name: str, scale: float = 1.0) -> str:
     return " ± ".join(fmt_pm(v, U - v))
 
 
-def _budget(r, lang: str, top: int = 3) -> str:
+def _budget(r, lang: str, names: dict[str, str], top: int = 3) -> str:
+    """The largest shares of u² of a result, each input named by ``names`` (its key in the
+    file → how the report names it) or, failing that, by its key."""
     items = sorted(r.estimate.contributions.items(), key=lambda kv: -kv[1])
     total = sum(c * c for _, c in items) or 1.0
-    return ", ".join(f"{k} {100 * c * c / total:.0f} %" for k, c in items[:top]
-                     if c * c / total >= 0.005)
+    return ", ".join(f"{names.get(k, _model_name(k) if names else k)} "
+                     f"{100 * c * c / total:.0f} %"
+                     for k, c in items[:top] if c * c / total >= 0.005)
+
+
+GREEK = {"alpha": "α", "beta": "β", "gamma": "γ", "delta": "δ", "epsilon": "ε", "zeta": "ζ",
+         "eta": "η", "theta": "θ", "kappa": "κ", "lambda": "λ", "mu": "μ", "nu": "ν", "xi": "ξ",
+         "pi": "π", "rho": "ρ", "sigma": "σ", "tau": "τ", "phi": "φ", "chi": "χ", "psi": "ψ",
+         "omega": "ω"}
+"""Greek letters a key spells in Latin (``omega``), as a Russian report prints them."""
+
+_WORD = re.compile(r"[a-z]{3,}(?:_[a-z0-9]+)*")
+"""A key that is an English word (``tdc_channel``, ``shape``), not a symbol (``m_ref``)."""
+
+
+def _symbol(symbol: str, lang: str) -> str:
+    """An input's symbol as a report prints it: in Russian, a key that is an English word
+    (an input the manual gives no symbol) is left out, its description says what it is.
+
+    >>> _symbol("tdc_channel", "ru"), _symbol("m_ref", "ru"), _symbol("shape", "en")
+    ('', 'm_ref', 'shape')
+    """
+    return "" if lang == "ru" and _WORD.fullmatch(symbol) and symbol not in GREEK else symbol
+
+
+def _model_name(key: str) -> str:
+    """A measurement model's input that is no field of the file, as a Russian budget names it:
+    its last part (a Greek letter spelt out written as the letter) and the part before it
+    where that is a symbol, not an English word (``r7.omega`` → ``ω (r7)``).
+
+    >>> _model_name("r7.omega"), _model_name("chain.c4"), _model_name("lever")
+    ('ω (r7)', 'c4', 'lever')
+    """
+    head, _, last = key.rpartition(".")
+    last = GREEK.get(last, last)
+    return f"{last} ({head})" if head and not _WORD.fullmatch(head) else last
+
+
+def _input_names(rows, lang: str) -> dict[str, str]:
+    """How a Russian report names each input in a budget: its symbol, numbered where its
+    section holds many entries (``analytic[1].R`` → ``R (2)``); an English one keeps the
+    file's keys.
+
+    >>> _input_names([{"section": "analytic[1]", "name": "R", "symbol": "R"},
+    ...               {"section": "trifilar", "name": "R1", "symbol": "R₁"}], "ru")
+    {'analytic[1].R': 'R (2)', 'trifilar.R1': 'R₁'}
+    """
+    if lang == "en":
+        return {}
+    names = {}
+    for row in rows:
+        index = row["section"].partition("[")[2].rstrip("]")
+        names[f"{row['section']}.{row['name']}"] = \
+            f"{row['symbol']} ({int(index) + 1})" if index else row["symbol"]
+    return names
 
 
 SHOWN_READINGS = 10
@@ -66,6 +122,36 @@ def _readings(values, lang: str) -> str:
     half = SHOWN_READINGS // 2
     return (", ".join(f"{x:g}" for x in values[:half]) + ", …, "
             + ", ".join(f"{x:g}" for x in values[-half:]) + f" (n = {len(values)})")
+
+
+def _plain_value(row: dict, lang: str) -> str:
+    """An input that is no quantity as a report prints it: a choice in its words, a flag as
+    yes or no, a count or a text as written.
+
+    >>> _plain_value({"value": True}, "ru"), _plain_value({"value": "in",
+    ...     "value_label": {"en": "inlet", "ru": "впускной"}}, "ru")
+    ('да', 'впускной')
+    """
+    if "value_label" in row:
+        return row["value_label"][lang]
+    if isinstance(row["value"], bool):
+        return text(lang)["yes" if row["value"] else "no_flag"]
+    return str(row["value"])
+
+
+def _section(row: dict, lang: str) -> str:
+    """The section of an input as a report names it: the file's name of it in English
+    (``analytic[0]``), its title in Russian, numbered from 1 in a section of many entries.
+
+    >>> row = {"section": "analytic[1]", "section_label": {"en": "Parts", "ru": "Части"}}
+    >>> _section(row, "en"), _section(row, "ru")
+    ('analytic[1]', 'Части, 2')
+    """
+    if lang == "en" or "section_label" not in row:
+        return row["section"]
+    index = row["section"].partition("[")[2]
+    label = row["section_label"][lang]
+    return f"{label}, {int(index.rstrip(']')) + 1}" if index else label
 
 
 def _cell(value, lang: str) -> str:
@@ -113,7 +199,7 @@ def build(res, lang: str = "en") -> dict:
     ``lang`` writes them, :func:`localize_numbers`; the names the student typed as typed)."""
     t = text(lang)
     meta = dict(res.meta)
-    results = []
+    results, names = [], _input_names(res.inputs, lang)
     for name, r in res.results.items():
         e = r.estimate
         v, U = fmt_pm(r.shown(e.value), r.shown(e.value + e.U) - r.shown(e.value))
@@ -125,7 +211,7 @@ def build(res, lang: str = "en") -> dict:
             "unit": unit_text(r.display_unit, lang), "rel": f"{100 * e.relative_U:.2g}\u00a0%"
             if math.isfinite(e.relative_U) and not exact else "—",
             "interval": f"[{lo:.5g}, {hi:.5g}]" if math.isfinite(lo) and not exact else "—",
-            "budget": _budget(r, lang), "nonlinear": e.nonlinear})
+            "budget": _budget(r, lang, names), "nonlinear": e.nonlinear})
     comparisons = []
     for c in res.comparisons:
         a, b = res.results[c.a], res.results[c.b]
@@ -133,7 +219,7 @@ def build(res, lang: str = "en") -> dict:
                       a.shown(c.difference.U) - a.shown(0.0))
         comparisons.append({
             "a": a.label[lang], "b": b.label[lang], "diff": f"{d}{PM}{U}",
-            "unit": unit_text(a.display_unit, lang), "rel": f"{100 * c.relative_to(b.value):+.2f} %",
+            "unit": unit_text(a.display_unit, lang), "rel": f"{100 * c.relative_to(b.value):+.2f}\u00a0%",
             "agree": t["yes"] if c.agree else t["no"], "ok": c.agree})
     inputs = []
     for row in res.inputs:
@@ -144,8 +230,8 @@ def build(res, lang: str = "en") -> dict:
             u = u if row["u"] > 0 else ""       # a reading without a stated u shows none
             readings = _readings(row.get("readings", []), lang)
         else:
-            v, u, readings = str(row["value"]), "", ""
-        inputs.append({"section": row["section"], "symbol": row["symbol"],
+            v, u, readings = _plain_value(row, lang), "", ""
+        inputs.append({"section": _section(row, lang), "symbol": _symbol(row["symbol"], lang),
                        "label": row["label"][lang], "value": v, "u": u,
                        "unit": unit_text(row["unit"], lang), "readings": readings})
     tables, measurements = ([{"title": tb.title[lang], "columns": [h[lang] for _, h in tb.columns],
@@ -163,10 +249,10 @@ def build(res, lang: str = "en") -> dict:
         "inputs_uncertain": any(row.get("u", 0) for row in res.inputs), "comparisons": comparisons, "tables": tables,
         "measurements": measurements,
         "formulas": [f[lang] for f in res.formulas],
-        "references": [r[lang] for r in res.references],
         "warnings": [w.text(lang) for w in res.warnings],
         "warning_codes": [w.code for w in res.warnings],
         "conclusion": [c[lang] for c in res.conclusion],
         "figures": [(f.name, f.caption[lang]) for f in res.figures],
     }, lang) | {"t": t, "lang": lang, "source": res.source,
+                "references": [r[lang] for r in res.references],   # cited as published
                 "meta": [(t.get(k, k), v) for k, v in meta.items() if v]}

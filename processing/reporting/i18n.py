@@ -10,7 +10,7 @@ _TEXT = {
         "readings": "Readings", "U": "U\u00a0=\u00a0k·u", "u": "u", "rel": "U rel.",
         "interval": "95 % interval (MC)", "budget": "Main contributions to u²",
         "method_a": "Method", "method_b": "against", "diff": "Difference",
-        "agree": "Agree within U", "yes": "yes", "no": "NO", "student": "Student",
+        "agree": "Agree within U", "yes": "yes", "no": "NO", "no_flag": "no", "student": "Student",
         "group": "Group", "date": "Date", "rig": "Rig", "teacher": "Teacher", "notes": "Notes",
         "section": "Section", "symbol": "Symbol", "no_warnings": "None.",
         "uncertainty_note": "Uncertainties: GUM linear propagation, checked by Monte Carlo "
@@ -39,6 +39,7 @@ _TEXT = {
         "U": "U\u00a0=\u00a0k·u", "u": "u", "rel": "U отн.", "interval": "Интервал 95 % (МК)",
         "budget": "Основные вклады в u²", "method_a": "Метод", "method_b": "против",
         "diff": "Разность", "agree": "Согласуются в пределах U", "yes": "да", "no": "НЕТ",
+        "no_flag": "нет",
         "student": "Студент", "group": "Группа", "date": "Дата", "rig": "Стенд",
         "teacher": "Преподаватель", "notes": "Примечания", "section": "Раздел",
         "symbol": "Обозн.", "no_warnings": "Нет.",

@@ -144,6 +144,11 @@ def make_legible(fig, lang: str) -> None:
                 inner = axis.get_major_formatter()
                 if not isinstance(inner, LocalizedFormatter):
                     axis.set_major_formatter(LocalizedFormatter(inner, lang))
+            words = [ax.title, ax.xaxis.label, ax.yaxis.label, *ax.texts]
+            legend = ax.get_legend()
+            words += legend.get_texts() if legend is not None else []
+            for w in words:
+                w.set_text(localize_numbers(w.get_text(), lang))
     renderer = FigureCanvasAgg(fig).get_renderer()
     fig.draw_without_rendering()
     for ax in fig.axes:

@@ -91,15 +91,21 @@ def _inputs_table(table, c, t):
     return table(header, rows)
 
 
+def _named(r: dict, lang: str) -> str:
+    """A result's label and, in English, the name a script keys on (in Russian its symbol:
+    the names are English words)."""
+    return f"{r['label']} ({r['name'] if lang == 'en' else r['symbol']})"
+
+
 def _results_table(table, c, t):
     """The results; their uncertainty columns only where some result is uncertain."""
     if not c["uncertain"]:
         return table([t["quantity"], t["value"], t["unit"]],
-                     [[f"{r['label']} ({r['name']})", r["value"], r["unit"]]
+                     [[_named(r, c["lang"]), r["value"], r["unit"]]
                       for r in c["results"]])
     return table([t["quantity"], t["value"], t["U"], "k", t["unit"], t["rel"], t["interval"],
                   t["budget"]],
-                 [[f"{r['label']} ({r['name']})", r["value"], r["U"], r["k"], r["unit"], r["rel"],
+                 [[_named(r, c["lang"]), r["value"], r["U"], r["k"], r["unit"], r["rel"],
                    r["interval"], r["budget"]] for r in c["results"]])
 
 
