@@ -979,7 +979,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
                     step: float = 200.0, fine: float = 50.0, speeds=(800.0, 2100.0),
                     natural_frequency: float | None = None, loads=("full",),
                     chain: bool = True, image: bool = False,
-                    part: int | None = None) -> dict[str, Path]:
+                    part: int | None = None, draw=None) -> dict[str, Path]:
     """Write a synthetic lab 7 measurement: the records of a speed sweep, a measurement file
     and the answer key.
 
@@ -1028,6 +1028,10 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
     part : int, optional
         Seed of the part: the crankshaft's chain and the torsiograph's f_c (default
         ``seed``; 0: the scene's defaults, whatever ``seed`` draws the readings).
+    draw : callable, optional
+        With ``image``: who draws each paper record instead of the first family's phone
+        (:func:`labs.foreign_records.paper` protocol: ``draw(stem, signals, *, duration,
+        gain, zeros, mark_period, tdc_times, seed) -> Path``, the file it wrote).
 
     Returns
     -------
@@ -1090,13 +1094,22 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
         results["l"] = inst.scale / (1e3 * gain)         # rad per mm of paper
     for number, load, w, rec in recs:
         if image:
-            name = f"r{number:02d}.jpg"
             centre = float(np.median(rec.trace))
-            strip = Layout(length=PHOTO_STRIP, speed=PHOTO_PAPER_SPEED, mark_period=PHOTO_MARKS,
-                           tdc_times=tuple(rec.tdc_times))
-            beam = Beam(lambda t, rec=rec, centre=centre: np.interp(t, rec.time, rec.trace)
-                        - centre, 0.06, gain)
-            render(strip, [beam], PHONE, seed=seed * 1000 + number).write(out / name)
+
+            def signal(t, rec=rec, centre=centre):
+                return np.interp(t, rec.time, rec.trace) - centre
+
+            if draw is None:
+                name = f"r{number:02d}.jpg"
+                strip = Layout(length=PHOTO_STRIP, speed=PHOTO_PAPER_SPEED,
+                               mark_period=PHOTO_MARKS, tdc_times=tuple(rec.tdc_times))
+                render(strip, [Beam(signal, 0.06, gain)], PHONE,
+                       seed=seed * 1000 + number).write(out / name)
+            else:
+                name = draw(out / f"r{number:02d}", [signal],
+                            duration=PHOTO_STRIP / PHOTO_PAPER_SPEED, gain=gain, zeros=[0.06],
+                            mark_period=PHOTO_MARKS, tdc_times=tuple(rec.tdc_times),
+                            seed=seed * 1000 + number).name
             rate = ""
         else:
             name = f"r{number:02d}.{fmt}"
