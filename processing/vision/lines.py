@@ -264,7 +264,8 @@ for them to be a train of marks."""
 
 def _mark_train(starts: np.ndarray, lengths: np.ndarray, w: int) -> bool:
     """Whether the stretches where a candidate line's row is empty are a train of marks: at
-    least three, of about one length (0.6–1.6 of their median), their starts on an even
+    least three, of one length (within 1 px or 10 % of their median: a marker's marks last
+    alike; a trace's dips vary with the signal), their starts on an even
     grid (within a fifth of its spacing of their places) and together less than
     :data:`MARK_DUTY` of the line, for :data:`TRAIN_SHARE` of them. A marker lifts its line
     periodically, at a nearly constant spacing along the time base, whatever its marks'
@@ -281,7 +282,8 @@ def _mark_train(starts: np.ndarray, lengths: np.ndarray, w: int) -> bool:
     k = np.round((starts - starts[0]) / spacing)
     slope, origin = np.polyfit(k, starts, 1)
     on_grid = np.abs(starts - origin - slope * k) < 0.2 * slope
-    alike = np.abs(lengths / np.median(lengths) - 1.1) <= 0.5
+    typical = float(np.median(lengths))
+    alike = np.abs(lengths - typical) <= max(1.0, 0.1 * typical)
     return bool(np.mean(on_grid & alike) >= TRAIN_SHARE)
 
 
