@@ -293,8 +293,9 @@ def lab7_scene(seed: int, folder, *, capture: str = "scan", dpi: float = SCAN_DP
     """Lab 7: the torsiograph's records of a short sweep across a resonance, on strips.
 
     The lab's own scene (:func:`labs.lab7_torsiograph.write_synthetic`: a crankshaft and
-    torsiograph of the seed's part, full load) at three speeds 200 min⁻¹ apart from a start
-    drawn in 1300–1700 min⁻¹, each record 0.2 s of a light-beam oscillograph's strip (5 ms
+    torsiograph of the seed's part, full load) at two speeds 200 min⁻¹ apart from a start
+    drawn in 1300–1700 min⁻¹ (and the manual's finer steps near a resonance between them),
+    each record 0.2 s of a light-beam oscillograph's strip (5 ms
     time marks, a TDC mark per revolution) drawn by :func:`paper`.
 
     Returns
@@ -308,7 +309,7 @@ def lab7_scene(seed: int, folder, *, capture: str = "scan", dpi: float = SCAN_DP
     folder = Path(folder) / f"lab7_{capture}_{seed}"
     start = float(np.round(rng.uniform(1300, 1700), -1))
     chosen: dict = {}
-    written = lab7.write_synthetic(folder, seed, image=True, speeds=(start, start + 400),
+    written = lab7.write_synthetic(folder, seed, image=True, speeds=(start, start + 200),
                                    step=200.0, fine=200.0, chain=False,
                                    draw=paper(capture, rng, dpi=dpi, size=size, chosen=chosen))
     _scanned(written["toml"], capture, dpi)

@@ -705,6 +705,8 @@ def _flat(inputs: Inputs, recorded, slope, found, amplitudes) -> dict:
     for r in recorded:
         t = r.trace
         flat[f"r{r.number}.omega"] = r.speed
+        if hasattr(r.channel, "clock"):          # a paper record's time base
+            flat[f"r{r.number}.clock"] = r.channel.clock
         if t.frequency_fit is not None:
             flat[f"r{r.number}.half_period"] = t.frequency_fit.measured_slope()
         photo = PHOTO_AMPLITUDE if is_image(r.source) else 0.0
@@ -739,7 +741,8 @@ def _model(recorded, found, chain: Chain | None, instrument: tuple[float, float]
             out.update(_records_model(x, recorded, instrument))
         for f in found:
             k = f.resonance.order
-            w = np.stack(np.broadcast_arrays(*[x[f"r{n}.omega"] for n in f.records]), -1)
+            w = np.stack(np.broadcast_arrays(*[x[f"r{n}.omega"] * x.get(f"r{n}.clock", 1.0)
+                                               for n in f.records]), -1)
             a = np.stack(np.broadcast_arrays(*[x[f"r{n}.order{k:g}"] for n in f.records]), -1)
             speed = resonance_speed(w, a)[0] + x[f"res{f.number}.model"]
             out[f"n_res_{f.number}"] = speed
@@ -761,11 +764,12 @@ def _records_model(x: dict, recorded, instrument: tuple[float, float]) -> dict:
     phis = []
     for r in recorded:
         i = r.number
-        f = x[f"r{i}.f"]
+        clock = x.get(f"r{i}.clock", 1.0)     # frequencies ×, durations ÷ the time base
+        f = x[f"r{i}.f"] * clock
         correction = amplitude_ratio(f, f_c0, zeta0) / amplitude_ratio(f, f_c, zeta)
-        out[f"n_{i}"] = x[f"r{i}.omega"]
+        out[f"n_{i}"] = x[f"r{i}.omega"] * clock
         if f"r{i}.half_period" in x:
-            out[f"nu_{i}"] = 1 / (2 * x[f"r{i}.half_period"])
+            out[f"nu_{i}"] = clock / (2 * x[f"r{i}.half_period"])
             out[f"K_{i}"] = resonating_order(out[f"nu_{i}"], out[f"n_{i}"])
         out[f"phi_max_{i}"] = amplitude(l, x[f"r{i}.A"] * correction)
         phis.append(out[f"phi_max_{i}"])

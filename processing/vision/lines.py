@@ -279,9 +279,13 @@ def _mark_train(starts: np.ndarray, lengths: np.ndarray, w: int) -> bool:
     spacing = float(np.median(np.diff(starts)))
     if spacing <= 2 * np.median(lengths):
         return False
-    k = np.round((starts - starts[0]) / spacing)
-    slope, origin = np.polyfit(k, starts, 1)
-    on_grid = np.abs(starts - origin - slope * k) < 0.2 * slope
+    origin, on_grid = float(starts[0]), np.ones(starts.size, bool)
+    for _ in range(3):              # numbered afresh as the spacing is refined
+        k = np.round((starts - origin) / spacing)
+        on_grid = np.abs(starts - origin - spacing * k) < 0.2 * spacing
+        if on_grid.sum() < 3:
+            return False
+        spacing, origin = np.polyfit(k[on_grid], starts[on_grid], 1)
     typical = float(np.median(lengths))
     alike = np.abs(lengths - typical) <= max(1.0, 0.1 * typical)
     return bool(np.mean(on_grid & alike) >= TRAIN_SHARE)
