@@ -486,8 +486,8 @@ def _flat(recorded, valves) -> dict:
     for r in recorded:
         i, omega = r.number, r.speed.value
         flat[f"r{i}.omega"] = r.speed
-        if r.photos:                    # the photograph's time base, common to its traces
-            flat[f"r{i}.clock"] = next(iter(r.photos.values())).clock
+        if r.channels:                  # the photograph's time base, common to its traces
+            flat[f"r{i}.clock"] = next(iter(r.channels.values())).clock
         for v, tr in r.traces.items():
             ev, key = tr.events, f"r{i}.{v}"
             m = len(ev)
