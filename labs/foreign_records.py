@@ -194,5 +194,175 @@ def lab3_scene(seed: int, folder, *, capture: str = "scan", zero_line: bool | No
     return ForeignCase(toml, image, truth, refuse, params, scene)
 
 
-SCENES = {"lab3": lab3_scene}
+PAPER_WIDTH = 0.12
+"""Width of the oscillograph's paper the labs' ``[image]`` tables name (120 mm). [m]"""
+
+
+def paper(capture: str, rng: np.random.Generator, *, dpi: float = SCAN_DPI,
+          size: tuple[int, int] = PHOTO_SIZE, chosen: dict | None = None):
+    """A drawer of a lab's paper record on a strip of the second family, for the labs'
+    ``write_synthetic(..., image=True, draw=...)``.
+
+    Each record it draws gets a strip of its own from ``rng``: the whole record over
+    220–300 mm of :data:`PAPER_WIDTH` paper; the time marks near the lower edge as ticks up
+    or down, pips, dashes or dots (lasting 15–35 % of their period); the TDC marks (if any)
+    near the upper edge as ticks down, pips or dashes; the beams' zero lines on half the
+    strips, a printed grid on half; each beam exposed so that its fastest stroke still
+    shows (an operator sets the lamp for the record); captured as ``capture``
+    (:meth:`~processing.synth.paper_strip.Scan.draw`, :meth:`~.Photo.draw`).
+
+    Parameters
+    ----------
+    capture : {"scan", "photo"}
+    rng : numpy.random.Generator
+    dpi, size
+        The scan's resolution, the photograph's size.
+    chosen : dict, optional
+        Filled with each record's drawn settings (file name → dict), for the bench's table.
+
+    Returns
+    -------
+    callable
+        ``draw(stem, signals, *, duration, gain, zeros, mark_period, tdc_times, seed) ->
+        Path``: the record's signals [unit] over ``duration`` [s], ``gain`` [m per unit] about
+        each zero [m above the lower edge], written as ``stem`` with the capture's suffix.
+    """
+    def draw(stem, signals, *, duration, gain, zeros, mark_period, tdc_times, seed) -> Path:
+        length = float(rng.uniform(0.22, 0.3))
+        speed = length / duration
+        lamp = [6.0 * max(1.0, _stroke_speed(f, duration, gain) / speed / 2) for f in signals]
+        zero_line, grid = (bool(v) for v in rng.random(2) < 0.5)
+        marks = [_time_marks(rng, mark_period, duration)]
+        if len(tdc_times):
+            marks.append(_tdc_marks(rng, tdc_times, mark_period))
+        strip = Strip(length=length, width=PAPER_WIDTH, speed=speed,
+                      traces=tuple(Trace(f, z, gain, zero_line=zero_line, exposure=e)
+                                   for f, z, e in zip(signals, zeros, lamp)),
+                      marks=tuple(marks), grid=_grid(rng) if grid else None)
+        shot = _capture(rng, capture, dpi=dpi, size=size)
+        scene = expose(strip, shot, seed=seed)
+        path = scene.write(Path(stem).with_suffix(scene.suffix))
+        if chosen is not None:
+            chosen[path.name] = {"zero_line": zero_line, "grid": grid,
+                                 "time_marks": f"{marks[0].shape}{'+-'[marks[0].direction < 0]}",
+                                 "lid": _lid(capture, shot)}
+        return path
+
+    return draw
+
+
+def _stroke_speed(signal, duration: float, gain: float) -> float:
+    """The beam's fastest speed across the paper over the record. [m/s]"""
+    t = np.linspace(0.0, duration, 20001)
+    return float(np.max(np.abs(np.diff(gain * np.asarray(signal(t), dtype=float))))
+                 / (t[1] - t[0]))
+
+
+def _time_marks(rng: np.random.Generator, period: float, duration: float) -> Marks:
+    shape = str(rng.choice(["tick", "tick", "pip", "dash", "dot"]))
+    return Marks(np.arange(0.0, duration, period), float(rng.uniform(0.004, 0.008)),
+                 shape=shape, direction=int(rng.choice([1, -1])) if shape == "tick" else 1,
+                 size=float(rng.uniform(0.0006, 0.001)) if shape == "dot"
+                 else float(rng.uniform(0.0015, 0.003)),
+                 duration=float(rng.uniform(0.15, 0.35)) * period,
+                 rise=float(rng.uniform(0.2, 0.4)), role="time")
+
+
+def _tdc_marks(rng: np.random.Generator, times, period: float) -> Marks:
+    shape = str(rng.choice(["tick", "pip", "dash"]))
+    return Marks(np.asarray(times, dtype=float), PAPER_WIDTH - float(rng.uniform(0.006, 0.01)),
+                 shape=shape, direction=-1 if shape == "tick" else 1,
+                 size=float(rng.uniform(0.002, 0.004)),
+                 duration=float(rng.uniform(0.3, 0.5)) * period,
+                 rise=float(rng.uniform(0.2, 0.4)), role="tdc")
+
+
+def _lid(capture: str, shot) -> str:
+    if capture != "scan":
+        return ""
+    return "light" if min(shot.lid) > 128 else "dark"
+
+
+def _read_truth(answer: Path, names) -> dict:
+    results = json.loads(answer.read_text(encoding="utf-8"))["results"]
+    return {k: float(results[k]) for k in names}
+
+
+def lab7_scene(seed: int, folder, *, capture: str = "scan", dpi: float = SCAN_DPI,
+               size: tuple[int, int] = PHOTO_SIZE) -> ForeignCase:
+    """Lab 7: the torsiograph's records of a short sweep across a resonance, on strips.
+
+    The lab's own scene (:func:`labs.lab7_torsiograph.write_synthetic`: a crankshaft and
+    torsiograph of the seed's part, full load) at two speeds 200 min⁻¹ apart from a start
+    drawn in 1300–1700 min⁻¹ (and the manual's finer steps near a resonance between them),
+    each record 0.2 s of a light-beam oscillograph's strip (5 ms
+    time marks, a TDC mark per revolution) drawn by :func:`paper`.
+
+    Returns
+    -------
+    ForeignCase
+        Truth ``phi_max_i`` of each record (its largest single oscillation's half range).
+    """
+    from labs import lab7_torsiograph as lab7
+
+    rng = np.random.default_rng([seed, 28, 7])
+    folder = Path(folder) / f"lab7_{capture}_{seed}"
+    start = float(np.round(rng.uniform(1300, 1700), -1))
+    chosen: dict = {}
+    written = lab7.write_synthetic(folder, seed, image=True, speeds=(start, start + 200),
+                                   step=200.0, fine=200.0, chain=False,
+                                   draw=paper(capture, rng, dpi=dpi, size=size, chosen=chosen))
+    _scanned(written["toml"], capture, dpi)
+    names = [k for k in json.loads(written["answer"].read_text())["results"]
+             if k.startswith("phi_max_")]
+    return ForeignCase(written["toml"], written["r1"], _read_truth(written["answer"], names),
+                       None, {"lab": "lab7", "seed": seed, "capture": capture,
+                              "records": len(names), "start_rpm": start,
+                              **_settings(chosen), "expected_refusal": ""})
+
+
+def lab9_scene(seed: int, folder, *, capture: str = "scan", dpi: float = SCAN_DPI,
+               size: tuple[int, int] = PHOTO_SIZE) -> ForeignCase:
+    """Lab 9: the damper ring's free decay on a strip.
+
+    The lab's own scene (:func:`labs.lab9_damper.write_synthetic`: the seed's damper, its
+    static runs, the ring twisted and released, 35 mm of trace at the release, 1 ms time
+    marks, no TDC marks) drawn by :func:`paper`.
+
+    Returns
+    -------
+    ForeignCase
+        Truth ``log_decrement`` (δ at the release amplitude) and ``T_d``.
+    """
+    from labs import lab9_damper as lab9
+
+    rng = np.random.default_rng([seed, 28, 9])
+    folder = Path(folder) / f"lab9_{capture}_{seed}"
+    chosen: dict = {}
+    written = lab9.write_synthetic(folder, seed, image=True,
+                                   draw=paper(capture, rng, dpi=dpi, size=size, chosen=chosen))
+    _scanned(written["toml"], capture, dpi)
+    return ForeignCase(written["toml"], written["record"],
+                       _read_truth(written["answer"], ("log_decrement", "T_d")), None,
+                       {"lab": "lab9", "seed": seed, "capture": capture, **_settings(chosen),
+                        "expected_refusal": ""})
+
+
+def _scanned(toml: Path, capture: str, dpi: float) -> None:
+    """A scan's measurement file gives the scanner's resolution for the length scale, as a
+    student with a scan does (a light lid may hide the sheet's edges)."""
+    if capture == "scan":
+        text = toml.read_text(encoding="utf-8")
+        toml.write_text(text.replace(f'paper_width = "{PAPER_WIDTH * 1e3:g} mm"',
+                                     f'dpi = "{dpi:g}"'), encoding="utf-8")
+
+
+def _settings(chosen: dict) -> dict:
+    """The drawn settings of a scene's records, for the bench's table (several records'
+    joined by '/')."""
+    keys = ("zero_line", "grid", "time_marks", "lid")
+    return {k: "/".join(str(c[k]) for c in chosen.values()) for k in keys}
+
+
+SCENES = {"lab3": lab3_scene, "lab7": lab7_scene, "lab9": lab9_scene}
 """The lab scenes of the foreign-records benchmark, by lab."""

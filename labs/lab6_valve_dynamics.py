@@ -487,6 +487,8 @@ def _flat(recorded, valves) -> dict:
     for r in recorded:
         i, omega = r.number, r.speed.value
         flat[f"r{i}.omega"] = r.speed
+        if r.channels:                  # the photograph's time base, common to its traces
+            flat[f"r{i}.clock"] = next(iter(r.channels.values())).clock
         for v, tr in r.traces.items():
             ev, key = tr.events, f"r{i}.{v}"
             m = len(ev)
@@ -570,7 +572,8 @@ def _model(recorded, seps, strokes: int):
         out = {k: v for k, v in x.items() if k.startswith("k_")}
         for r in recorded:
             i = r.number
-            w = x[f"r{i}.omega"]
+            clock = x.get(f"r{i}.clock", 1.0)     # frequencies ×, durations ÷ the time base
+            w = x[f"r{i}.omega"] * clock
             out[f"n_{i}"] = w
             for v in r.traces:
                 key, k = f"r{i}.{v}", x[f"k_{v}"]
@@ -578,13 +581,13 @@ def _model(recorded, seps, strokes: int):
                     if f"{key}.A_{extreme}" in x:
                         out[f"P_{extreme}_{v}_{i}"] = force(k, x[f"{key}.A_{extreme}"])
                 T_cam = 2 * np.pi / (cam * w)
-                out[f"phi_{v}_{i}"] = opening_duration(x[f"{key}.T_open"], T_cam)
+                out[f"phi_{v}_{i}"] = opening_duration(x[f"{key}.T_open"] / clock, T_cam)
                 out[f"phi_crank_{v}_{i}"] = out[f"phi_{v}_{i}"] / cam
                 out[f"advance_{v}_{i}"] = x[f"{key}.advance"]
                 out[f"lag_{v}_{i}"] = x[f"{key}.lag"]
-                out[f"loss_{v}_{i}"] = x[f"{key}.loss"] * cam * w
+                out[f"loss_{v}_{i}"] = x[f"{key}.loss"] / clock * cam * w
                 if f"{key}.nu" in x:
-                    out[f"nu_{v}_{i}"] = x[f"{key}.nu"]
+                    out[f"nu_{v}_{i}"] = x[f"{key}.nu"] * clock
         for s in seps:
             (a, b), v = s.below, s.valve
             n_sep = separation_speed(out[f"n_{a}"], out[f"P_min_{v}_{a}"], out[f"n_{b}"],

@@ -707,6 +707,8 @@ def _flat(inputs: Inputs, recorded, slope, found, amplitudes) -> dict:
     for r in recorded:
         t = r.trace
         flat[f"r{r.number}.omega"] = r.speed
+        if hasattr(r.channel, "clock"):          # a paper record's time base
+            flat[f"r{r.number}.clock"] = r.channel.clock
         if t.frequency_fit is not None:
             flat[f"r{r.number}.half_period"] = t.frequency_fit.measured_slope()
         photo = PHOTO_AMPLITUDE if is_image(r.source) else 0.0
@@ -741,7 +743,8 @@ def _model(recorded, found, chain: Chain | None, instrument: tuple[float, float]
             out.update(_records_model(x, recorded, instrument))
         for f in found:
             k = f.resonance.order
-            w = np.stack(np.broadcast_arrays(*[x[f"r{n}.omega"] for n in f.records]), -1)
+            w = np.stack(np.broadcast_arrays(*[x[f"r{n}.omega"] * x.get(f"r{n}.clock", 1.0)
+                                               for n in f.records]), -1)
             a = np.stack(np.broadcast_arrays(*[x[f"r{n}.order{k:g}"] for n in f.records]), -1)
             speed = resonance_speed(w, a)[0] + x[f"res{f.number}.model"]
             out[f"n_res_{f.number}"] = speed
@@ -763,11 +766,12 @@ def _records_model(x: dict, recorded, instrument: tuple[float, float]) -> dict:
     phis = []
     for r in recorded:
         i = r.number
-        f = x[f"r{i}.f"]
+        clock = x.get(f"r{i}.clock", 1.0)     # frequencies ×, durations ÷ the time base
+        f = x[f"r{i}.f"] * clock
         correction = amplitude_ratio(f, f_c0, zeta0) / amplitude_ratio(f, f_c, zeta)
-        out[f"n_{i}"] = x[f"r{i}.omega"]
+        out[f"n_{i}"] = x[f"r{i}.omega"] * clock
         if f"r{i}.half_period" in x:
-            out[f"nu_{i}"] = 1 / (2 * x[f"r{i}.half_period"])
+            out[f"nu_{i}"] = clock / (2 * x[f"r{i}.half_period"])
             out[f"K_{i}"] = resonating_order(out[f"nu_{i}"], out[f"n_{i}"])
         out[f"phi_max_{i}"] = amplitude(l, x[f"r{i}.A"] * correction)
         phis.append(out[f"phi_max_{i}"])
@@ -983,7 +987,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
                     step: float = 200.0, fine: float = 50.0, speeds=(800.0, 2100.0),
                     natural_frequency: float | None = None, loads=("full",),
                     chain: bool = True, image: bool = False,
-                    part: int | None = None) -> dict[str, Path]:
+                    part: int | None = None, draw=None) -> dict[str, Path]:
     """Write a synthetic lab 7 measurement: the records of a speed sweep, a measurement file
     and the answer key.
 
@@ -1032,6 +1036,10 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
     part : int, optional
         Seed of the part: the crankshaft's chain and the torsiograph's f_c (default
         ``seed``; 0: the scene's defaults, whatever ``seed`` draws the readings).
+    draw : callable, optional
+        With ``image``: who draws each paper record instead of the first family's phone
+        (:func:`labs.foreign_records.paper` protocol: ``draw(stem, signals, *, duration,
+        gain, zeros, mark_period, tdc_times, seed) -> Path``, the file it wrote).
 
     Returns
     -------
@@ -1094,13 +1102,22 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
         results["l"] = inst.scale / (1e3 * gain)         # rad per mm of paper
     for number, load, w, rec in recs:
         if image:
-            name = f"r{number:02d}.jpg"
             centre = float(np.median(rec.trace))
-            strip = Layout(length=PHOTO_STRIP, speed=PHOTO_PAPER_SPEED, mark_period=PHOTO_MARKS,
-                           tdc_times=tuple(rec.tdc_times))
-            beam = Beam(lambda t, rec=rec, centre=centre: np.interp(t, rec.time, rec.trace)
-                        - centre, 0.06, gain)
-            render(strip, [beam], PHONE, seed=seed * 1000 + number).write(out / name)
+
+            def signal(t, rec=rec, centre=centre):
+                return np.interp(t, rec.time, rec.trace) - centre
+
+            if draw is None:
+                name = f"r{number:02d}.jpg"
+                strip = Layout(length=PHOTO_STRIP, speed=PHOTO_PAPER_SPEED,
+                               mark_period=PHOTO_MARKS, tdc_times=tuple(rec.tdc_times))
+                render(strip, [Beam(signal, 0.06, gain)], PHONE,
+                       seed=seed * 1000 + number).write(out / name)
+            else:
+                name = draw(out / f"r{number:02d}", [signal],
+                            duration=PHOTO_STRIP / PHOTO_PAPER_SPEED, gain=gain, zeros=[0.06],
+                            mark_period=PHOTO_MARKS, tdc_times=tuple(rec.tdc_times),
+                            seed=seed * 1000 + number).name
             rate = ""
         else:
             name = f"r{number:02d}.{fmt}"

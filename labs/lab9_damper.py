@@ -661,7 +661,7 @@ PHOTO_MARKS = 1e-3
 def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: float = 8.0,
                     amplitude_exponent: float = 0.0, ratio: float = 1.87, runs: int = 2,
                     sample_rate: float = 20e3, paper: bool = False,
-                    image: bool = False, drift=None) -> dict[str, Path]:
+                    image: bool = False, drift=None, draw=None) -> dict[str, Path]:
     """Write a synthetic lab 9 measurement: static runs, a decay record, the answer key.
 
     The scene of :mod:`processing.synth.damper`: seed 0 is the manual's damper 1, a rubber
@@ -700,6 +700,10 @@ def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: fl
         table instead of a CSV.
     drift : processing.synth.damper.BridgeDrift, optional
         A baseline wander the record carries besides the gauge's offset, drift and creep.
+    draw : callable, optional
+        With ``image``: who draws the paper record instead of the first family's phone
+        (:func:`labs.foreign_records.paper` protocol: ``draw(stem, signals, *, duration,
+        gain, zeros, mark_period, tdc_times, seed) -> Path``, the file it wrote).
 
     Returns
     -------
@@ -749,11 +753,20 @@ def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: fl
     elif image:
         scale = 3.5e3                               # mm of trace per rad
         centre = float(np.median(rec.signal))
-        written["record"] = photograph(
-            lambda t: np.interp(t, rec.time, rec.signal) - centre, float(rec.time[-1]),
-            1e-3 * scale / gauge.volts_per_rad, mark_period=PHOTO_MARKS, seed=seed).write(
-            out / "decay.jpg")
-        decay.append('signal = "decay.jpg"')
+
+        def signal(t):
+            return np.interp(t, rec.time, rec.signal) - centre
+
+        gain = 1e-3 * scale / gauge.volts_per_rad
+        if draw is None:
+            written["record"] = photograph(signal, float(rec.time[-1]), gain,
+                                           mark_period=PHOTO_MARKS, seed=seed).write(
+                out / "decay.jpg")
+        else:
+            written["record"] = draw(out / "decay", [signal], duration=float(rec.time[-1]),
+                                      gain=gain, zeros=[0.06], mark_period=PHOTO_MARKS,
+                                      tdc_times=(), seed=seed)
+        decay.append(f'signal = "{written["record"].name}"')
     else:
         scale = gauge.volts_per_rad
         written["record"] = out / "decay.csv"

@@ -170,3 +170,56 @@ def test_spike_pips_read_as_tdc_marks(tmp_path):
     assert rec.marks["tdc"].size == truth.size
     gaps = np.diff(rec.marks["tdc"])
     assert gaps == pytest.approx(np.diff(truth), rel=0.01)
+
+
+# ------------------------------------------------------------- marks of other shapes
+
+
+def marked_strip(time_marks: Marks) -> Strip:
+    """The strip of :func:`strip` (no zero line, no grid) with other time marks."""
+    base = strip(zero_line=False, grid=False)
+    return Strip(length=base.length, width=base.width, speed=base.speed, traces=base.traces,
+                 marks=(time_marks, base.marks[1]))
+
+
+@pytest.mark.parametrize("shape", ["dash", "dot"])
+def test_time_marks_without_a_line(shape):
+    """A lamp's dashes or dots flashed without a marker line: the row is a periodic train
+    inside the sheet, read as the time marks (every one, on the true 10 ms grid)."""
+    marks = Marks(np.arange(0, 0.4, 0.01), 0.005, shape=shape, duration=0.002,
+                  size=0.0008 if shape == "dot" else 0.002, role="time")
+    scene = expose(marked_strip(marks), LIGHT_LID, seed=5)
+    rec = read_paper_record(scene.image, mark_period=0.01, dpi=150)
+    assert rec.turns == 0
+    assert rec.time_base.numbers.size >= scene.times("time").size - 1
+    assert rec.time_scale.value * scene.pixels_per_metre * 0.4 == pytest.approx(1, rel=0.01)
+
+
+def test_slow_marker_ticks_are_a_mark_line():
+    """Ticks of a slow marker (rising over 40 % of their length) sweep the rows beside their
+    line as a trace dipping off one level does; their even train makes them marks, not a
+    trace."""
+    marks = Marks(np.arange(0, 0.4, 0.01), 0.005, shape="tick", duration=0.003, rise=0.4,
+                  size=0.002, role="time")
+    scene = expose(marked_strip(marks), LIGHT_LID, seed=6)
+    rec = read_paper_record(scene.image, mark_period=0.01, dpi=150)
+    assert rec.time_base.numbers.size >= scene.times("time").size - 1
+    assert np.nanmax(rec.value) - np.nanmin(rec.value) == pytest.approx(0.015, rel=0.05)
+
+
+# ----------------------------------------------------------------------------- lab 9
+
+
+def test_lab9_decay_on_a_foreign_strip(tmp_path):
+    """Lab 9's free decay on a scanned strip: δ within the issue's 1 %, its 95 % interval
+    holding the truth; the photograph's time base carried in T's u."""
+    from labs import lab9_damper as lab9
+    from labs.foreign_records import lab9_scene
+
+    case = lab9_scene(3, tmp_path, capture="scan", dpi=150)
+    result = lab9.reduce(load(case.toml, lab9.SPEC), n_samples=2000)
+    for name in ("log_decrement", "T_d"):
+        r, truth = result.results[name], case.truth[name]
+        assert r.value == pytest.approx(truth, rel=0.01), name
+        lo, hi = r.estimate.interval95
+        assert lo <= truth <= hi, name

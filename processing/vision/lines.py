@@ -242,7 +242,7 @@ def _absences(density: np.ndarray, fit, width: float, strength: float,
     edges = np.flatnonzero(np.diff(np.concatenate([[1], inked.astype(np.int8), [1]])))
     starts, stops = edges[::2], edges[1::2]
     longest = int((stops - starts).max()) if edges.size else 0
-    if (~inked).mean() < 0.05:
+    if (~inked).mean() < 0.05 or _mark_train(starts, stops - starts, w):
         return longest, 0.0
     nearest = np.where(ink, np.abs(offsets)[:, None], np.inf).min(axis=0)
     dipping = 0
@@ -251,6 +251,44 @@ def _absences(density: np.ndarray, fit, width: float, strength: float,
         if seen.size >= 3 and np.ptp(seen) >= 2:
             dipping += b - a
     return longest, dipping / int((~inked).sum())
+
+
+MARK_DUTY = 0.5
+"""Largest share of a mark line's length its marks lift it off its row: a marker's tick or
+pip lasts a fraction of the mark period (the manual's records: 15–35 %)."""
+
+TRAIN_SHARE = 0.8
+"""Share of a line's empty stretches that must lie on one even grid, of about one length,
+for them to be a train of marks."""
+
+
+def _mark_train(starts: np.ndarray, lengths: np.ndarray, w: int) -> bool:
+    """Whether the stretches where a candidate line's row is empty are a train of marks: at
+    least three, of one length (within 1 px or 10 % of their median: a marker's marks last
+    alike; a trace's dips vary with the signal), their starts on an even
+    grid (within a fifth of its spacing of their places) and together less than
+    :data:`MARK_DUTY` of the line, for :data:`TRAIN_SHARE` of them. A marker lifts its line
+    periodically, at a nearly constant spacing along the time base, whatever its marks'
+    shape (a slow marker's sloping sides sweep the rows beside the line as a trace does);
+    a trace that dwells at one level leaves it as its signal goes, for most of its length or
+    unevenly."""
+    inner = (starts > 0) & (starts + lengths < w) & (lengths > 1)
+    starts, lengths = starts[inner], lengths[inner]
+    if starts.size < 3 or lengths.sum() > MARK_DUTY * w:
+        return False
+    spacing = float(np.median(np.diff(starts)))
+    if spacing <= 2 * np.median(lengths):
+        return False
+    origin, on_grid = float(starts[0]), np.ones(starts.size, bool)
+    for _ in range(3):              # numbered afresh as the spacing is refined
+        k = np.round((starts - origin) / spacing)
+        on_grid = np.abs(starts - origin - spacing * k) < 0.2 * spacing
+        if on_grid.sum() < 3:
+            return False
+        spacing, origin = np.polyfit(k[on_grid], starts[on_grid], 1)
+    typical = float(np.median(lengths))
+    alike = np.abs(lengths - typical) <= max(1.0, 0.1 * typical)
+    return bool(np.mean(on_grid & alike) >= TRAIN_SHARE)
 
 
 def _fwhm(profile: np.ndarray, near: int) -> float:

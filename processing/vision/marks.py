@@ -512,3 +512,84 @@ def _first_of_each(k: np.ndarray, distance: np.ndarray) -> np.ndarray:
     _, first = np.unique(k[order], return_index=True)
     keep[order[first]] = True
     return keep
+
+
+ROW_SHARE = (0.04, 0.6)
+"""Share of a row's columns a row of marks without a line inks: at least a few marks' worth,
+at most a marker's longest flashes (a trace at rest along a row inks more)."""
+
+ROW_HEIGHT = 0.06
+"""Tallest band of rows a row of marks without a line fills, as a share of the sheet's
+height (a lamp's dashes or dots are a millimetre or two across)."""
+
+
+def find_mark_rows(density: np.ndarray, noise: float) -> list[Pips]:
+    """Rows of marks drawn without a line: a lamp's dashes or dots flashed on the paper (a
+    time marker or a TDC contact lighting a spot), found where the straight lines have been
+    lifted off.
+
+    A band of rows is a row of marks when, across it, the ink forms a periodic train: the
+    columns summed over the band hold pulses of one length (:func:`_pulses`) whose starts lie
+    on an even grid (:func:`time_base`, at least :data:`MIN_TIME_MARKS` of them), and each
+    pulse ends within the band: the rows just beyond it, above and below, are bare there (a
+    trace crossing the band runs on; its crossings of its own middle row are as even as marks).
+    Each row found is returned as :class:`Pips` on a level 'line' through the band's middle
+    (no line is drawn: its ``share`` is 0), the marks' rising edges (sub-pixel half-level
+    crossings) as their times, their u the scatter of their lengths over √2.
+
+    Parameters
+    ----------
+    density : numpy.ndarray
+        Density with the straight lines removed.
+    noise : float
+        σ of the density on bare paper.
+
+    Returns
+    -------
+    list of Pips
+        Top to bottom.
+    """
+    h, w = density.shape
+    level = 6 * noise
+    share = (density > level).mean(axis=1)
+    rows = np.flatnonzero((share >= ROW_SHARE[0]) & (share <= ROW_SHARE[1]))
+    if rows.size == 0:
+        return []
+    bands = np.split(rows, np.flatnonzero(np.diff(rows) > 2) + 1)
+    out = []
+    for band in bands:
+        lo, hi = int(band[0]), int(band[-1]) + 1
+        if hi - lo > ROW_HEIGHT * h or hi - lo < 2:
+            continue
+        found = _pulses(np.clip(density[lo:hi], 0, None).max(axis=0), noise, 2.0)
+        if found is None or found[0].size < MIN_TIME_MARKS:
+            continue
+        rising, falling = found
+        try:
+            base = time_base(rising, 1.0)
+        except TimeMarkError:
+            continue
+        strength = float(np.median([density[lo:hi, int(a):int(b) + 1].max()
+                                    for a, b in zip(rising, falling)]))
+        if not _bounded(density, lo, hi, rising, falling, strength, noise):
+            continue
+        keep = np.isin(rising, base.marks)
+        rising, falling = rising[keep], falling[keep]
+        line = Line(0.5 * (lo + hi - 1), 0.0, strength, float(hi - lo), 0.0, w / 2)
+        spread = float(np.std(falling - rising)) / math.sqrt(2) if rising.size > 1 else 0.5
+        out.append(Pips(line, -1, 0.0, rising, falling,
+                        (max(lo - 2, 0), min(hi + 2, h)), max(spread, 0.1)))
+    return out
+
+
+def _bounded(density: np.ndarray, lo: int, hi: int, rising: np.ndarray, falling: np.ndarray,
+             strength: float, noise: float) -> bool:
+    """Whether the pulses of a band end within it: beyond the band by 2–5 px above and
+    below, over each pulse's columns, the density stays below a quarter of theirs (and 5 σ
+    of the noise) for most pulses."""
+    h = density.shape[0]
+    beyond = [r for r in (*range(lo - 5, lo - 1), *range(hi + 2, hi + 6)) if 0 <= r < h]
+    if not beyond:
+        return False
+    peaks = [density[beyond, max(int(a), 0):int(b) + 1].max() for a, b in zip(rising, falling)]
+    return float(np.median(peaks)) < max(0.25 * strength, 5 * noise)

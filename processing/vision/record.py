@@ -66,7 +66,7 @@ from ..diagnostics import (BlurredMarksWarning, InputError, LowConfidenceTraceWa
 from ..result import Figure
 from ..uncertainty import Measured
 from .lines import Line, grid_spacing, remove_lines
-from .marks import Pips, TimeBase, TimeMarkError, find_pips, time_base
+from .marks import Pips, TimeBase, TimeMarkError, find_mark_rows, find_pips, time_base
 from .overlay import Overlay, plot_values
 from .paper import Sheet, darkness, find_sheet, flatten, load_image, square_up, working_copy
 from .traces import LOW_CONFIDENCE, NoTraceError, Traces, find_runs, follow
@@ -182,6 +182,15 @@ class PaperRecord:
     overlay: Overlay = field(repr=False)
     turns: int = 0
     lines: str = ""
+
+    @property
+    def clock(self) -> Measured:
+        """The time base as a factor on every time read off the record: 1 with the relative
+        standard uncertainty of :attr:`time_scale` (type B), so that a lab's model carries
+        it once, in common to all it times: a frequency read off the record is the factor
+        times its reading, a duration its reading over the factor (a ratio of two times,
+        a phase, does not depend on it)."""
+        return Measured(1.0, u_b=self.time_scale.u / abs(self.time_scale.value))
 
     @property
     def stroke_time(self) -> float:
@@ -674,6 +683,8 @@ def _mark_lines(density, lines: list[Line], noise: float):
     # (a faint 'line' along their tops is not), else the nearer (their sides rise from it)
     found = [p for p in found if not any(
         q is not p and abs(_top_row(p) - _top_row(q)) < 3 and _owns(q, p) for q in found)]
+    found += [p for p in find_mark_rows(density, noise) if all(
+        p.band[1] <= q.band[0] or p.band[0] >= q.band[1] for q in found)]
     chosen: list[Pips] = []
     for pips in sorted(found, key=lambda p: (_regular_marks(p), p.line.strength), reverse=True):
         if all(pips.band[1] <= c.band[0] or pips.band[0] >= c.band[1] for c in chosen):
