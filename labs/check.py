@@ -524,15 +524,15 @@ def _agreeing(pairs) -> tuple[int, int]:
     return sum(agrees(r, x, u, Policy())[0] for r, x, u in pairs), len(pairs)
 
 
-def _whose(counts: dict[str, tuple[int, int]], own: str) -> str | None:
+def _whose(counts: dict[str, tuple[int, int]], own: str, beaten: int = 0) -> str | None:
     """The other student whose key a submission matches: the one with the most agreeing
-    results, where it has more than the student's own key and at least half of those
-    compared; None where the submission is its own student's (or nobody's)."""
+    results, where it has more than the student's own key (and than ``beaten``) and at least
+    half of those compared; None where the submission is its own student's (or nobody's)."""
     if not counts:
         return None
     best = max(counts, key=lambda sid: counts[sid][0])
     hits, compared = counts[best]
-    if best == own or hits <= counts.get(own, (0, 0))[0] or 2 * hits < compared or not hits:
+    if best == own or hits <= max(counts.get(own, (0, 0))[0], beaten) or 2 * hits < compared:
         return None
     return best
 
@@ -540,13 +540,20 @@ def _whose(counts: dict[str, tuple[int, int]], own: str) -> str | None:
 def _variant_slips(results, reported, variants: Variants, sid: str):
     """Whose variant the readings and the reported values are (another student's id or
     None each), and the slips that name them: our reduction of the readings (the readings
-    of X's variant), X's key (the values of X's variant)."""
+    of X's variant), X's key (the values of X's variant).
+
+    The readings are X's where our reduction of them agrees (by the default tolerance, or
+    |z| ≤ 2 with its u) with more of X's key than of the student's own and with at least
+    half of it; the values are X's where they agree with more of X's key than of the
+    student's own key and than of our reduction of the readings (values worked out from the
+    readings are the readings' variant's)."""
     readings_of = _whose({other: _agreeing((Reported(n, k[n]), r.value, r.u)
                                            for n, r in results.items() if n in k)
                           for other, k in variants.keys.items()}, sid)
-    values_of = _whose({other: _agreeing((r, k[n], results[n].u) for n, r in reported.items()
-                                         if n in k and n in results)
-                        for other, k in variants.keys.items()}, sid)
+    values = [(n, r) for n, r in reported.items() if n in results]
+    worked_out = _agreeing((r, results[n].value, results[n].u) for n, r in values)[0]
+    values_of = _whose({other: _agreeing((r, k[n], results[n].u) for n, r in values if n in k)
+                        for other, k in variants.keys.items()}, sid, worked_out)
     slips = []
     if readings_of:
         slips.append(Slip("readings_of_variant",
