@@ -53,8 +53,9 @@ class Check:
     lab: str
     student: str
     verdicts: list[Verdict]
-    readings: tuple[float, ...]
-    """Every number the file's measurements hold, in order (for telling copied readings)."""
+    readings: tuple[str, ...]
+    """Every number the file's measurements hold, as written, in order (:func:`_readings`:
+    for telling copies)."""
     tables: list = field(default_factory=list)
     """The reported tables judged (:class:`labs.dyncalc_check.TableVerdict`)."""
     results: tuple[str, ...] = ()
@@ -67,8 +68,6 @@ class Check:
     values_of: str | None = None
     """The id of another student whose key the reported values are (where the readings are
     not that student's too), or None."""
-    texts: tuple[str, ...] = ()
-    """Every reading as written, in order (:func:`_readings`: for telling copies)."""
 
     def to_dict(self) -> dict:
         out = {"file": self.file, "lab": self.lab, "student": self.student,
@@ -664,12 +663,10 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
                              field="reported.tables")
         checker = importlib.import_module(TABLE_CHECKS[result.lab])
         judged_tables = checker.check_tables(path, tables, inputs(), rules, confine=confine)
-    texts = _readings(data)
     student = variants.names.get(sid, sid) if variants is not None and sid else \
         result.meta.get("student", Path(path).stem)
-    return Check(str(path), result.lab, student, verdicts,
-                 tuple(float(t.replace(",", ".")) for t in texts), judged_tables,
-                 tuple(result.results), sid, readings_of, values_of, texts)
+    return Check(str(path), result.lab, student, verdicts, _readings(data), judged_tables,
+                 tuple(result.results), sid, readings_of, values_of)
 
 
 _NUMBER_TEXT = re.compile(r"(?<![\w^.*/])[-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?(?![\w.])")
@@ -743,7 +740,7 @@ class Copy:
 
     def text(self, lang: str = "en") -> str:
         """The evidence in words."""
-        n = max(len(self.a.texts), len(self.b.texts))
+        n = max(len(self.a.readings), len(self.b.readings))
         shown = ", ".join(self.evidence[:6]) + (" …" if len(self.evidence) > 6 else "")
         if lang == "ru":
             return (f"{self.same + self.rounded} из {n} замеров совпадают в том же порядке "
@@ -782,7 +779,7 @@ def _common(checks: list[Check]) -> set[str]:
 def _values(c: Check) -> list[str]:
     """The readings of a submission as numbers written in one form (``"2.50"`` and ``"2.5"``
     are one value; rounding is told apart by :func:`_same_rounded`)."""
-    return [repr(float(t)) for t in c.texts]
+    return [repr(float(t)) for t in c.readings]
 
 
 def _copy(a: Check, b: Check, common: set[str]) -> Copy | None:
@@ -802,12 +799,12 @@ def _copy(a: Check, b: Check, common: set[str]) -> Copy | None:
     for op, i1, i2, j1, j2 in matcher.get_opcodes():
         if op == "equal":
             same += i2 - i1
-            evidence += [a.texts[i] for i in range(i1, i2) if va[i] not in common]
+            evidence += [a.readings[i] for i in range(i1, i2) if va[i] not in common]
         elif op == "replace":
             for i, j in zip(range(i1, i2), range(j1, j2)):
-                if _same_rounded(a.texts[i], b.texts[j]):
+                if _same_rounded(a.readings[i], b.readings[j]):
                     rounded += 1
-                    evidence.append(a.texts[i])
+                    evidence.append(a.readings[i])
     differing = n - same - rounded
     if differing > allowed or len(evidence) < COPY_EVIDENCE:
         return None

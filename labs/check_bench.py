@@ -219,7 +219,7 @@ def copy_of(check_: Check, rng, edits: int) -> Check:
     """A copy of a submission's readings as a student makes one: ``edits`` readings changed
     (by 0.2, or ±1 in the last place written), added (a reading 3 % off beside one) or
     rounded to a decimal fewer."""
-    texts = list(check_.texts)
+    texts = list(check_.readings)
     for _ in range(edits):
         i = int(rng.integers(len(texts)))
         x, kind = texts[i], ("changed", "one off", "added", "rounded")[int(rng.integers(4))]
@@ -232,7 +232,7 @@ def copy_of(check_: Check, rng, edits: int) -> Check:
             texts.insert(i, f"{float(x) * 1.03 + 0.2:.2f}")
         else:
             texts[i] = f"{float(x):.{max(places - 1, 0)}f}"
-    return Check(f"{check_.file} (copy)", check_.lab, "copy", [], (), texts=tuple(texts))
+    return Check(f"{check_.file} (copy)", check_.lab, "copy", [], tuple(texts))
 
 
 def _copies_found(judged: dict[str, Check], rng) -> tuple[int, int, int, int]:

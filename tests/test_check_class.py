@@ -126,14 +126,14 @@ def _texts(path: Path) -> tuple[str, ...]:
 
 def test_copies_with_up_to_two_edited_or_added_readings_are_found_with_the_evidence(
         variants):
-    honest = [Check(str(handout(variants, s)), "lab5", s, [], (), texts=_texts(
-        handout(variants, s))) for s in STUDENTS]
+    honest = [Check(str(handout(variants, s)), "lab5", s, [], _texts(handout(variants, s)))
+              for s in STUDENTS]
     assert copies(honest) == []
     rng = np.random.default_rng(5)
     for edits in (0, 1, 2, 2, 2):
         copy = copy_of(honest[1], rng, edits)
         found = copies([*honest, copy])
-        assert [(p.a.student, p.b.student) for p in found] == [("s02", "copy")], copy.texts
+        assert [(p.a.student, p.b.student) for p in found] == [("s02", "copy")], copy.readings
         assert found[0].differing <= edits and "readings the same in the same order" in \
             found[0].text()
-        assert found[0].evidence and set(found[0].evidence) <= set(honest[1].texts)
+        assert found[0].evidence and set(found[0].evidence) <= set(honest[1].readings)
