@@ -461,7 +461,7 @@ def read_key(path: str | Path) -> dict[str, float]:
 @dataclass(frozen=True)
 class Variants:
     """The answer keys of a class's variants (:func:`read_variants`): each student's id to
-    the ``"results"`` of their key, and to their name (the roster's, or the id)."""
+    the ``"results"`` of their key, and to their name (the roster's, where one is given)."""
 
     keys: dict[str, dict[str, float]]
     names: dict[str, str] = field(default_factory=dict)
@@ -480,12 +480,11 @@ def read_variants(path: str | Path, roster: list[tuple[str, str]] | None = None)
     without a roster. A roster's student without a key has no variant to be checked against
     (refused if they hand in: :func:`student_key`)."""
     folder = keys_folder(path)
-    if roster is None:
-        ids = sorted(p.name for p in folder.iterdir() if (p / "answer_key.json").is_file())
-        roster = [(sid, sid) for sid in ids]
-    keys = {sid: read_key(folder / sid / "answer_key.json") for sid, _ in roster
+    ids = [sid for sid, _ in roster] if roster is not None else sorted(
+        p.name for p in folder.iterdir() if (p / "answer_key.json").is_file())
+    keys = {sid: read_key(folder / sid / "answer_key.json") for sid in ids
             if (folder / sid / "answer_key.json").is_file()}
-    return Variants(keys, dict(roster))
+    return Variants(keys, dict(roster or ()))
 
 
 def student_key(variants: Variants, folder_id: str | None, meta_id: str | None,
@@ -663,8 +662,10 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
                              field="reported.tables")
         checker = importlib.import_module(TABLE_CHECKS[result.lab])
         judged_tables = checker.check_tables(path, tables, inputs(), rules, confine=confine)
-    student = variants.names.get(sid, sid) if variants is not None and sid else \
-        result.meta.get("student", Path(path).stem)
+    student = result.meta.get("student", Path(path).stem)
+    if variants is not None and sid:    # the roster's name; the file's, if the file is theirs
+        student = variants.names.get(sid) or (
+            student if result.meta.get("id", sid) == sid else sid)
     return Check(str(path), result.lab, student, verdicts, _readings(data), judged_tables,
                  tuple(result.results), sid, readings_of, values_of)
 
