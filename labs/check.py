@@ -30,8 +30,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from processing.diagnostics import InputError
-from processing.grading import FACTOR_SLIPS, Policy, Reported, Slip, Verdict, agrees, \
-    judge, written_digits
+from processing.grading import FACTOR_SLIPS, Policy, Reported, Slip, Verdict, judge, \
+    written_digits
 
 from .registry import LABS, evaluate, lab_module
 
@@ -516,21 +516,41 @@ def asked(lab: str, results) -> tuple[str, ...]:
     return tuple(n for n, r in results.items() if r.key or n in extra)
 
 
-def _agreeing(pairs) -> tuple[int, int]:
-    """(how many agree, how many were compared) of ``(reported, x, u)`` triples."""
-    pairs = list(pairs)
-    return sum(agrees(r, x, u, Policy())[0] for r, x, u in pairs), len(pairs)
+NOT_OWN = 9.0
+"""Misfit (:func:`_misfit`) beyond which a submission's readings or values are not of the
+student's own variant: their RMS distance from its key is over three scales."""
+
+CLOSER = 9.0
+"""How many times smaller another variant's misfit must be to name it (three times closer
+in RMS): among 200 variants of lab 5 one is often about as close as the student's own (a
+reduction's u is wider than the variants' spread in some results), never that much closer."""
 
 
-def _whose(counts: dict[str, tuple[int, int]], own: str, beaten: int = 0) -> str | None:
-    """The other student whose key a submission matches: the one with the most agreeing
-    results, where it has more than the student's own key (and than ``beaten``) and at least
-    half of those compared; None where the submission is its own student's (or nobody's)."""
-    if not counts:
+def _misfit(pairs) -> float:
+    """Mean square distance of values from a key's, each in its scale: the larger of the
+    default tolerance (1 %) and the value's u, Σ((x − k)/max(0.01·|k|, u))²/n; infinite
+    where nothing is compared.
+
+    Parameters
+    ----------
+    pairs : iterable of (x, k, u)
+        A value, the key's value, the value's standard uncertainty (SI).
+    """
+    terms = [((x - k) / max(Policy.rel_tol * abs(k), u)) ** 2 for x, k, u in pairs
+             if max(Policy.rel_tol * abs(k), u) > 0]
+    return sum(terms) / len(terms) if terms else math.inf
+
+
+def _whose(misfits: dict[str, float], own: str, worked_out: float = math.inf) -> str | None:
+    """The other student whose key a submission is: the closest (least misfit), where the
+    student's own key is far (:data:`NOT_OWN`) and the closest is :data:`CLOSER` times closer
+    than it (and than ``worked_out``); None where the submission is its own student's (or
+    nobody's)."""
+    if not misfits:
         return None
-    best = max(counts, key=lambda sid: counts[sid][0])
-    hits, compared = counts[best]
-    if best == own or hits <= max(counts.get(own, (0, 0))[0], beaten) or 2 * hits < compared:
+    best = min(misfits, key=misfits.get)
+    far = min(misfits.get(own, math.inf), worked_out)
+    if best == own or far <= NOT_OWN or CLOSER * misfits[best] >= far:
         return None
     return best
 
@@ -540,17 +560,18 @@ def _variant_slips(results, reported, variants: Variants, sid: str):
     None each), and the slips that name them: our reduction of the readings (the readings
     of X's variant), X's key (the values of X's variant).
 
-    The readings are X's where our reduction of them agrees (by the default tolerance, or
-    |z| ≤ 2 with its u) with more of X's key than of the student's own and with at least
-    half of it; the values are X's where they agree with more of X's key than of the
-    student's own key and than of our reduction of the readings (values worked out from the
-    readings are the readings' variant's)."""
-    readings_of = _whose({other: _agreeing((Reported(n, k[n]), r.value, r.u)
-                                           for n, r in results.items() if n in k)
+    The readings are X's where our reduction of them is far from the student's own key and
+    many times closer to X's (:func:`_whose`, :func:`_misfit` over every result the keys
+    hold); the values are X's where they are so to X's key, far from the student's own and
+    from our reduction of the readings (values worked out from the readings are the
+    readings' variant's)."""
+    readings_of = _whose({other: _misfit((r.value, k[n], r.u) for n, r in results.items()
+                                         if n in k and math.isfinite(r.value))
                           for other, k in variants.keys.items()}, sid)
-    values = [(n, r) for n, r in reported.items() if n in results]
-    worked_out = _agreeing((r, results[n].value, results[n].u) for n, r in values)[0]
-    values_of = _whose({other: _agreeing((r, k[n], results[n].u) for n, r in values if n in k)
+    values = [(r.value, n, results[n]) for n, r in reported.items() if n in results
+              and math.isfinite(results[n].value)]
+    worked_out = _misfit((x, ours.value, ours.u) for x, _, ours in values)
+    values_of = _whose({other: _misfit((x, k[n], ours.u) for x, n, ours in values if n in k)
                         for other, k in variants.keys.items()}, sid, worked_out)
     slips = []
     if readings_of:
