@@ -726,9 +726,10 @@ COPY_DIFFERING = 2
 """Readings two submissions may differ in (edited, added or dropped) and still be a copy; a
 tenth of the readings where that is more."""
 
-COPY_EVIDENCE = 3
-"""Fewest readings two copies must share that are not the class's common ones (the load
-programme, the rig's constants): so few are no evidence."""
+COPY_SURPRISE = 3.0
+"""How unlikely by chance the readings two copies share must be: their rarity (:func:`_rarity`,
+in decades) at least this plus the decades of pairs compared (a class of 200 compares 19 900
+pairs: 7.3 decades), so that an honest class has a false pair in about one of 1000."""
 
 COMMON_SHARE = 0.5
 """A reading written in at least this share of a lab's submissions (three at least) is the
@@ -789,13 +790,14 @@ def _same_rounded(x: str, y: str) -> bool:
     return abs(float(coarse) - float(fine)) <= half * (1 + 1e-9)
 
 
-def _common(checks: list[Check]) -> set[str]:
-    """The readings a lab's class writes in common (:data:`COMMON_SHARE`)."""
-    if len(checks) < 3:
-        return set()
+def _rarity(checks: list[Check]) -> dict[str, float]:
+    """How rare each reading of a lab's class is, in decades: log10(N/m), m the other
+    submissions of the N that write it (one at least); 0 for the class's common readings
+    (:data:`COMMON_SHARE`: the programme, a constant)."""
     seen = Counter(v for c in checks for v in set(_values(c)))
-    least = max(3, COMMON_SHARE * len(checks))
-    return {v for v, n in seen.items() if n >= least}
+    n = len(checks)
+    least = max(3, COMMON_SHARE * n)
+    return {v: 0.0 if k >= least else math.log10(n / max(k - 1, 1)) for v, k in seen.items()}
 
 
 def _values(c: Check) -> list[str]:
@@ -804,33 +806,34 @@ def _values(c: Check) -> list[str]:
     return [repr(float(t)) for t in c.readings]
 
 
-def _copy(a: Check, b: Check, common: set[str]) -> Copy | None:
+def _copy(a: Check, b: Check, rarity: dict[str, float], surprise: float) -> Copy | None:
     """The evidence that ``a`` and ``b`` are copies, or None: their readings aligned in order
     (:class:`difflib.SequenceMatcher`), identical ones and ones identical up to rounding in
     the places where they differ; a copy differs in at most :data:`COPY_DIFFERING` readings
-    (or a tenth) and shares at least :data:`COPY_EVIDENCE` that are not the class's common
-    ones."""
+    (or a tenth) and the readings it shares are rarer than ``surprise`` decades
+    (:func:`_rarity`: the class's common ones count nothing)."""
     va, vb = _values(a), _values(b)
     n = max(len(va), len(vb))
     allowed = max(COPY_DIFFERING, n // 10)
     if not n or abs(len(va) - len(vb)) > allowed:
         return None
     same = rounded = 0
-    evidence = []
+    shared = []
     matcher = difflib.SequenceMatcher(None, va, vb, autojunk=False)
     for op, i1, i2, j1, j2 in matcher.get_opcodes():
         if op == "equal":
             same += i2 - i1
-            evidence += [a.readings[i] for i in range(i1, i2) if va[i] not in common]
+            shared += range(i1, i2)
         elif op == "replace":
             for i, j in zip(range(i1, i2), range(j1, j2)):
                 if _same_rounded(a.readings[i], b.readings[j]):
                     rounded += 1
-                    evidence.append(a.readings[i])
+                    shared.append(i)
     differing = n - same - rounded
-    if differing > allowed or len(evidence) < COPY_EVIDENCE:
+    evidence = [i for i in shared if rarity.get(va[i], 0.0) > 0]
+    if differing > allowed or sum(rarity.get(va[i], 0.0) for i in evidence) < surprise:
         return None
-    return Copy(a, b, same, rounded, differing, tuple(evidence))
+    return Copy(a, b, same, rounded, differing, tuple(a.readings[i] for i in evidence))
 
 
 COPY_SHARED = 0.5
@@ -842,21 +845,23 @@ pairs), a copy with two readings edited 0.9 or more."""
 def copies(checks: list[Check]) -> list[Copy]:
     """Pairs of submissions of one lab whose readings are one student's, as a teacher tells
     them (:func:`_copy`): most readings identical or identical up to rounding, in the same
-    order, sharing readings that the rest of the class does not write. Only pairs sharing
-    :data:`COPY_SHARED` of their uncommon values (as sets, quick) are aligned."""
+    order, sharing readings too rare in the class to share by chance (:data:`COPY_SURPRISE`).
+    Only pairs sharing :data:`COPY_SHARED` of their uncommon values (as sets, quick) are
+    aligned."""
     out = []
     by_lab: dict[str, list[Check]] = {}
     for c in checks:
         by_lab.setdefault(c.lab, []).append(c)
     for group in by_lab.values():
-        common = _common(group)
-        own = [set(_values(c)) - common for c in group]
+        rarity = _rarity(group)
+        surprise = COPY_SURPRISE + math.log10(max(len(group) * (len(group) - 1) // 2, 1))
+        own = [{v for v in _values(c) if rarity[v] > 0} for c in group]
         for i, a in enumerate(group):
             for j in range(i + 1, len(group)):
                 fewer = min(len(own[i]), len(own[j]))
-                if len(own[i] & own[j]) < max(COPY_EVIDENCE, COPY_SHARED * fewer):
+                if not fewer or len(own[i] & own[j]) < COPY_SHARED * fewer:
                     continue
-                found = _copy(a, group[j], common)
+                found = _copy(a, group[j], rarity, surprise)
                 if found is not None:
                     out.append(found)
     return out
