@@ -465,6 +465,8 @@ class Variants:
 
     keys: dict[str, dict[str, float]]
     names: dict[str, str] = field(default_factory=dict)
+    bad: dict[str, InputError] = field(default_factory=dict)
+    """The keys that could not be read, by id: each refuses its student's submission alone."""
 
 
 def keys_folder(path: str | Path) -> Path:
@@ -480,11 +482,20 @@ def read_variants(path: str | Path, roster: list[tuple[str, str]] | None = None)
     without a roster. A roster's student without a key has no variant to be checked against
     (refused if they hand in: :func:`student_key`)."""
     folder = keys_folder(path)
+    def there(sid: str) -> bool:
+        try:
+            return (folder / sid / "answer_key.json").exists()
+        except OSError:
+            return True                 # read_key says why
     ids = [sid for sid, _ in roster] if roster is not None else sorted(
-        p.name for p in folder.iterdir() if (p / "answer_key.json").is_file())
-    keys = {sid: read_key(folder / sid / "answer_key.json") for sid in ids
-            if (folder / sid / "answer_key.json").is_file()}
-    return Variants(keys, dict(roster or ()))
+        p.name for p in folder.iterdir() if there(p.name))
+    keys, bad = {}, {}
+    for sid in filter(there, ids):
+        try:
+            keys[sid] = read_key(folder / sid / "answer_key.json")
+        except InputError as exc:
+            bad[sid] = exc
+    return Variants(keys, dict(roster or ()), bad)
 
 
 def student_key(variants: Variants, folder_id: str | None, meta_id: str | None,
@@ -495,9 +506,11 @@ def student_key(variants: Variants, folder_id: str | None, meta_id: str | None,
     Raises
     ------
     InputError
-        Neither is the id of a student with a key.
+        Neither is the id of a student with a key; that student's key could not be read.
     """
     for sid in (folder_id, meta_id):
+        if sid is not None and sid in variants.bad:
+            raise variants.bad[sid]
         if sid is not None and sid in variants.keys:
             return sid
     tried = " or ".join(repr(s) for s in (folder_id, meta_id) if s) or "no id"
