@@ -24,6 +24,7 @@ import importlib
 import math
 import re
 import tomllib
+from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -52,15 +53,27 @@ class Check:
     lab: str
     student: str
     verdicts: list[Verdict]
-    readings: tuple[float, ...]
-    """Every number the file's measurements hold, in order (for telling copied readings)."""
+    readings: tuple[str, ...]
+    """Every number the file's measurements hold, as written, in order (:func:`_readings`:
+    for telling copies)."""
     tables: list = field(default_factory=list)
     """The reported tables judged (:class:`labs.dyncalc_check.TableVerdict`)."""
     results: tuple[str, ...] = ()
     """The names of the results our reduction of the submission gives."""
+    sid: str | None = None
+    """The student's id (the roster's), where the submission is bound to one (``--keys``)."""
+    readings_of: str | None = None
+    """The id of another student whose variant the readings are (their key's results are
+    what our reduction of them gives), or None."""
+    values_of: str | None = None
+    """The id of another student whose key the reported values are (where the readings are
+    not that student's too), or None."""
 
     def to_dict(self) -> dict:
         out = {"file": self.file, "lab": self.lab, "student": self.student,
+               **({"id": self.sid} if self.sid else {}),
+               **({"readings_of": self.readings_of} if self.readings_of else {}),
+               **({"values_of": self.values_of} if self.values_of else {}),
                "verdicts": [_verdict_dict(v) for v in self.verdicts]}
         if self.tables:
             out["tables"] = [t.to_dict() for t in self.tables]
@@ -104,6 +117,12 @@ class PolicyFile:
             expected = tuple(n for n in self.top.get("expected", ()) if knows(n))
         return Policy(rules.get("rel_tol", Policy.rel_tol), rules.get("sig_figs", Policy.sig_figs),
                       expected)
+
+    def expects(self, lab: str, knows=lambda name: True) -> bool:
+        """Whether the policy says what ``lab``'s submissions must report: an ``expected``
+        of its table, or a top ``expected`` naming one of its results."""
+        return "expected" in self.labs.get(lab, {}) or any(
+            knows(n) for n in self.top.get("expected", ()))
 
 
 def read_policy(path: str | Path | None) -> PolicyFile:
@@ -439,8 +458,154 @@ def read_key(path: str | Path) -> dict[str, float]:
     return {str(k): float(v) for k, v in results.items()}
 
 
+@dataclass(frozen=True)
+class Variants:
+    """The answer keys of a class's variants (:func:`read_variants`): each student's id to
+    the ``"results"`` of their key, and to their name (the roster's, where one is given)."""
+
+    keys: dict[str, dict[str, float]]
+    names: dict[str, str] = field(default_factory=dict)
+    bad: dict[str, InputError] = field(default_factory=dict)
+    """The keys that could not be read, by id: each refuses its student's submission alone."""
+
+
+def keys_folder(path: str | Path) -> Path:
+    """The folder of the students' answer keys: ``path/keys`` where ``dynlab synth
+    --students`` wrote its two folders there, else ``path`` itself."""
+    path = Path(path)
+    return path / "keys" if (path / "keys").is_dir() else path
+
+
+def read_variants(path: str | Path, roster: list[tuple[str, str]] | None = None) -> Variants:
+    """Every answer key of a class: ``KEYDIR/<id>/answer_key.json`` for each id of the
+    roster (:func:`labs.variants.read_roster`), or for each folder of KEYDIR holding one
+    without a roster. A roster's student without a key has no variant to be checked against
+    (refused if they hand in: :func:`student_key`)."""
+    folder = keys_folder(path)
+    def there(sid: str) -> bool:
+        try:
+            return (folder / sid / "answer_key.json").exists()
+        except OSError:
+            return True                 # read_key says why
+    ids = [sid for sid, _ in roster] if roster is not None else sorted(
+        p.name for p in folder.iterdir() if there(p.name))
+    keys, bad = {}, {}
+    for sid in filter(there, ids):
+        try:
+            keys[sid] = read_key(folder / sid / "answer_key.json")
+        except InputError as exc:
+            bad[sid] = exc
+    return Variants(keys, dict(roster or ()), bad)
+
+
+def student_key(variants: Variants, folder_id: str | None, meta_id: str | None,
+                path: str | Path, keydir: str | Path) -> str:
+    """The id a submission is bound to: the name of its folder in the class folder where
+    that is a student's id with a key, else its ``[meta] id``.
+
+    Raises
+    ------
+    InputError
+        Neither is the id of a student with a key; that student's key could not be read.
+    """
+    for sid in (folder_id, meta_id):
+        if sid is not None and sid in variants.bad:
+            raise variants.bad[sid]
+        if sid is not None and sid in variants.keys:
+            return sid
+    tried = " or ".join(repr(s) for s in (folder_id, meta_id) if s) or "no id"
+    raise InputError(f"no answer key for this submission ({tried}: no "
+                     f"{keys_folder(keydir)}/<id>/answer_key.json of that id)",
+                     "name each submission's folder by the student's id, as in the roster the "
+                     "variants were written for, or write the id in [meta] id = \"…\"",
+                     file=str(path), field="meta.id")
+
+
+def asked(lab: str, results) -> tuple[str, ...]:
+    """What a student of ``lab`` is asked to report: the lab's key results (:data:`KEY`,
+    what its report's summary opens with) and the module's ``ASKED`` (what else its manual
+    asks for), among ``results``."""
+    extra = set(getattr(lab_module(lab), "ASKED", ()))
+    return tuple(n for n, r in results.items() if r.key or n in extra)
+
+
+NOT_OWN = 9.0
+"""Misfit (:func:`_misfit`) beyond which a submission's readings or values are not of the
+student's own variant: their RMS distance from its key is over three scales."""
+
+CLOSER = 9.0
+"""How many times smaller another variant's misfit must be to name it (three times closer
+in RMS): among 200 variants of lab 5 one is often about as close as the student's own (a
+reduction's u is wider than the variants' spread in some results), never that much closer."""
+
+
+def _misfit(pairs) -> float:
+    """Mean square distance of values from a key's, each in its scale: the larger of the
+    default tolerance (1 %) and the value's u, Σ((x − k)/max(0.01·|k|, u))²/n; infinite
+    where nothing is compared.
+
+    Parameters
+    ----------
+    pairs : iterable of (x, k, u)
+        A value, the key's value, the value's standard uncertainty (SI).
+    """
+    terms = [((x - k) / max(Policy.rel_tol * abs(k), u)) ** 2 for x, k, u in pairs
+             if max(Policy.rel_tol * abs(k), u) > 0]
+    return sum(terms) / len(terms) if terms else math.inf
+
+
+def _whose(misfits: dict[str, float], own: str, worked_out: float = math.inf) -> str | None:
+    """The other student whose key a submission is: the closest (least misfit), where the
+    student's own key is far (:data:`NOT_OWN`) and the closest is :data:`CLOSER` times closer
+    than it (and than ``worked_out``); None where the submission is its own student's (or
+    nobody's)."""
+    if not misfits:
+        return None
+    best = min(misfits, key=misfits.get)
+    far = min(misfits.get(own, math.inf), worked_out)
+    if best == own or far <= NOT_OWN or CLOSER * misfits[best] >= far:
+        return None
+    return best
+
+
+def _variant_slips(results, reported, variants: Variants, sid: str):
+    """Whose variant the readings and the reported values are (another student's id or
+    None each), and the slips that name them: our reduction of the readings (the readings
+    of X's variant), X's key (the values of X's variant).
+
+    The readings are X's where our reduction of them is far from the student's own key and
+    many times closer to X's (:func:`_whose`, :func:`_misfit` over every result the keys
+    hold); the values are X's where they are so to X's key, far from the student's own and
+    from our reduction of the readings (values worked out from the readings are the
+    readings' variant's)."""
+    readings_of = _whose({other: _misfit((r.value, k[n], r.u) for n, r in results.items()
+                                         if n in k and math.isfinite(r.value))
+                          for other, k in variants.keys.items()}, sid)
+    values = [(r.value, n, results[n]) for n, r in reported.items() if n in results
+              and math.isfinite(results[n].value)]
+    worked_out = _misfit((x, ours.value, ours.u) for x, _, ours in values)
+    values_of = _whose({other: _misfit((x, k[n], ours.u) for x, n, ours in values if n in k)
+                        for other, k in variants.keys.items()}, sid, worked_out)
+    slips = []
+    if readings_of:
+        slips.append(Slip("readings_of_variant",
+                          {"en": f"the readings of {readings_of}'s variant, not the "
+                                 f"student's own",
+                           "ru": f"замеры варианта {readings_of}, а не свои"},
+                          reduced={n: r.value for n, r in results.items()}))
+    if values_of == readings_of:
+        values_of = None                # the values follow from the readings
+    if values_of:
+        slips.append(Slip("values_of_variant",
+                          {"en": f"the values of {values_of}'s variant, not the student's own",
+                           "ru": f"значения варианта {values_of}, а не свои"},
+                          reduced=dict(variants.keys[values_of])))
+    return readings_of, values_of, slips
+
+
 def check(path: str | Path, *, policy: str | Path | None = None, confine: bool = False,
-          key: dict[str, float] | None = None, **options) -> Check:
+          key: dict[str, float] | None = None, variants: Variants | None = None,
+          sid: str | None = None, **options) -> Check:
     """Reduce a submission and judge every reported value.
 
     Parameters
@@ -452,8 +617,14 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
     confine : bool
         Read no file outside the submission's folder.
     key : dict, optional
-        The variant's answer key (:func:`read_key`): its results are expected (absent ones
-        are *missing*) on top of the policy's.
+        The variant's answer key (:func:`read_key`); with ``variants`` and ``sid``, the
+        student's key there. What a student is asked for (:func:`asked`) among its results
+        is expected (absent ones are *missing*), unless the policy says what is expected.
+    variants : Variants, optional
+        Every key of the class, and ``sid`` the student's id: readings that are another
+        student's variant (our reduction agrees with that key, not with the student's) are
+        judged against the student's own key, and the reported values that are another
+        variant's are named so (:func:`_variant_slips`).
     **options
         For the lab's ``reduce``.
 
@@ -476,19 +647,31 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
     result = evaluate(path, data=data, confine=confine, **options)
     reported = _reported(str(path), table, result.results) if table or tables is None else {}
     policy = policy if isinstance(policy, PolicyFile) else read_policy(policy)
-    rules = policy.for_lab(result.lab, lab_knows(result.lab, result.results))
-    if key:
-        rules = Policy(rules.rel_tol, rules.sig_figs, tuple(dict.fromkeys(
-            [*rules.expected, *(k for k in key if k in result.results)])))
+    knows = lab_knows(result.lab, result.results)
+    rules = policy.for_lab(result.lab, knows)
+    if variants is not None and sid is not None:
+        key = variants.keys[sid]
+    if key and not policy.expects(result.lab, knows):
+        rules = Policy(rules.rel_tol, rules.sig_figs, tuple(
+            n for n in asked(result.lab, result.results) if n in key))
     names = list(reported) + [n for n in rules.expected if n not in reported]
+    reference = {n: (r.value, r.u, r.unit, r.estimate.k) for n, r in result.results.items()}
+    readings_of = values_of = None
+    own_slips = []
+    if key and variants is not None and sid is not None:
+        readings_of, values_of, own_slips = _variant_slips(result.results, reported, variants,
+                                                          sid)
+    if readings_of:
+        # the student's own variant, by the policy's tolerance alone: the noise of readings
+        # that are not theirs is no allowance
+        reference.update({n: (key[n], 0.0, unit, k) for n, (_, _, unit, k) in reference.items()
+                          if n in key})
 
     def judged(name: str, slips) -> Verdict:
-        r = result.results.get(name)
-        value, u, unit, k = ((r.value, r.u, r.unit, r.estimate.k) if r
-                             else (math.nan, math.nan, "", Z_LIMIT))
+        value, u, unit, k = reference.get(name, (math.nan, math.nan, "", Z_LIMIT))
         return judge(name, reported.get(name), value, u, unit, rules, slips, k=k)
 
-    verdicts = [judged(n, FACTOR_SLIPS) for n in names]
+    verdicts = [judged(n, own_slips + list(FACTOR_SLIPS)) for n in names]
     module = lab_module(result.lab)
     loaded = []
 
@@ -502,7 +685,8 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
         # the lab's own slips are reductions of slipped inputs: made only for a wrong value
         # the lab's first: where a generic factor gives the same value, the lab's cause is
         # the likelier
-        slips = _lab_slips(module, result.results, inputs, options, wrong) + list(FACTOR_SLIPS)
+        slips = own_slips + _lab_slips(module, result.results, inputs, options, wrong) \
+            + list(FACTOR_SLIPS)
         verdicts = [judged(v.name, slips) if v.verdict == "wrong" else v for v in verdicts]
     judged_tables = []
     if tables is not None:
@@ -512,24 +696,32 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
                              field="reported.tables")
         checker = importlib.import_module(TABLE_CHECKS[result.lab])
         judged_tables = checker.check_tables(path, tables, inputs(), rules, confine=confine)
-    return Check(str(path), result.lab, result.meta.get("student", Path(path).stem), verdicts,
-                 _readings(data), judged_tables, tuple(result.results))
+    student = result.meta.get("student", Path(path).stem)
+    if variants is not None and sid:    # the roster's name; the file's, if the file is theirs
+        student = variants.names.get(sid) or (
+            student if result.meta.get("id", sid) == sid else sid)
+    return Check(str(path), result.lab, student, verdicts, _readings(data), judged_tables,
+                 tuple(result.results), sid, readings_of, values_of)
 
 
-def _readings(data: dict) -> tuple[float, ...]:
-    """Every number of the measurement sections, in order (meta left out)."""
+_NUMBER_TEXT = re.compile(r"(?<![\w^.*/])[-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?(?![\w.])")
+"""A number as written in a measurement file's text (a table's cell, a value before its
+unit); not a digit of a unit (``mm^2``) or of a name (``dl1``)."""
+
+
+def _readings(data: dict) -> tuple[str, ...]:
+    """Every number of the measurement sections as written, in order (meta left out): the
+    values, the cells of the tables, the ± limits. A text with one comma has it read as a
+    decimal comma."""
     out = []
 
     def walk(x):
         if isinstance(x, bool):
             return
         if isinstance(x, (int, float)):
-            out.append(float(x))
+            out.append(repr(x))
         elif isinstance(x, str):
-            head = x.split()[0] if x.split() else ""
-            head = head if head.count(",") != 1 else head.replace(",", ".")  # a decimal comma
-            if _plain_number(head):
-                out.append(float(head))
+            out.extend(_NUMBER_TEXT.findall(x.replace(",", ".") if x.count(",") == 1 else x))
         elif isinstance(x, dict):
             for v in x.values():
                 walk(v)
@@ -543,16 +735,146 @@ def _readings(data: dict) -> tuple[float, ...]:
     return tuple(out)
 
 
-def copied_pairs(checks: list[Check], tolerance: float = 1e-3) -> list[tuple[str, str]]:
-    """Pairs of submissions of one lab whose raw readings are the same, or all within
-    ``tolerance`` (relative) of each other: likely copied."""
-    pairs = []
-    for i, a in enumerate(checks):
-        for b in checks[i + 1:]:
-            if a.lab != b.lab or len(a.readings) != len(b.readings) or not a.readings:
-                continue
-            if all(abs(x - y) <= tolerance * max(abs(x), abs(y), 1e-300)
-                   for x, y in zip(a.readings, b.readings)):
-                pairs.append((a.file, b.file))
-    return pairs
+COPY_DIFFERING = 2
+"""Readings two submissions may differ in (edited, added or dropped) and still be a copy; a
+tenth of the readings where that is more."""
 
+COPY_SURPRISE = 3.0
+"""How unlikely by chance the readings two copies share must be: their rarity (:func:`_rarity`,
+in decades) at least this plus the decades of pairs compared (a class of 200 compares 19 900
+pairs: 7.3 decades), so that an honest class has a false pair in about one of 1000."""
+
+COMMON_SHARE = 0.5
+"""A reading written in at least this share of a lab's submissions (three at least) is the
+class's common one (the programme, a constant), no evidence of a copy."""
+
+
+@dataclass(frozen=True)
+class Copy:
+    """Two submissions whose readings are one student's: the evidence a teacher gives.
+
+    Attributes
+    ----------
+    a, b : Check
+    same : int
+        Readings written identically, in the same order.
+    rounded : int
+        Readings identical up to rounding (one written to fewer decimals), in the same place.
+    differing : int
+        Readings of the longer that match none of the other (edited, added, dropped).
+    evidence : tuple of str
+        The shared readings that are not the class's common ones, as written (the first few
+        are shown).
+    """
+
+    a: Check
+    b: Check
+    same: int
+    rounded: int
+    differing: int
+    evidence: tuple[str, ...]
+
+    def text(self, lang: str = "en") -> str:
+        """The evidence in words."""
+        n = max(len(self.a.readings), len(self.b.readings))
+        shown = ", ".join(self.evidence[:6]) + (" …" if len(self.evidence) > 6 else "")
+        if lang == "ru":
+            return (f"{self.same + self.rounded} из {n} замеров совпадают в том же порядке "
+                    f"({self.rounded} с точностью до округления), {self.differing} отличаются; "
+                    f"общие: {shown}")
+        return (f"{self.same + self.rounded} of {n} readings the same in the same order "
+                f"({self.rounded} up to rounding), {self.differing} differ; shared: {shown}")
+
+
+def _decimals(text: str) -> int:
+    """Decimal places written (``"12.30"`` → 2; an exponent counts: ``"1.5e-3"`` → 4)."""
+    mantissa, _, exponent = text.lower().partition("e")
+    places = len(mantissa.split(".")[1]) if "." in mantissa else 0
+    return places - int(exponent or 0)
+
+
+def _same_rounded(x: str, y: str) -> bool:
+    """Whether two readings are one up to rounding: the one with more decimals, rounded to
+    the other's, is it (1.347 and 1.35)."""
+    (coarse, fine) = (x, y) if _decimals(x) <= _decimals(y) else (y, x)
+    if _decimals(coarse) == _decimals(fine):
+        return False
+    half = 0.5 * 10.0 ** -_decimals(coarse)
+    return abs(float(coarse) - float(fine)) <= half * (1 + 1e-9)
+
+
+def _rarity(checks: list[Check]) -> dict[str, float]:
+    """How rare each reading of a lab's class is, in decades: log10(N/m), m the other
+    submissions of the N that write it (one at least); 0 for the class's common readings
+    (:data:`COMMON_SHARE`: the programme, a constant)."""
+    seen = Counter(v for c in checks for v in set(_values(c)))
+    n = len(checks)
+    least = max(3, COMMON_SHARE * n)
+    return {v: 0.0 if k >= least else math.log10(n / max(k - 1, 1)) for v, k in seen.items()}
+
+
+def _values(c: Check) -> list[str]:
+    """The readings of a submission as numbers written in one form (``"2.50"`` and ``"2.5"``
+    are one value; rounding is told apart by :func:`_same_rounded`)."""
+    return [repr(float(t)) for t in c.readings]
+
+
+def _copy(a: Check, b: Check, rarity: dict[str, float], surprise: float) -> Copy | None:
+    """The evidence that ``a`` and ``b`` are copies, or None: their readings aligned in order
+    (:class:`difflib.SequenceMatcher`), identical ones and ones identical up to rounding in
+    the places where they differ; a copy differs in at most :data:`COPY_DIFFERING` readings
+    (or a tenth) and the readings it shares are rarer than ``surprise`` decades
+    (:func:`_rarity`: the class's common ones count nothing)."""
+    va, vb = _values(a), _values(b)
+    n = max(len(va), len(vb))
+    allowed = max(COPY_DIFFERING, n // 10)
+    if not n or abs(len(va) - len(vb)) > allowed:
+        return None
+    same = rounded = 0
+    shared = []
+    matcher = difflib.SequenceMatcher(None, va, vb, autojunk=False)
+    for op, i1, i2, j1, j2 in matcher.get_opcodes():
+        if op == "equal":
+            same += i2 - i1
+            shared += range(i1, i2)
+        elif op == "replace":
+            for i, j in zip(range(i1, i2), range(j1, j2)):
+                if _same_rounded(a.readings[i], b.readings[j]):
+                    rounded += 1
+                    shared.append(i)
+    differing = n - same - rounded
+    evidence = [i for i in shared if rarity.get(va[i], 0.0) > 0]
+    if differing > allowed or sum(rarity.get(va[i], 0.0) for i in evidence) < surprise:
+        return None
+    return Copy(a, b, same, rounded, differing, tuple(a.readings[i] for i in evidence))
+
+
+COPY_SHARED = 0.5
+"""Share of the fewer uncommon values two submissions must have in common (in any order) to
+be compared in order: honest lab 5 variants share at most 0.47 of them (200 variants, 19 900
+pairs), a copy with two readings edited 0.9 or more."""
+
+
+def copies(checks: list[Check]) -> list[Copy]:
+    """Pairs of submissions of one lab whose readings are one student's, as a teacher tells
+    them (:func:`_copy`): most readings identical or identical up to rounding, in the same
+    order, sharing readings too rare in the class to share by chance (:data:`COPY_SURPRISE`).
+    Only pairs sharing :data:`COPY_SHARED` of their uncommon values (as sets, quick) are
+    aligned."""
+    out = []
+    by_lab: dict[str, list[Check]] = {}
+    for c in checks:
+        by_lab.setdefault(c.lab, []).append(c)
+    for group in by_lab.values():
+        rarity = _rarity(group)
+        surprise = COPY_SURPRISE + math.log10(max(len(group) * (len(group) - 1) // 2, 1))
+        own = [{v for v in _values(c) if rarity[v] > 0} for c in group]
+        for i, a in enumerate(group):
+            for j in range(i + 1, len(group)):
+                fewer = min(len(own[i]), len(own[j]))
+                if not fewer or len(own[i] & own[j]) < COPY_SHARED * fewer:
+                    continue
+                found = _copy(a, group[j], rarity, surprise)
+                if found is not None:
+                    out.append(found)
+    return out

@@ -37,7 +37,7 @@ from processing.diagnostics import InputError
 from processing.grading import FACTOR_SLIPS, Policy, Reported, agrees
 from processing.measurement import load, read_toml
 
-from .check import _lab_slips, check
+from .check import Check, _lab_slips, check, copies
 from .registry import LABS, evaluate
 
 LABS_CHECKED = ("lab1", "lab2", "lab3", "lab4", "lab5", "lab6", "lab7", "lab8", "lab9", "dyncalc")
@@ -212,6 +212,54 @@ def _write_table(path: Path, first: str, x, values: dict, decimals: int, sep: st
     return path
 
 
+COPIES_PER_LAB = 20
+"""Copies seeded per lab, each of a variant of the class with up to two readings edited."""
+COPIES_SEEDED = ("lab1", "lab2", "lab5", "lab8", "lab9")
+"""Labs whose copies are seeded: those whose readings are in the measurement file (labs 3, 4,
+6 and 7 keep theirs in recordings, which are not compared; lab 3's file holds 20 readings,
+mostly its programme: a copy is named by the key instead)."""
+
+
+def copy_of(check_: Check, rng, edits: int) -> Check:
+    """A copy of a submission's readings as a student makes one: ``edits`` readings changed
+    (by 0.2, or ±1 in the last place written), added (a reading 3 % off beside one) or
+    rounded to a decimal fewer."""
+    texts = list(check_.readings)
+    for _ in range(edits):
+        i = int(rng.integers(len(texts)))
+        x, kind = texts[i], ("changed", "one off", "added", "rounded")[int(rng.integers(4))]
+        places = len(x.split(".")[1]) if "." in x else 0
+        if kind == "changed":
+            texts[i] = f"{float(x) + 0.2:.{max(places, 1)}f}"
+        elif kind == "one off":
+            texts[i] = f"{float(x) + rng.choice((-1, 1)) * 10.0 ** -places:.{places}f}"
+        elif kind == "added":
+            texts.insert(i, f"{float(x) * 1.03 + 0.2:.2f}")
+        else:
+            texts[i] = f"{float(x):.{max(places - 1, 0)}f}"
+    return Check(f"{check_.file} (copy)", check_.lab, "copy", [], tuple(texts))
+
+
+def _copies_found(judged: dict[str, Check], rng) -> tuple[int, int, int, int]:
+    """(false pairs among the class's honest variants, pairs compared, seeded copies found,
+    seeded): the class of each lab as handed in, then, for :data:`COPIES_SEEDED`, each of
+    :data:`COPIES_PER_LAB` copies (0–2 readings edited) added to it alone."""
+    by_lab: dict[str, list[Check]] = {}
+    for c in judged.values():
+        by_lab.setdefault(c.lab, []).append(c)
+    false = pairs = found = seeded = 0
+    for lab, group in by_lab.items():
+        false += len(copies(group))
+        pairs += len(group) * (len(group) - 1) // 2
+        for _ in range(min(COPIES_PER_LAB, len(group)) if lab in COPIES_SEEDED else 0):
+            original = group[int(rng.integers(len(group)))]
+            copy = copy_of(original, rng, int(rng.integers(3)))
+            seeded += 1
+            found += any({p.a.file, p.b.file} == {original.file, copy.file}
+                         for p in copies([*group, copy]))
+    return false, pairs, found, seeded
+
+
 def run(out, *, quick: bool = False,
         log: Callable[[str], None] = print) -> tuple[pd.DataFrame, list[Target]]:
     """Write the class, check it, write ``bench.csv`` and ``targets.json`` to ``out``."""
@@ -232,13 +280,16 @@ def run(out, *, quick: bool = False,
                     unreduced.append(f"{lab_id} seed {seed}: {type(exc).__name__} {exc}")
                     log(f"check: {unreduced[-1]}")
         files = sorted({r["file"] for r in rows})
-        checks, seconds = {}, {}
+        checks, seconds, judged_all = {}, {}, {}
         for f in files:
             start = time.process_time()
-            judged = check(f)
+            judged = judged_all[f] = check(f)
             seconds[f] = time.process_time() - start
             checks[f] = {v.name: v for v in judged.verdicts}
             checks[f].update({f"table:{t.name}": t for t in judged.tables})
+        start = time.process_time()
+        false_pairs, pairs, copies_found, seeded = _copies_found(judged_all, rng)
+        copy_seconds = time.process_time() - start
     for row in rows:
         v = checks[row["file"]][row["name"]]
         row.update(verdict=v.verdict, found=None if v.slip is None else v.slip.name,
@@ -261,6 +312,10 @@ def run(out, *, quick: bool = False,
                       f"{len(per_class)} labs"),
         Target("variants their lab could not reduce", len(unreduced), 0,
                detail="; ".join(unreduced)[:500] or f"{len(files)} reduced"),
+        Target("honest variants named as copies", false_pairs, 0,
+               detail=f"{pairs} pairs compared in {copy_seconds:.1f} s with the seeded copies"),
+        Target("seeded copies (0-2 readings edited, added or rounded) found",
+               copies_found / max(seeded, 1), 1.0, "min", detail=f"{seeded} seeded"),
     ]
     write_targets(targets, out / "targets.json", environment())
     return frame, targets

@@ -1,6 +1,6 @@
 """What ``dynlab check`` prints and writes: a submission's verdicts on the terminal, a class's
 summary as CSV and as a sortable HTML table (a row per submission, a column per value and per
-reported table, verdict colours), the pairs of submissions with the same readings."""
+reported table, verdict colours), the copies (:class:`labs.check.Copy`) with their evidence."""
 from __future__ import annotations
 
 import csv
@@ -11,7 +11,7 @@ import os
 import tempfile
 from pathlib import Path
 
-from .check import Check
+from .check import Check, Copy
 
 COLOURS = {"right": "#c8e6c9", "rounded": "#fff9c4", "over-precise": "#fff9c4",
            "wrong": "#ffcdd2", "missing": "#e0e0e0", "refused": "#ffab91"}
@@ -51,7 +51,8 @@ def _table_name(t) -> str:
 def terminal(check: Check, lang: str = "en") -> str:
     """The verdicts of one submission, a line each, with the slip that explains a wrong
     value."""
-    lines = [f"{check.file} ({check.lab}, {check.student})"]
+    lines = [f"{check.file} ({check.lab}, {check.student})" + "".join(
+        f"\n  {t}" for t in whose(check, lang))]
     width = max((len(v.name) for v in check.verdicts), default=4)
     for v in check.verdicts:
         got = "—" if v.reported is None else _num(v.reported.value)
@@ -67,6 +68,24 @@ def terminal(check: Check, lang: str = "en") -> str:
     return "\n".join(lines)
 
 
+def whose(check: Check, lang: str = "en") -> list[str]:
+    """Whose variant a submission's readings and values are, where not the student's own."""
+    out = []
+    if check.readings_of:
+        out.append(f"the readings of {check.readings_of}'s variant, not {check.sid}'s" if
+                   lang == "en" else f"замеры варианта {check.readings_of}, а не {check.sid}")
+    if check.values_of:
+        out.append(f"the values of {check.values_of}'s variant, not {check.sid}'s" if
+                   lang == "en" else f"значения варианта {check.values_of}, а не {check.sid}")
+    return out
+
+
+def copied_from(check: Check, pairs: list[Copy], lang: str = "en") -> str:
+    """The submissions a submission's readings are copies of, each with the evidence."""
+    return "; ".join(f"{(p.b if p.a is check else p.a).file}: {p.text(lang)}"
+                     for p in pairs if check in (p.a, p.b))
+
+
 def _columns(checks: list[Check]) -> list[str]:
     names = []
     for c in checks:
@@ -75,26 +94,29 @@ def _columns(checks: list[Check]) -> list[str]:
     return names
 
 
-def summary_csv(checks: list[Check], refused: dict[str, str]) -> str:
+def summary_csv(checks: list[Check], refused: dict[str, str], pairs=()) -> str:
     """One row per submission and value: file, student, lab, name, verdict, reported, ours,
     U, z, slip, and per reported table (name ``table:…``): its verdict, the slips of its roots
-    and the detail in words (refused submissions: one row with the message)."""
+    and the detail in words (refused submissions: one row with the message); on every row of
+    a submission, the student's id (``--keys``), whose variant its readings and values are
+    where another's, and the submissions its readings are copies of, with the evidence."""
     buf = io.StringIO()
     w = csv.writer(buf)
     w.writerow(["file", "student", "lab", "name", "verdict", "reported", "value", "U", "z",
-                "slip", "detail"])
+                "slip", "detail", "id", "readings_of", "values_of", "copies"])
     for c in checks:
+        tail = [c.sid or "", c.readings_of or "", c.values_of or "", copied_from(c, pairs)]
         for v in c.verdicts:
             w.writerow([c.file, c.student, c.lab, v.name, v.verdict,
                         "" if v.reported is None else repr(v.reported.value),
                         repr(v.value), repr(2 * v.u), "" if not math.isfinite(v.z) else
-                        f"{v.z:.3g}", "" if v.slip is None else v.slip.name, ""])
+                        f"{v.z:.3g}", "" if v.slip is None else v.slip.name, "", *tail])
         for t in c.tables:
             slips = "+".join(dict.fromkeys(r.slip.name for r in t.roots if r.slip))
             w.writerow([c.file, c.student, c.lab, _table_name(t), t.verdict, "", "", "", "",
-                        slips, table_detail(t)])
+                        slips, table_detail(t), *tail])
     for file, message in refused.items():
-        w.writerow([file, "", "", "", "refused", "", "", "", "", "", message])
+        w.writerow([file, "", "", "", "refused", "", "", "", "", "", message, "", "", "", ""])
     return buf.getvalue()
 
 
@@ -108,7 +130,10 @@ def summary_html(checks: list[Check], refused: dict[str, str], pairs, lang: str 
         by = {v.name: v for v in c.verdicts}
         by.update({_table_name(t): t for t in c.tables})
         right = sum(v.verdict in ("right", "rounded", "over-precise") for v in c.verdicts)
-        cells = [html.escape(c.file), html.escape(c.student), c.lab,
+        notes = whose(c, lang) + [(("copy of " if lang == "en" else "копия ") + Path(
+            (p.b if p.a is c else p.a).file).parent.name) for p in pairs if c in (p.a, p.b)]
+        cells = [html.escape(c.file), html.escape(c.student) + "".join(
+            f"<br><small>{html.escape(n)}</small>" for n in notes), c.lab,
                  f"{right}/{len(c.verdicts)}"]
         tds = "".join(f"<td>{x}</td>" for x in cells)
         for n in names:
@@ -124,8 +149,9 @@ def summary_html(checks: list[Check], refused: dict[str, str], pairs, lang: str 
     for file, message in refused.items():
         rows.append(f"<tr><td>{html.escape(file)}</td><td colspan='{3 + len(names)}' "
                     f"style='background:{COLOURS['refused']}'>{html.escape(message)}</td></tr>")
-    pair_list = "".join(f"<li>{html.escape(a)} — {html.escape(b)}</li>" for a, b in pairs)
-    pairs_html = (f"<h2>{'Same readings' if lang == 'en' else 'Одинаковые замеры'}</h2>"
+    pair_list = "".join(f"<li>{html.escape(p.a.file)} — {html.escape(p.b.file)}: "
+                        f"{html.escape(p.text(lang))}</li>" for p in pairs)
+    pairs_html = (f"<h2>{'Copies' if lang == 'en' else 'Списанные замеры'}</h2>"
                   f"<ul>{pair_list}</ul>") if pairs else ""
     return ("<!DOCTYPE html><html><head><meta charset='utf-8'><title>dynlab check</title>"
             "<style>table{border-collapse:collapse}td,th{border:1px solid #999;padding:2px 6px}"
@@ -143,7 +169,7 @@ def write_summary(out: Path, checks: list[Check], refused: dict[str, str], pairs
     """``summary.csv`` and ``summary.html`` in ``out``, each written whole or not at all."""
     out.mkdir(parents=True, exist_ok=True)
     written = []
-    for name, text in (("summary.csv", summary_csv(checks, refused)),
+    for name, text in (("summary.csv", summary_csv(checks, refused, pairs)),
                        ("summary.html", summary_html(checks, refused, pairs, lang))):
         with tempfile.NamedTemporaryFile("w", encoding="utf-8", dir=out, delete=False,
                                          suffix=".part") as f:

@@ -277,8 +277,10 @@ def _check(args) -> int:
     with its reason and the others are checked."""
     import json
 
-    from .check import check, copied_pairs, read_key, read_policy, unknown_expected
+    from .check import check, copies, read_policy, read_variants, student_key, \
+        unknown_expected
     from .check_report import terminal, write_summary
+    from .variants import read_roster
 
     files, folders = [], []
     for item in args.files:
@@ -308,15 +310,24 @@ def _check(args) -> int:
                          ru=("--keys — не папка", "укажите папку ключей ответов, "
                              "KEYDIR/<id>/answer_key.json, как её записал dynlab synth "
                              "--students"))
+    if args.roster is not None and args.keys is None:
+        raise InputError("--roster goes with --keys", "give the answer keys' folder with "
+                         "--keys KEYDIR (the roster names whose each key is)", file=args.roster,
+                         ru=("--roster задаётся вместе с --keys", "укажите папку ключей "
+                             "ответов: --keys KEYDIR (список группы говорит, чей каждый ключ)"))
     out = Path(args.out)
     if folders:
         _writable_folder(out, "--out", "the class summary")
+    variants = None if args.keys is None else read_variants(
+        args.keys, None if args.roster is None else read_roster(args.roster))
     alone = len(files) == 1 and not folders
     checks, refused, said = [], {}, []      # refused: for the summary; said: on stderr
     for path in _progress(files, "check"):
         try:
-            key = None if args.keys is None else read_key(_key_of(path, folders, args.keys))
-            checks.append(check(path, policy=policy, confine=bool(folders), key=key))
+            sid = None if variants is None else student_key(
+                variants, _folder_id(path, folders), _meta_id(path), path, args.keys)
+            checks.append(check(path, policy=policy, confine=bool(folders), variants=variants,
+                                sid=sid))
         except InputError as exc:
             if alone:
                 raise
@@ -328,16 +339,16 @@ def _check(args) -> int:
             refused[str(path)] = _internal(exc, str(path))
             said.append(refused[str(path)])
     unknown_expected(checks, policy)
-    pairs = copied_pairs(checks)
+    pairs = copies(checks)
     if args.json:
         print(json.dumps([c.to_dict() for c in checks] if not alone else checks[0].to_dict(),
                          ensure_ascii=False, indent=1))
     else:
         for c in checks:
             print(terminal(c, args.lang))
-        for a, b in pairs:
-            print(say(args.says, f"same readings: {a} and {b}",
-                      f"одинаковые отсчёты: {a} и {b}"))
+        for pair in pairs:
+            print(say(args.says, f"copies: {pair.a.file} and {pair.b.file}: {pair.text('en')}",
+                      f"копии: {pair.a.file} и {pair.b.file}: {pair.text('ru')}"))
     for line in said:
         print(line, file=sys.stderr)
     if folders:
@@ -382,15 +393,23 @@ def _is_folder(path: Path) -> bool:
         return False
 
 
-def _key_of(path: Path, folders: list[Path], keys: str) -> Path:
-    """KEYDIR/<id>/answer_key.json of a submission in <folder>/<id>/…"""
+def _folder_id(path: Path, folders: list[Path]) -> str | None:
+    """The <id> of a submission in <folder>/<id>/… (None for a file at the folder's top)."""
     for folder in folders:
         try:
-            sid = resolved(path).relative_to(resolved(folder)).parts[0]
+            parts = resolved(path).relative_to(resolved(folder)).parts
         except ValueError:
             continue
-        return Path(keys) / sid / "answer_key.json"
-    return Path(keys) / path.stem / "answer_key.json"
+        return parts[0] if len(parts) > 1 else None
+    return None
+
+
+def _meta_id(path: Path) -> str | None:
+    """The ``[meta] id`` of a measurement file, if it gives one."""
+    from processing.measurement import read_toml
+
+    sid = read_toml(path).get("meta", {}).get("id")
+    return sid if isinstance(sid, str) else None
 
 
 def _list(_args) -> int:
@@ -445,6 +464,8 @@ def _synth(args) -> int:
             variants = write_variants(write, out, args.students, args.seed, **given)
             for sid, files in variants.items():
                 print(f"{sid}: {files['toml']}")
+            print(f"handouts (give each student their folder): {out / 'handouts'}\n"
+                  f"answer keys (keep them; dynlab check CLASS --keys {out}): {out / 'keys'}")
             return 0
         written = write(out, args.seed, **given)
     except OSError as exc:
@@ -529,8 +550,14 @@ def parser() -> argparse.ArgumentParser:
     chk.add_argument("--out", default="check", help="folder for a class's summary.csv and "
                      "summary.html (default: check)")
     chk.add_argument("--keys", metavar="KEYDIR", help="the answer keys of the variants "
-                     "(KEYDIR/<id>/answer_key.json for FOLDER/<id>/): their results are "
-                     "expected")
+                     "(KEYDIR/keys/<id>/answer_key.json as dynlab synth --students wrote them, "
+                     "or KEYDIR/<id>/answer_key.json): each submission, bound to its student "
+                     "by its folder FOLDER/<id>/ or its [meta] id, is judged against that "
+                     "student's key, and named where its readings or values are another "
+                     "student's")
+    chk.add_argument("--roster", metavar="ROSTER.csv", help="with --keys: the class's roster "
+                     "(columns id,name): the ids a submission may be bound to and the names "
+                     "shown (default: every id of KEYDIR)")
     chk.add_argument("--lang", choices=LANGS, help=LANG_HELP)
     chk.add_argument("--json", action="store_true", help="print the verdicts as JSON")
     chk.set_defaults(func=_check)
@@ -557,8 +584,10 @@ def parser() -> argparse.ArgumentParser:
     syn.add_argument("--film", action="store_true",
                      help="labs 1, 2: the swings filmed (MP4) instead of timed by hand")
     syn.add_argument("--students", metavar="ROSTER.csv",
-                     help="one variant per student of a roster (columns id,name) in "
-                          "OUT/<id>/, each with its answer key")
+                     help="one variant per student of a roster (columns id,name): the "
+                          "handouts in OUT/handouts/<id>/ (the measurement file, its "
+                          "recordings, readings.html to print) and the answer keys, which "
+                          "the teacher keeps, in OUT/keys/<id>/answer_key.json")
     syn.add_argument("--image", action="store_true",
                      help="labs 3, 6, 7, 9: the records as photographs of their paper (JPEG, "
                           "read with OpenCV)")

@@ -484,6 +484,10 @@ LINKS = r"c_(rocker|shaft|rod|cam)(_load|_unload)?"
 FROM_LINKS = ("M_reduced", "nu_natural", "f_natural", "cam_order")
 """The results that follow the links' stiffnesses."""
 
+ASKED = ("M_reduced",)
+"""What the manual asks a student to report beside the key results (each link's stiffness
+and the drive's, the springs', ν in Hz and in cam orders): the reduced mass M."""
+
 SLIPS = [
     ("lever_ratio_forgotten",
      bi("the weights Q taken for the load at the valve (P = Q i₁ without i₁ = 10): every "

@@ -120,21 +120,81 @@ def student_seed(seed: int, student_id: str) -> int:
     return int.from_bytes(digest[:4], "little")
 
 
+HANDOUTS, KEYS = "handouts", "keys"
+"""The two folders ``dynlab synth --students`` writes: what each student gets
+(``handouts/<id>/``: the measurement file, its recordings, a printable sheet of its readings)
+and what the teacher keeps (``keys/<id>/answer_key.json``)."""
+
+
 def write_variants(write, out_dir: str | Path, roster: str | Path, seed: int,
                    **options) -> dict[str, dict[str, Path]]:
     """``write(folder, seed, **options)`` (a lab's ``write_synthetic``) once per student of
-    the roster into ``out_dir/<id>/``, the measurement file's ``[meta] student`` set to the
-    student's name and ``id`` recorded in it."""
+    the roster: the handout in ``out_dir/handouts/<id>/`` — the measurement file, its
+    ``[meta] student`` the student's name and ``id`` the student's id, its recordings, and
+    ``readings.html``, a printable sheet of its readings (:func:`reading_sheet`) — and the
+    answer key in ``out_dir/keys/<id>/answer_key.json``. No handout names its key, nor the
+    seed the key could be made again from (the measurement file is ``<lab>_<id>.toml``)."""
     students = read_roster(roster)
     written = {}
     for sid, name in students:
-        files = write(Path(out_dir) / sid, student_seed(seed, sid), **options)
+        files = write(Path(out_dir) / HANDOUTS / sid, student_seed(seed, sid), **options)
         doc = tomllib.loads(files["toml"].read_text(encoding="utf-8"))
-        doc.setdefault("meta", {}).update(student=name, notes=f"variant of {sid}, class seed "
-                                          f"{seed}; the true answers are in answer_key.json")
+        kept = {k: v for k, v in doc.get("meta", {}).items()
+                if k not in ("student", "id", "notes")}
+        doc["meta"] = {"student": name, "id": sid, **kept, "notes": f"variant of {sid}"}
+        files["toml"].unlink()           # its name holds the seed, from which the key is made
+        files["toml"] = files["toml"].parent / f"{doc.get('lab', 'lab')}_{sid}.toml"
         files["toml"].write_text(dumps(doc), encoding="utf-8")
+        key = Path(out_dir) / KEYS / sid / "answer_key.json"
+        key.parent.mkdir(parents=True, exist_ok=True)
+        files["answer"].replace(key)
+        files["answer"] = key
+        files["sheet"] = files["toml"].parent / "readings.html"
+        files["sheet"].write_text(reading_sheet(doc), encoding="utf-8")
         written[sid] = files
     return written
+
+
+def reading_sheet(doc: dict) -> str:
+    """A printable page of a measurement file's readings (HTML, both languages): the lab,
+    the student, each section's values, and its tables as written; the files it names
+    (recordings) are listed by name."""
+    from html import escape
+
+    from .catalogue import CATALOGUE
+
+    entry = CATALOGUE.get(doc.get("lab", ""))
+    title = f"{entry.title['en']} / {entry.title['ru']}" if entry else doc.get("lab", "")
+    meta = doc.get("meta", {})
+    body = [f"<h1>{escape(title)}</h1>",
+            f"<p>{escape(meta.get('student', ''))} ({escape(meta.get('id', ''))})</p>"]
+
+    def section(name: str, table: dict) -> str:
+        rows, pre = [], []
+        for key, value in table.items():
+            if isinstance(value, str) and "\n" in value.strip():
+                pre.append(f"<h3>{escape(key)}</h3><pre>{escape(value.strip())}</pre>")
+            elif isinstance(value, dict):
+                pre.append(section(f"{name}.{key}", value))
+            else:
+                shown = ", ".join(map(str, value)) if isinstance(value, list) else str(value)
+                rows.append(f"<tr><th>{escape(key)}</th><td>{escape(shown)}</td></tr>")
+        table_html = f"<table>{''.join(rows)}</table>" if rows else ""
+        return f"<h2>[{escape(name)}]</h2>{table_html}{''.join(pre)}"
+
+    for name, value in doc.items():
+        if name in ("lab", "meta"):
+            continue
+        items = value if isinstance(value, list) else [value]
+        for k, item in enumerate(items, start=1):
+            label = f"{name} {k}" if isinstance(value, list) and len(value) > 1 else name
+            body.append(section(label, item) if isinstance(item, dict) else
+                        f"<p>{escape(name)} = {escape(str(item))}</p>")
+    return ("<!DOCTYPE html><html><head><meta charset='utf-8'><title>"
+            f"{escape(title)}</title><style>body{{font-family:sans-serif}}"
+            "table{border-collapse:collapse}td,th{border:1px solid #999;padding:2px 8px;"
+            "text-align:left}pre{font-size:11pt}@media print{h2{break-after:avoid}}</style>"
+            f"</head><body>{''.join(body)}</body></html>")
 
 
 def design_variant(lab_id: str, sample: str, out_dir: str | Path, seed: int,

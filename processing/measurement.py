@@ -70,7 +70,9 @@ MAX_READINGS = 1000
 MAX_TEXT = 2000
 """Longest text (notes, names) carried into a report [characters]; longer text is cut."""
 
-META_KEYS = ("student", "group", "date", "rig", "teacher", "university", "department", "notes")
+META_KEYS = ("student", "id", "group", "date", "rig", "teacher", "university", "department",
+             "notes")
+"""The keys of [meta]: who and where (``id``: the student's id of the class roster)."""
 _TABLE_KEYS = ("value", "readings", "unit", "limit", "u")
 
 

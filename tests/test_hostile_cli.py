@@ -522,7 +522,7 @@ def test_a_spreadsheets_roster_is_read(tmp_path, capsys, encoding, sep):
     code, out, err = run(capsys, "synth", "lab2", "--students", roster, "--out",
                          tmp_path / "class")
     assert code == 0, err
-    text = next((tmp_path / "class" / "st01").glob("*.toml")).read_text("utf-8")
+    text = (tmp_path / "class" / "handouts" / "st01" / "lab2_st01.toml").read_text("utf-8")
     assert 'student = "Анна Иванова"' in text
 
 

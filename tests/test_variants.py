@@ -46,14 +46,20 @@ def test_a_class_of_variants(tmp_path, capsys):
     roster.write_text("id,name\nst01,Анна Иванова\nst02,Boris Petrov\n", encoding="utf-8")
     assert main(["synth", "lab2", "--students", str(roster), "--seed", "11",
                  "--out", str(tmp_path / "class")]) == 0
-    first = sorted((tmp_path / "class" / "st01").glob("*.toml"))[0].read_text("utf-8")
-    second = sorted((tmp_path / "class" / "st02").glob("*.toml"))[0].read_text("utf-8")
+    handouts, keys = tmp_path / "class" / "handouts", tmp_path / "class" / "keys"
+    first = (handouts / "st01" / "lab2_st01.toml").read_text("utf-8")
+    second = (handouts / "st02" / "lab2_st02.toml").read_text("utf-8")
     assert 'student = "Анна Иванова"' in first and first.split("[rod]")[1] != \
         second.split("[rod]")[1]
-    assert (tmp_path / "class" / "st01" / "answer_key.json").exists()
+    assert (keys / "st01" / "answer_key.json").exists()
+    assert sorted(p.name for p in (handouts / "st01").iterdir()) == ["lab2_st01.toml",
+                                                                    "readings.html"]
+    assert "answer_key" not in first and "seed" not in first
+    sheet = (handouts / "st01" / "readings.html").read_text("utf-8")
+    assert "Анна Иванова" in sheet and "[rod]" in sheet
     again = tmp_path / "again"
     main(["synth", "lab2", "--students", str(roster), "--seed", "11", "--out", str(again)])
-    assert sorted((again / "st01").glob("*.toml"))[0].read_text("utf-8") == first
+    assert (again / "handouts" / "st01" / "lab2_st01.toml").read_text("utf-8") == first
     assert student_seed(11, "st01") != student_seed(11, "st02") != student_seed(12, "st02")
 
 

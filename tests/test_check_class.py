@@ -1,0 +1,139 @@
+"""``dynlab check CLASS --keys``: each submission bound to its student and judged against that
+student's own variant; a variant handed in by another student named; copies told apart from
+honest variants as a teacher tells them; what a student is asked for expected.
+
+Every class is generated: variants written for a roster (``dynlab synth --students``), each
+student's values our reduction of the file they hand in, written to four figures.
+"""
+import csv
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from labs.check import Check, asked, check, copies, read_variants
+from labs.check_bench import copy_of
+from labs.registry import evaluate
+from tests.cli_contract import assert_one_clear_error, run
+
+STUDENTS = ("s01", "s02", "s03", "s04", "s05")
+
+
+@pytest.fixture(scope="module")
+def variants(tmp_path_factory):
+    """Lab 5 variants of a class of five: the handouts and the keys."""
+    out = tmp_path_factory.mktemp("lab5") / "variants"
+    roster = out.parent / "roster.csv"
+    roster.write_text("id,name\n" + "".join(f"{s},Student {s}\n" for s in STUDENTS),
+                      encoding="utf-8")
+    from labs.cli import main
+
+    assert main(["synth", "lab5", "--students", str(roster), "--seed", "3",
+                 "--out", str(out)]) == 0
+    return out
+
+
+def handout(variants: Path, sid: str) -> Path:
+    return variants / "handouts" / sid / f"lab5_{sid}.toml"
+
+
+def hand_in(folder: Path, sid: str, measurement: Path, values_from: Path | None = None,
+            names=None) -> Path:
+    """``sid``'s submission: the measurement file ``measurement`` with our reduction of
+    ``values_from`` (the same file, unless given) reported to four figures."""
+    results = evaluate(values_from or measurement, n_samples=0).results
+    names = names or [n for n, r in results.items() if r.key or n == "M_reduced"]
+    lines = [f'{n} = "{results[n].value:.4g} {results[n].unit}"' for n in names]
+    path = folder / sid / measurement.name
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(measurement.read_text("utf-8") + "\n[reported]\n" + "\n".join(lines) + "\n",
+                    encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize("owner_hands_in", [True, False])
+def test_a_variant_handed_in_by_another_student_is_named_and_judged_against_their_own(
+        tmp_path, capsys, variants, owner_hands_in):
+    for sid in STUDENTS:
+        if sid == "s01" and not owner_hands_in:
+            continue
+        hand_in(tmp_path / "class", sid, handout(variants, "s01" if sid == "s03" else sid))
+    out = tmp_path / "summary"
+    code, printed, _ = run(capsys, "check", tmp_path / "class", "--keys", variants,
+                           "--roster", variants.parent / "roster.csv", "--out", out)
+    assert code == 0 and "the readings of s01's variant, not s03's" in printed
+    rows = list(csv.DictReader((out / "summary.csv").open(encoding="utf-8")))
+    s03 = [r for r in rows if r["id"] == "s03"]
+    assert {r["readings_of"] for r in s03} == {"s01"}
+    assert {r["student"] for r in s03} == {"Student s03"}
+    assert "readings_of_variant" in {r["slip"] for r in s03}
+    honest = [r for r in rows if r["id"] != "s03"]
+    assert {r["verdict"] for r in honest} <= {"right", "over-precise"}
+    assert not any(r["readings_of"] or r["values_of"] for r in honest)
+    assert bool(s03[0]["copies"]) == owner_hands_in
+
+
+def test_values_of_another_variant_over_ones_own_readings_are_named(tmp_path, variants):
+    keys = read_variants(variants)
+    path = hand_in(tmp_path, "s02", handout(variants, "s02"), handout(variants, "s04"))
+    c = check(path, variants=keys, sid="s02")
+    assert c.readings_of is None and c.values_of == "s04"
+    wrong = [v for v in c.verdicts if v.verdict == "wrong"]
+    assert wrong and {v.slip.name for v in wrong} == {"values_of_variant"}
+
+
+def test_a_perfect_student_reporting_what_the_lab_asks_scores_full(tmp_path, variants):
+    keys = read_variants(variants)
+    path = hand_in(tmp_path, "s02", handout(variants, "s02"))
+    c = check(path, variants=keys, sid="s02")
+    names = {v.name for v in c.verdicts}
+    assert names == set(asked("lab5", evaluate(handout(variants, "s02"), n_samples=0).results))
+    assert {"c_total", "c_spring", "f_natural", "M_reduced"} <= names
+    assert "c_total_load" not in names and "m_g" not in names
+    assert {v.verdict for v in c.verdicts} <= {"right", "over-precise"}
+    policy = tmp_path / "policy.toml"
+    policy.write_text('[lab5]\nexpected = ["c_total", "f_natural"]\n', encoding="utf-8")
+    only = hand_in(tmp_path / "b", "s02", handout(variants, "s02"), names=["c_total"])
+    verdicts = {v.name: v.verdict for v in check(only, variants=keys, sid="s02",
+                                                   policy=policy).verdicts}
+    assert verdicts == {"c_total": "right", "f_natural": "missing"}
+
+
+def test_a_submission_bound_by_its_meta_id_when_its_folder_is_no_id(tmp_path, capsys,
+                                                                     variants):
+    hand_in(tmp_path / "class", "Ivanov lab 5", handout(variants, "s02"))
+    out = tmp_path / "summary"
+    code, _, _ = run(capsys, "check", tmp_path / "class", "--keys", variants, "--out", out)
+    rows = list(csv.DictReader((out / "summary.csv").open(encoding="utf-8")))
+    assert code == 0 and {r["id"] for r in rows} == {"s02"}
+
+
+def test_roster_without_keys_is_refused(tmp_path, capsys, variants):
+    hand_in(tmp_path / "class", "s01", handout(variants, "s01"))
+    roster = variants.parent / "roster.csv"
+    code, out, err = run(capsys, "check", tmp_path / "class", "--roster", roster,
+                         "--out", tmp_path / "summary")
+    assert_one_clear_error(code, out, err, roster, None, "--roster goes with --keys",
+                           tmp_path / "summary")
+
+
+def _texts(path: Path) -> tuple[str, ...]:
+    from labs.check import _readings
+    from processing.measurement import read_toml
+
+    return _readings(read_toml(path))
+
+
+def test_copies_with_up_to_two_edited_or_added_readings_are_found_with_the_evidence(
+        variants):
+    honest = [Check(str(handout(variants, s)), "lab5", s, [], _texts(handout(variants, s)))
+              for s in STUDENTS]
+    assert copies(honest) == []
+    rng = np.random.default_rng(5)
+    for edits in (0, 1, 2, 2, 2):
+        copy = copy_of(honest[1], rng, edits)
+        found = copies([*honest, copy])
+        assert [(p.a.student, p.b.student) for p in found] == [("s02", "copy")], copy.readings
+        assert found[0].differing <= edits and "readings the same in the same order" in \
+            found[0].text()
+        assert found[0].evidence and set(found[0].evidence) <= set(honest[1].readings)
