@@ -892,11 +892,12 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20031) -> LabR
 
 def _record_results(regimes, entries) -> dict:
     """What the regime table states of each record besides δ and n: the oscillogram's scale
-    ``mu_<r>`` read off one, and a recording's samples per tooth ``samples_per_tooth_<r>``."""
+    ``mu_<r>`` read off one, and a recording's samples per tooth ``samples_per_tooth_<r>``
+    (a counter's edge times have none)."""
     values, declared = {}, {}
     for reg in regimes:
         r = reg.number
-        if reg.recording is not None:
+        if reg.recording is not None and reg.recording.samples_per_tooth is not None:
             values[f"samples_per_tooth_{r}"] = reg.recording.samples_per_tooth
             declared[f"samples_per_tooth_{r}"] = (bi(f"samples per tooth, regime {r}",
                                                      f"отсчётов на зуб, режим {r}"), "N_z", "")

@@ -212,11 +212,11 @@ class ReadingsTable:
 
     @staticmethod
     def _text(c: Column, cells: Mapping[str, Any]) -> str:
-        """One cell: a field's reading as written (``g``), a text as it is, a derived
-        quantity to ``c.digits`` figures; "—" where there is none."""
+        """One cell: a field's reading as written (``g``), a text or a choice's words as they
+        are, a derived quantity to ``c.digits`` figures; "—" where there is none."""
         if c.of is None:
             x = cells.get(c.field, math.nan)
-            return x if isinstance(x, str) else f"{x:g}" if math.isfinite(x) else "—"
+            return x if isinstance(x, (str, Mapping)) else f"{x:g}" if math.isfinite(x) else "—"
         x = c.of(defaultdict(lambda: math.nan, cells))
         return f"{x:#.{c.digits}g}".rstrip(".") if math.isfinite(x) else "—"
 
@@ -239,10 +239,12 @@ def period_columns(count: str, times: Mapping[str, str]) -> tuple[Column, ...]:
 
 def _in_field_unit(f: Field, v) -> list:
     """A field's readings (or its one value) in the field's declared unit; a count as a
-    number, a choice or a text as it is."""
+    number, a choice in its words ({"en", "ru"}) where it has them, a text as it is."""
     if isinstance(v, Measured):
         k = si_factor(f.unit)
         return [r / k for r in v.readings] if len(v.readings) > 1 else [v.value / k]
+    if isinstance(f.choices, Mapping) and v in f.choices:
+        return [dict(f.choices[v])]
     return [v if isinstance(v, str) else float(v)]
 
 

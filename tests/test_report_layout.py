@@ -52,7 +52,7 @@ def typed(res) -> list[str]:
     that is a text or a file name (a choice is the toolkit's word, and translated)."""
     texts = [str(v) for v in res.meta.values()]
     texts += [str(r["value"]) for r in res.inputs
-              if isinstance(r["value"], str) and "value_label" not in r and "u" not in r]
+              if isinstance(r.get("value"), str) and "value_label" not in r and "u" not in r]
     return [t for t in texts if t] + [str(res.source), "dynlab"]
 
 
