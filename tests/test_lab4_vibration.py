@@ -110,8 +110,7 @@ def test_meter_readings_are_tabulated_with_the_meters_basic_error(tmp_path):
     assert res["a_rms_2"].value == 9.0 and res["a_rms_3"].value == 25.0
     assert res["a_pp_3"].value == pytest.approx(70.0)
     assert "v_rms_2" not in res
-    table = res.tables[0]
-    level = float(table.rows[0]["La"])
+    level = res["L_a_1"].value
     assert level == pytest.approx(20 * math.log10(12.0 / REFERENCES["iso1683"]["a"]), abs=0.05)
 
 

@@ -86,7 +86,7 @@ def test_table1_energies_by_hand(table1):
 
 def test_table1_reports_tables_and_figures(table1):
     assert [f.name for f in table1.figures] == ["loops"]
-    readings = table1.tables[0]
+    readings = table1.measurements[0]          # Table 1, as the manual prints it
     assert [r["up"] for r in readings.rows[1:5]] == ["2.69", "6.15", "9.91", "12.12"]
     assert readings.rows[0]["down"] == "0.09" and readings.rows[0]["up"] == "—"
     assert readings.rows[4]["down"] == "—"          # the top is read once, as printed
