@@ -380,12 +380,12 @@ def test_cli_refuses_a_bad_table_with_exit_2_and_writes_nothing(tmp_path, monkey
 # ----------------------------------------------------------------------------- reports
 
 @pytest.mark.parametrize("sample", sorted(p.name for p in SAMPLES.glob("*.toml")))
-def test_every_sample_renders_in_every_format_and_language(sample):
+def test_every_sample_renders_in_html_and_json_in_both_languages(sample):
     result = reduce(SAMPLES / sample)
     assert [f.name for f in result.figures] == ["gauges", "parts", "chain", "spring"]
     for lang in ("en", "ru"):
-        out = render(result, ("html", "pdf", "json"), lang)
-        assert out["pdf"].startswith(b"%PDF") and b"<html" in out["html"][:200].lower()
+        out = render(result, ("html", "json"), lang)     # the PDFs: test_report_layout
+        assert b"<html" in out["html"][:200].lower()
         doc = json.loads(out["json"])
         assert doc["lab"] == "lab5" and doc["inputs"]["run[0].table"]["unit"] == "N, m"
 

@@ -89,10 +89,10 @@ def test_sample_warns_that_the_drive_separates(sample):
     assert "records 14 (in, δ = 0.8 mm" in lost and "separates at in, δ = 0.8 mm" in lost
 
 
-def test_sample_reports_render_in_every_format_and_language(sample):
+def test_sample_reports_render_in_html_and_json_in_both_languages(sample):
     for lang in ("en", "ru"):
-        out = render(sample, ("html", "pdf", "json"), lang)
-        assert out["pdf"].startswith(b"%PDF") and len(out["html"]) > 10_000
+        out = render(sample, ("html", "json"), lang)     # the PDFs: test_report_layout
+        assert len(out["html"]) > 10_000
         assert "n_sep_in_800" in json.loads(out["json"])["results"]
     assert "разрыв" in out["html"].decode("utf-8")
     assert [f.name for f in sample.figures] == ["calibration", "traces", "forces", "phases"]
@@ -117,16 +117,17 @@ def test_template_lists_every_section():
 def test_the_scene_is_static_at_a_crawl():
     """Without lash at a crawl inertia and damping vanish: at full lift the drive and the
     springs are two springs in series, P = c (P₀ + c_n h_max)/(c + c_n), and the valve opens
-    on the ramp (slope v_r, cam speed ω) where c h + b ω v_r = P₀. At ω = 1 rad/s (19 min⁻¹
-    of the crankshaft) the inertia's share of P_max is 2·10⁻⁵ (2·10⁻⁶ at 0.3 rad/s, in a
-    simulation three times as long)."""
+    on the ramp (slope v_r, cam speed ω) where c h + b ω v_r = P₀. The inertia's share of
+    P_max grows as ω²: 2·10⁻⁶ at 0.3 rad/s, 2·10⁻⁵ at 1 rad/s, 9·10⁻⁵ at 2 rad/s (38 min⁻¹
+    of the crankshaft), where the simulation is half as long as at 1 rad/s."""
     cam, drive = Cam(), Drive()
-    slow = simulate_event(cam, drive, 0.0, 1.0)
+    w = 2.0
+    slow = simulate_event(cam, drive, 0.0, w)
     h_max = float(cam.profile(cam.total_angle / 2)[0])
     c, c_n, P0 = drive.c, drive.c_n, drive.P0
-    assert slow.P_max == pytest.approx(c * (P0 + c_n * h_max) / (c + c_n), rel=5e-5)
+    assert slow.P_max == pytest.approx(c * (P0 + c_n * h_max) / (c + c_n), rel=2e-4)
     ramp = cam.ramp / cam.ramp_angle
-    assert slow.opening == pytest.approx((P0 - drive.b * 1.0 * ramp) / (c * ramp), rel=1e-9)
+    assert slow.opening == pytest.approx((P0 - drive.b * w * ramp) / (c * ramp), rel=1e-9)
     assert slow.loss == 0
 
 

@@ -89,10 +89,10 @@ def test_sample_compares_the_model_with_the_resonances(sample):
     assert len(sample.tables) == 4       # records, resonances, modes, critical speeds
 
 
-def test_sample_reports_render_in_every_format_and_language(sample):
+def test_sample_reports_render_in_html_and_json_in_both_languages(sample):
     for lang in ("en", "ru"):
-        out = render(sample, ("html", "pdf", "json"), lang)
-        assert out["pdf"].startswith(b"%PDF") and len(out["html"]) > 10_000
+        out = render(sample, ("html", "json"), lang)     # the PDFs: test_report_layout
+        assert len(out["html"]) > 10_000
         assert "phi_max_1" in json.loads(out["json"])["results"]
     assert "Диаграмма Кэмпбелла" in out["html"].decode("utf-8")
 

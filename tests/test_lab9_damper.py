@@ -292,11 +292,11 @@ def test_cli_refuses_bad_input_with_exit_2_and_writes_nothing(tmp_path, monkeypa
 # ----------------------------------------------------------------------------- reports
 
 @pytest.mark.parametrize("sample", sorted(p.name for p in SAMPLES.glob("*.toml")))
-def test_every_sample_renders_in_every_format_and_language(sample):
+def test_every_sample_renders_in_html_and_json_in_both_languages(sample):
     result = reduce(SAMPLES / sample)
     for lang in ("en", "ru"):
-        out = render(result, ("html", "pdf", "json"), lang)
-        assert out["pdf"].startswith(b"%PDF") and b"<html" in out["html"][:200].lower()
+        out = render(result, ("html", "json"), lang)     # the PDFs: test_report_layout
+        assert b"<html" in out["html"][:200].lower()
         assert json.loads(out["json"])["lab"] == "lab9"
 
 
