@@ -803,12 +803,13 @@ def _same_rounded(x: str, y: str) -> bool:
     return abs(float(coarse) - float(fine)) <= half * (1 + 1e-9)
 
 
-def _rarity(checks: list[Check]) -> dict[str, float]:
+def _rarity(values: list[list[str]]) -> dict[str, float]:
     """How rare each reading of a lab's class is, in decades: log10(N/m), m the other
     submissions of the N that write it (one at least); 0 for the class's common readings
-    (:data:`COMMON_SHARE`: the programme, a constant)."""
-    seen = Counter(v for c in checks for v in set(_values(c)))
-    n = len(checks)
+    (:data:`COMMON_SHARE`: the programme, a constant). ``values``: each submission's
+    :func:`_values`."""
+    seen = Counter(v for vs in values for v in set(vs))
+    n = len(values)
     least = max(3, COMMON_SHARE * n)
     return {v: 0.0 if k >= least else math.log10(n / max(k - 1, 1)) for v, k in seen.items()}
 
@@ -819,13 +820,14 @@ def _values(c: Check) -> list[str]:
     return [repr(float(t)) for t in c.readings]
 
 
-def _copy(a: Check, b: Check, rarity: dict[str, float], surprise: float) -> Copy | None:
+def _copy(a: Check, b: Check, va: list[str], vb: list[str], rarity: dict[str, float],
+          surprise: float) -> Copy | None:
     """The evidence that ``a`` and ``b`` are copies, or None: their readings aligned in order
     (:class:`difflib.SequenceMatcher`), identical ones and ones identical up to rounding in
     the places where they differ; a copy differs in at most :data:`COPY_DIFFERING` readings
     (or a tenth) and the readings it shares are rarer than ``surprise`` decades
-    (:func:`_rarity`: the class's common ones count nothing)."""
-    va, vb = _values(a), _values(b)
+    (:func:`_rarity`: the class's common ones count nothing); ``va``, ``vb`` their
+    :func:`_values`."""
     n = max(len(va), len(vb))
     allowed = max(COPY_DIFFERING, n // 10)
     if not n or abs(len(va) - len(vb)) > allowed:
@@ -866,15 +868,16 @@ def copies(checks: list[Check]) -> list[Copy]:
     for c in checks:
         by_lab.setdefault(c.lab, []).append(c)
     for group in by_lab.values():
-        rarity = _rarity(group)
+        values = [_values(c) for c in group]
+        rarity = _rarity(values)
         surprise = COPY_SURPRISE + math.log10(max(len(group) * (len(group) - 1) // 2, 1))
-        own = [{v for v in _values(c) if rarity[v] > 0} for c in group]
+        own = [{v for v in vs if rarity[v] > 0} for vs in values]
         for i, a in enumerate(group):
             for j in range(i + 1, len(group)):
                 fewer = min(len(own[i]), len(own[j]))
                 if not fewer or len(own[i] & own[j]) < COPY_SHARED * fewer:
                     continue
-                found = _copy(a, group[j], rarity, surprise)
+                found = _copy(a, group[j], values[i], values[j], rarity, surprise)
                 if found is not None:
                     out.append(found)
     return out
