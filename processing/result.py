@@ -384,10 +384,9 @@ def flag_estimates(results: Mapping[str, ResultValue], comparisons, lang_names=N
                 bound = f"{100 * c.difference.U / abs(b.value):.2f} %"
                 gap_ru, bound_ru = gap, bound
             else:                       # nothing to scale by: the difference as it is
-                gap, bound = (f"{b.shown(v):+.4g} {unit_text(b.display_unit)}".rstrip()
-                              for v in (c.difference.value, c.difference.U))
-                gap_ru, bound_ru = (f"{b.shown(v):+.4g} {unit_text(b.display_unit, 'ru')}"
-                                    .rstrip() for v in (c.difference.value, c.difference.U))
+                (gap, bound), (gap_ru, bound_ru) = (
+                    [f"{b.shown(v):+.4g} {unit_text(b.display_unit, lang)}".rstrip()
+                     for v in (c.difference.value, c.difference.U)] for lang in ("en", "ru"))
             warnings.warn(MethodsDisagreeWarning(
                 f"{c.a} and {c.b} differ by {gap}, more than the expanded uncertainty of "
                 f"their difference ({bound}): look for a systematic error (a misread length, "

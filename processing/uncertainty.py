@@ -17,6 +17,7 @@ departs from its tangent without u being wrong.)
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from collections.abc import Callable, Mapping
@@ -35,6 +36,7 @@ of type B parts alone keeps U = 2u, while one dominated by a few readings gets S
 factor."""
 
 
+@functools.lru_cache(maxsize=4096)
 def coverage_factor(dof: float) -> float:
     """Coverage factor k = t_p(ν_eff) for p = :data:`COVERAGE` (JCGM 100:2008, G.4.1, Table
     G.2): the Student t quantile at the effective degrees of freedom of Welch–Satterthwaite.
