@@ -43,7 +43,7 @@ from processing.diagnostics import (DynlabWarning, FlywheelNotNeededWarning,
                                     MeanPressureDiscrepancyWarning, collect_notices)
 from processing.kinematics import (mean_piston_speed, relative_displacement, relative_velocity,
                                    rod_angle)
-from processing.measurement import Field, Inputs, LabSpec, Section, bi
+from processing.measurement import STROKES, Field, Inputs, LabSpec, Section, bi
 from processing.result import (Figure, LabResult, Record, Table, flag_estimates, result_values,
                                with_key)
 from processing.uncertainty import Measured, propagate
@@ -573,8 +573,7 @@ SPEC = LabSpec(
             Field("i", bi("number of cylinders (in line, firing evenly)",
                           "число цилиндров (рядный, равномерное чередование)"), kind="count",
                   symbol="i", example=4),
-            Field("strokes", bi("strokes per cycle: 4 or 2", "тактность: 4 или 2"), kind="count",
-                  symbol="τ", default=4),
+            Field("strokes", bi("strokes per cycle", "тактность"), **STROKES),
             Field("n", bi("crank speed (min⁻¹)", "частота вращения (мин⁻¹)"), unit="rpm",
                   symbol="n", example=5600, plausible=("50 rpm", "12000 rpm")),
             Field("firing_order", bi("firing order", "порядок работы цилиндров"), kind="text",
@@ -946,9 +945,6 @@ def _checks(inputs: Inputs) -> None:
     """Inputs the calculation cannot take, and inputs that contradict each other."""
     eng, cyc, geo, mas, fly = (inputs[s] for s in ("engine", "cycle", "geometry", "masses",
                                                    "flywheel"))
-    if eng["strokes"] not in (2, 4):
-        raise inputs.error(f"strokes must be 4 or 2, got {eng['strokes']}",
-                           "write strokes = 4 (four-stroke) or strokes = 2", "engine.strokes")
     if eng["strokes"] == 4 and "p_r" not in cyc:
         raise inputs.error("a four-stroke cycle needs the exhaust pressure p_r",
                            "add p_r (MPa) from the thermal calculation, about 1.05–1.25 p_0",

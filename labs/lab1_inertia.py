@@ -643,17 +643,27 @@ def _check_physics(inputs: Inputs, prop) -> None:
             f"the parts add up to m = {prop['m_analytic'].value:.4g} kg and J = "
             f"{prop['J_analytic'].value:.4g} kg·m²: the holes remove more than the solid parts "
             f"hold", "a hole must fit inside a solid part: check its radii, height and count, "
-            "and that hole = true is set only on holes", f"analytic[{largest}]")
+            "and that hole = true is set only on holes", f"analytic[{largest}]",
+            ru=(f"детали в сумме дают m = {prop['m_analytic'].value:.4g} кг и J = "
+                f"{prop['J_analytic'].value:.4g} кг·м²: отверстия убирают больше, чем содержат "
+                f"сплошные детали", "отверстие должно помещаться в сплошной детали: проверьте "
+                "его радиусы, высоту и число, и что hole = true стоит только у отверстий"))
     if "trifilar" in inputs and prop["J_trifilar"].value <= 0:
         raise inputs.error(f"the part's J comes out {prop['J_trifilar'].value:.4g} kg·m² ≤ 0 after "
                            f"the empty platform is subtracted", "the platform with the part must "
-                           "swing slower than alone: check t, t_p, m and m_p", "trifilar.t_p")
+                           "swing slower than alone: check t, t_p, m and m_p", "trifilar.t_p",
+                           ru=(f"J детали получается {prop['J_trifilar'].value:.4g} кг·м² ≤ 0 "
+                               f"после вычитания пустой платформы", "платформа с деталью должна "
+                               "качаться медленнее пустой: проверьте t, t_p, m и m_p"))
     if "pendulum" in inputs:
         if prop["J_pendulum_cm"].value <= 0:
             raise inputs.error(
                 f"J about the centre of mass comes out {prop['J_pendulum_cm'].value:.4g} kg·m² ≤ 0",
                 "c is the distance from the pivot to the centre of mass (mm): check it and the "
-                "times", "pendulum.c")
+                "times", "pendulum.c",
+                ru=(f"J относительно центра масс получается "
+                    f"{prop['J_pendulum_cm'].value:.4g} кг·м² ≤ 0", "c — расстояние от оси "
+                    "качания до центра масс (мм): проверьте его и времена"))
         ratio = prop["J_pendulum_pivot"].value / prop["J_pendulum_cm"].value
         if ratio > 5:
             warnings.warn(IllConditionedWarning(

@@ -347,7 +347,10 @@ def _checks(inputs: Inputs, prop) -> None:
     if "weighing" in inputs and inputs["weighing"]["R_A"].value >= rod["m_sh"].value:
         raise inputs.error("the balance reading R_A is not smaller than the rod's mass",
                            "R_A carries only part of the rod: check the reading and its unit",
-                           "weighing.R_A")
+                           "weighing.R_A",
+                           ru=("показание весов R_A не меньше массы шатуна",
+                               "на весы R_A опирается лишь часть шатуна: проверьте показание "
+                               "и его единицу"))
     if "swinging" not in inputs:
         return
     sw = inputs["swinging"]

@@ -37,7 +37,7 @@ from processing.diagnostics import (GapNotFoundWarning, InconsistentInputWarning
                                     UndersampledWarning, UnequalCyclesWarning, collect_notices)
 from processing.edges import METHODS as EDGE_METHODS
 from processing.edges import stream_edges
-from processing.measurement import (ENGINE_SPEED, SAMPLE_RATE, Field, Inputs, LabSpec, Section,
+from processing.measurement import (ENGINE_SPEED, SAMPLE_RATE, STROKES, Field, Inputs, LabSpec, Section,
                                     bi, image_section)
 from processing.record_quality import check_pulse_channel, check_record
 from processing.result import (KEY, STRICTLY_POSITIVE, LabResult, Typical, compare, computed,
@@ -130,8 +130,7 @@ SPEC = LabSpec(
                           kind="text", required=False),
                 )),
         Section("engine", bi("Engine", "Двигатель"), required=True, fields=(
-            Field("strokes", bi("strokes per cycle (4 or 2)", "тактность (4 или 2)"),
-                  kind="count", default=4, symbol="τ"),
+            Field("strokes", bi("strokes per cycle", "тактность"), **STROKES),
             Field("cylinders", bi("number of cylinders", "число цилиндров"), kind="count",
                   required=False, symbol="i"),
             Field("kind", bi("kind (for the typical range)", "тип (для сравнения)"),
@@ -776,10 +775,7 @@ def _signal_inputs(reg: Regime) -> dict[str, Measured]:
 
 def _check_inputs(inputs: Inputs) -> None:
     """What the file says, checked before any recording is read."""
-    engine, wheel = inputs["engine"], inputs.sections.get("wheel")
-    if engine["strokes"] not in (2, 4):
-        raise inputs.error(f"strokes = {engine['strokes']}", "write 4 (four-stroke) or 2",
-                           "engine.strokes")
+    wheel = inputs.sections.get("wheel")
     for i, e in enumerate(inputs["regime"]):
         if "h_max" in e and "h_min" in e and not e["h_max"].value > e["h_min"].value:
             raise inputs.error(f"h_max = {1e3 * e['h_max'].value:g} mm is not above h_min = "
@@ -798,17 +794,26 @@ def _check_inputs(inputs: Inputs) -> None:
     if wheel["z"] < 3:
         raise inputs.error(f"a wheel of z = {wheel['z']} tooth pitches cannot time a revolution",
                            "z is the number of tooth pitches, the missing teeth included "
-                           "(60 for a 60−2 wheel)", "wheel.z")
+                           "(60 for a 60−2 wheel)", "wheel.z",
+                           ru=(f"колесо с z = {wheel['z']} шагами зубьев не может отсчитать "
+                               "оборот", "z — число шагов зубьев вместе с пропущенными зубьями "
+                               "(60 у колеса 60−2)"))
     if wheel["missing"] >= wheel["z"] // 2:
         raise inputs.error(f"a wheel of {wheel['z']} teeth with {wheel['missing']} missing is "
                            "not usable", f"missing counts the teeth removed at the reference "
                            f"gap (2 on a 60−2 wheel); it must be below {wheel['z'] // 2}",
-                           "wheel.missing")
+                           "wheel.missing",
+                           ru=(f"колесо из {wheel['z']} зубьев, {wheel['missing']} из которых "
+                               "пропущены, непригодно", "missing — число зубьев, снятых у "
+                               f"опорной впадины (2 у колеса 60−2); оно меньше {wheel['z'] // 2}"))
     orders = inputs.sections.get("analysis", {}).get("orders")
     if orders is not None and orders > wheel["z"] / 3:
         raise inputs.error(f"{orders} orders cannot be resolved by a {wheel['z']}-tooth wheel",
                            f"use at most {wheel['z'] // 3} orders (a third of the teeth), or "
-                           "leave orders out to let the noise choose", "analysis.orders")
+                           "leave orders out to let the noise choose", "analysis.orders",
+                           ru=(f"{orders} гармоник не различить колесом из {wheel['z']} зубьев",
+                               f"возьмите не больше {wheel['z'] // 3} гармоник (треть числа "
+                               "зубьев) или не указывайте orders: число выберет уровень шума"))
 
 
 def _model(regimes: list[Regime], entries: list[dict]):

@@ -44,7 +44,7 @@ from processing.balance import phasor_sum
 from processing.diagnostics import InputError, collect_notices
 from processing.dynamics import firing_phases
 from processing.edges import detect_edges
-from processing.measurement import (ENGINE_SPEED, SAMPLE_RATE, Column, Field, Inputs, LabSpec,
+from processing.measurement import (ENGINE_SPEED, SAMPLE_RATE, STROKES, Column, Field, Inputs, LabSpec,
                                     ReadingsTable, Section, bi, firing_order)
 from processing.misfire import CutCylinder, find_cut_cylinder
 from processing.orders import OrderFit, order_fit
@@ -142,8 +142,7 @@ SPEC = LabSpec(
         Section("engine", bi("Engine", "Двигатель"), required=True, fields=(
             Field("cylinders", bi("number of cylinders", "число цилиндров"), kind="count",
                   symbol="i", example=4),
-            Field("strokes", bi("strokes per cycle (4 or 2)", "тактность (4 или 2)"),
-                  kind="count", default=4, symbol="τ"),
+            Field("strokes", bi("strokes per cycle", "тактность"), **STROKES),
             Field("firing_order", bi("firing order, e.g. 1-3-4-2 (default 1, 2, …, i)",
                                      "порядок работы цилиндров, напр. 1-3-4-2"),
                   kind="text", required=False),
@@ -687,9 +686,6 @@ def _model(recorded: list[Recorded], readings: list[Reading], crank_angles, forc
 def _check_inputs(inputs: Inputs) -> np.ndarray:
     """What the file says, checked before any record is read; the firing phases."""
     engine = inputs["engine"]
-    if engine["strokes"] not in (2, 4):
-        raise inputs.error(f"strokes = {engine['strokes']}", "write 4 (four-stroke) or 2",
-                           "engine.strokes")
     try:
         phases = firing_phases(engine["cylinders"], strokes=engine["strokes"],
                                firing_order=firing_order(inputs))

@@ -40,7 +40,7 @@ import numpy as np
 
 from processing.diagnostics import collect_notices
 from processing.load_cycle import BRANCHES, LoadCycle, fit_branches, hysteresis
-from processing.measurement import (ENGINE_SPEED, GRAVITY, LENGTH, MASS, Field, Inputs, LabSpec,
+from processing.measurement import (ENGINE_SPEED, GRAVITY, LENGTH, MASS, STROKES, Field, Inputs, LabSpec,
                                     Section, bi)
 from processing.result import LabResult, compare, flag_estimates, result_values
 from processing.text_table import TextTable, format_table, read_table
@@ -154,8 +154,7 @@ SPEC = LabSpec(
                              "порядков)"), fields=(
             Field("n", bi("crankshaft speed", "частота вращения коленчатого вала"),
                   **ENGINE_SPEED, symbol="n", example=2000),
-            Field("strokes", bi("strokes per cycle", "тактность"), kind="count", default=4,
-                  symbol="τ"),
+            Field("strokes", bi("strokes per cycle", "тактность"), **STROKES),
         )),
     ),
 )
@@ -410,10 +409,6 @@ def _check_file(inputs: Inputs) -> None:
         raise inputs.error(f"l = {1e3 * m['l'].value:g} mm is not inside the span L = "
                            f"{1e3 * m['L'].value:g} mm", "l is measured from the cam to the "
                            "nearer bearing: 0 < l < L", "masses.l")
-    e = inputs.sections.get("engine")
-    if e is not None and e["strokes"] not in (2, 4):
-        raise inputs.error(f"strokes = {e['strokes']}", "write 4 (four-stroke) or 2",
-                           "engine.strokes")
 
 
 def _check_lines(lines, spring_lines, loops, spring_loop, i: float) -> None:

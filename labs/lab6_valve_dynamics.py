@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from processing.diagnostics import InputError, collect_notices
-from processing.measurement import (ENGINE_SPEED, MARK_PERIOD, SAMPLE_RATE, Field, Inputs, LabSpec,
+from processing.measurement import (ENGINE_SPEED, MARK_PERIOD, SAMPLE_RATE, STROKES, Field, Inputs, LabSpec,
                                     Section, bi, image_section)
 from processing.record_checks import check_tachometer, check_time_marks
 from processing.record_quality import (SENSOR_FIX, check_pulses, check_record,
@@ -103,8 +103,7 @@ SPEC = LabSpec(
             "зависимости от частоты вращения и зазора."),
     sections=(
         Section("engine", bi("Engine and marks", "Двигатель и отметки"), required=True, fields=(
-            Field("strokes", bi("strokes per cycle (4 or 2)", "тактность (4 или 2)"),
-                  kind="count", default=4, symbol="τ"),
+            Field("strokes", bi("strokes per cycle", "тактность"), **STROKES),
             Field("tdc_per_revolution", bi("TDC marks per crankshaft revolution",
                                            "отметок ВМТ за оборот коленчатого вала"),
                   kind="count", default=1),
@@ -627,9 +626,6 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20036) -> LabR
         read, a speed far from the tachometer's.
     """
     strokes = inputs["engine"]["strokes"]
-    if strokes not in (2, 4):
-        raise inputs.error(f"strokes = {strokes}", "write 4 (four-stroke) or 2",
-                           "engine.strokes")
     with collect_notices() as notices:
         valves = _valves(inputs)
         recorded = [_record(inputs, i, e, valves) for i, e in enumerate(inputs["record"])]

@@ -42,7 +42,7 @@ from labs import lab7_torsiograph_report as report
 from processing.diagnostics import InputError, collect_notices
 from processing.dynamics import firing_phases
 from processing.edges import detect_edges
-from processing.measurement import (ENGINE_SPEED, MARK_PERIOD, SAMPLE_RATE, Field, Inputs, LabSpec,
+from processing.measurement import (ENGINE_SPEED, MARK_PERIOD, SAMPLE_RATE, STROKES, Field, Inputs, LabSpec,
                                     Section, bi, firing_order, image_section)
 from processing.record_checks import check_tachometer, check_time_marks, whole_ratio
 from processing.record_quality import check_record, irregular_marks
@@ -139,8 +139,7 @@ SPEC = LabSpec(
         Section("engine", bi("Engine", "Двигатель"), required=True, fields=(
             Field("cylinders", bi("number of cylinders", "число цилиндров"), kind="count",
                   symbol="i", example=4),
-            Field("strokes", bi("strokes per cycle (4 or 2)", "тактность (4 или 2)"),
-                  kind="count", default=4, symbol="τ"),
+            Field("strokes", bi("strokes per cycle", "тактность"), **STROKES),
             Field("firing_order", bi("firing order, e.g. 1-3-4-2 (default 1, 2, …, i)",
                                      "порядок работы цилиндров, напр. 1-3-4-2"),
                   kind="text", required=False),
@@ -798,9 +797,6 @@ def _chain_model(x: dict, chain: Chain) -> dict:
 def _check_inputs(inputs: Inputs) -> None:
     """What the file says, checked before any record is read."""
     engine = inputs["engine"]
-    if engine["strokes"] not in (2, 4):
-        raise inputs.error(f"strokes = {engine['strokes']}", "write 4 (four-stroke) or 2",
-                           "engine.strokes")
     try:
         firing_phases(engine["cylinders"], strokes=engine["strokes"],
                       firing_order=firing_order(inputs))

@@ -63,6 +63,8 @@ ENGINE_SPEED = dict(unit="rpm", plausible=("200 rpm", "10000 rpm"))
 SAMPLE_RATE = dict(unit="kHz", plausible=("1 kHz", "10000 kHz"))
 # The period of an oscillograph's time marks (a timer's 0.1 ms to a second).
 MARK_PERIOD = dict(unit="ms", plausible=("0.1 ms", "1000 ms"))
+# An engine's strokes per cycle: a four-stroke or a two-stroke.
+STROKES = dict(kind="count", default=4, symbol="τ", choices=(4, 2))
 
 MAX_READINGS = 1000
 """Most repeated readings one field takes; longer series belong in a recording (CSV)."""
@@ -106,7 +108,8 @@ class Field:
         Quantities must be > 0 unless this is set (then ≥ 0).
     choices : tuple of str, or dict
         Allowed values of a ``choice``; a dict gives each its words for a report
-        (``{"in": {"en": "inlet", "ru": "впускной"}}``).
+        (``{"in": {"en": "inlet", "ru": "впускной"}}``). A ``count`` may name its allowed
+        whole numbers the same way (``(4, 2)`` strokes per cycle).
     example : optional
         A typical value, shown in the template's comment.
     maximum : str, optional
@@ -133,7 +136,7 @@ class Field:
     default: Any = None
     repeated: bool = False
     allow_zero: bool = False
-    choices: tuple[str, ...] | Mapping[str, Mapping[str, str]] = ()
+    choices: tuple[str | int, ...] | Mapping[str, Mapping[str, str]] = ()
     example: Any = None
     maximum: str | None = None
     plausible: tuple[str, str] | None = None
@@ -651,6 +654,13 @@ def _convert(f: Field, raw, src: _Where, path: str):
                        "write the count as a whole number, e.g. 20",
                        ru=(f"'{f.name}' должно быть целым числом ≥ {least}, а не {raw!r}",
                            "запишите число целым, например 20"))
+        if f.choices and raw not in f.choices:
+            allowed = " or ".join(map(str, f.choices))
+            raise fail(f"{f.name} = {raw}: {f.label['en']} can only be {allowed}",
+                       f"write {allowed}",
+                       ru=(f"{f.name} = {raw}: {f.label['ru']} может быть только "
+                           + " или ".join(map(str, f.choices)),
+                           "напишите " + " или ".join(map(str, f.choices))))
         return raw
     return _measured(f, raw, fail, src, path)
 
@@ -939,7 +949,7 @@ def _hint(f: Field, t) -> str:
     if f.unit:
         bits.append(f"[{f.unit}]")
     if f.choices:
-        bits.append(" | ".join(f'"{c}"' for c in f.choices))
+        bits.append(" | ".join(f'"{c}"' if isinstance(c, str) else str(c) for c in f.choices))
     if f.repeated:
         bits.append(t["repeats"])
     if f.limit:

@@ -1070,13 +1070,20 @@ def _check_storage(src: _Source, name: str, ds: h5py.Dataset) -> None:
     if ds.external or ds.is_virtual:
         raise src.error(f"dataset '{name}' keeps its samples in other files "
                         f"({'virtual' if ds.is_virtual else 'external'} storage)",
-                        "store the samples in the file itself (h5repack copies them in)")
+                        "store the samples in the file itself (h5repack copies them in)",
+                        ru=(f"набор данных '{name}' хранит отсчёты в других файлах "
+                            f"({'виртуальное' if ds.is_virtual else 'внешнее'} хранение)",
+                            "сохраните отсчёты в самом файле (h5repack копирует их внутрь)"))
     chunk = math.prod(ds.chunks) * ds.dtype.itemsize if ds.chunks else 0
     if chunk > HDF5_MAX_CHUNK:
         raise src.error(f"dataset '{name}' is stored in chunks of {chunk / 2**20:.0f} MiB, "
                         f"each read whole (at most {HDF5_MAX_CHUNK >> 20} MiB)",
                         "write it with smaller chunks (h5repack -l CHUNK=262144), as "
-                        "recorders do")
+                        "recorders do",
+                        ru=(f"набор данных '{name}' хранится блоками по "
+                            f"{chunk / 2**20:.0f} МиБ, и каждый читается целиком (допустимо "
+                            f"не больше {HDF5_MAX_CHUNK >> 20} МиБ)", "запишите его меньшими "
+                            "блоками (h5repack -l CHUNK=262144), как это делают регистраторы"))
 
 
 def _attr(src: _Source, name: str, holders, keys: tuple[str, ...]) -> float | None:
