@@ -24,6 +24,7 @@ from processing.files import MEASUREMENT, regular, resolved
 from processing.reporting.i18n import LANGS
 
 from .catalogue import CATALOGUE
+from .cli_parser import Parser
 from .registry import LABS, evaluate, lab_module
 
 # The report engine (matplotlib, pandas, pint) and the labs are imported where they are used,
@@ -505,9 +506,10 @@ LANG_HELP = ("language of the reports and the messages: en or ru (default: en; t
              "follow a Russian locale)")
 
 
-def parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="dynlab", description="Reduce engine-dynamics lab "
-                                "measurements into checked, standardised reports.")
+def parser(says: str = "en") -> argparse.ArgumentParser:
+    """The command's arguments; ``says`` is the language of the parser's own messages."""
+    p = Parser(prog="dynlab", description="Reduce engine-dynamics lab measurements into "
+               "checked, standardised reports.", says=says)
     p.add_argument("--debug", action="store_true", help="show tracebacks of internal errors")
     p.add_argument("--version", action="version", version=f"dynlab {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
@@ -601,9 +603,25 @@ def parser() -> argparse.ArgumentParser:
     return p
 
 
+def _asked_lang(argv: list[str]) -> str | None:
+    """The ``--lang`` of a command line not parsed yet, if it names a language.
+
+    >>> _asked_lang(["run", "a.toml", "--lang", "ru"]), _asked_lang(["run", "--lang=en"])
+    ('ru', 'en')
+    """
+    for i, arg in enumerate(argv):
+        value = arg[7:] if arg.startswith("--lang=") else \
+            argv[i + 1] if arg == "--lang" and i + 1 < len(argv) else None
+        if value in LANGS:
+            return value
+    return None
+
+
 def main(argv=None) -> int:
-    args = parser().parse_args(argv)
-    args.says = getattr(args, "lang", None) or locale_lang()     # the messages' language
+    argv = sys.argv[1:] if argv is None else list(argv)
+    says = _asked_lang(argv) or locale_lang()       # the messages' language
+    args = parser(says).parse_args(argv)
+    args.says = getattr(args, "lang", None) or says
     if hasattr(args, "lang"):
         args.lang = args.lang or "en"          # a report's language is asked, not guessed
     try:

@@ -16,6 +16,7 @@ import pytest
 import test_hostile_cli
 import test_hostile_inputs
 from cli_contract import assert_one_clear_error, run
+from labs.cli import main
 from processing.diagnostics import InputError
 
 CORPORA = (test_hostile_inputs, test_hostile_cli)
@@ -121,3 +122,36 @@ def test_a_message_without_russian_falls_back_to_english_whole(capsys, monkeypat
     monkeypatch.setenv("LC_ALL", "C")
     code, out, err = run(capsys, "kinematics", "--lambda", "0.25", "--step", "0")
     assert err.startswith("error: --step must be in (0, 180]"), err
+
+
+@pytest.mark.parametrize("args, told", [
+    (["run"], "dynlab run: ошибка: не заданы обязательные аргументы: FILE"),
+    (["frob"], "dynlab: ошибка: аргумент command: значение 'frob' не из списка"),
+    (["kinematics", "--lambda", "x"], "dynlab kinematics: ошибка: аргумент --lambda: 'x' — не "
+                                      "число"),
+    (["synth", "lab1", "--seed", "-3"], "dynlab synth: ошибка: аргумент --seed: зерно — целое"),
+    (["run", "a.toml", "--format", "doc"], "dynlab run: ошибка: аргумент --format: неизвестный "
+                                           "формат 'doc'"),
+    (["run", "a.toml", "--bogus"], "dynlab: ошибка: непонятные аргументы: --bogus"),
+])
+def test_the_parsers_own_messages_speak_the_locale_or_lang(capsys, monkeypatch, args, told):
+    """argparse's messages (a missing file, a choice not allowed, a number that is none) are
+    the command's messages too: Russian under a Russian locale or ``--lang ru``, with the
+    usage line and exit 2; English otherwise."""
+    def run(capsys, *argv):
+        with pytest.raises(SystemExit) as exited:
+            main(list(argv))
+        cap = capsys.readouterr()
+        return exited.value.code, cap.out, cap.err
+
+    monkeypatch.delenv("LC_ALL", raising=False)
+    monkeypatch.delenv("LC_MESSAGES", raising=False)
+    monkeypatch.setenv("LANG", "ru_RU.UTF-8")
+    code, out, err = run(capsys, *args)
+    assert code == 2 and out == "" and err.startswith("вызов: dynlab"), err
+    assert err.strip().splitlines()[-1].startswith(told), err
+    monkeypatch.setenv("LANG", "C")
+    code, out, err = run(capsys, *args, "--lang", "ru")
+    assert code == 2 and err.strip().splitlines()[-1].startswith(told), err
+    code, out, err = run(capsys, *args)
+    assert code == 2 and "ошибка" not in err and ": error: " in err, err
