@@ -282,7 +282,7 @@ def band_rms(acceleration, sample_rate: float, *, bands: dict | None = None,
 
     W = DFT of the Hann-windowed record less its windowed mean, c_j = 2 (1 at 0 and Nyquist),
     g̃ the deconvolved weight (module docstring); a record longer than :data:`SEGMENT`
-    samples is cut into equal segments whose |W_j|² are averaged.
+    samples is cut into equal segments whose ``|W_j|²`` are averaged.
 
     Parameters
     ----------
@@ -400,7 +400,7 @@ def broadband_floor(power, segments: int = 1, first: int = 1) -> np.ndarray:
     Parameters
     ----------
     power : ndarray
-        |W_j|², bins 0 … N/2 of an rfft, averaged over ``segments``. [record unit² · s]
+        ``|W_j|²``, bins 0 … N/2 of an rfft, averaged over ``segments``. [record unit² · s]
     segments : int
         m, the periodograms averaged.
     first : int

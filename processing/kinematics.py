@@ -799,7 +799,7 @@ def kinematics_table(lambda_, offset_ratio=0.0, *, step_deg=5.0, method="exact")
     -------
     pandas.DataFrame
         Columns ``alpha_deg`` [deg], ``beta_deg`` [deg], ``s`` (S/R), ``v`` (v/(Rω)),
-        ``j`` (j/(Rω²)); ``attrs`` hold lambda_, offset_ratio, method and the units.
+        ``j`` (j/(Rω²)); ``attrs`` hold ``lambda_``, ``offset_ratio``, ``method`` and the units.
 
     References
     ----------

@@ -214,6 +214,11 @@ def roughness(x) -> float:
     float
         ρ, nan for a constant record. [1]
 
+    References
+    ----------
+    .. [1] J. von Neumann, "Distribution of the ratio of the mean square successive
+       difference to the variance", Ann. Math. Statist. 12 (1941) 367–395.
+
     Examples
     --------
     >>> t = np.arange(1000)

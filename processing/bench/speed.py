@@ -426,7 +426,7 @@ def timing_bound(rec: Recording) -> float:
 
 def bound_delta(rec: Recording) -> float:
     """δ of the mean cycle by ``fourier`` from the true edge times, each jittered by
-    N(0, :func:`timing_bound`²) (seeded by the recording's seed)."""
+    N(0, σ²), σ from :func:`timing_bound` (seeded by the recording's seed)."""
     jitter = np.random.default_rng([rec.seed, 7]).normal(0.0, timing_bound(rec),
                                                          rec.edge_times.size)
     track = track_teeth(rec.edge_times + jitter, rec.wheel.teeth, rec.wheel.missing)

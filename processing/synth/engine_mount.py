@@ -152,7 +152,7 @@ class Response:
         return self.order * self.angular_speed / (2 * np.pi)
 
     def band_rms(self, quantity: str) -> float:
-        """True band reading: √(Σ |c_k|²/2 g(f_k)). [m/s², m/s or m]"""
+        """True band reading: ``√(Σ |c_k|²/2 g(f_k))``. [m/s², m/s or m]"""
         g = meter_gain(self.frequency, quantity) ** 2
         return float(np.sqrt(np.sum(np.abs(self.coefficient) ** 2 / 2 * g)))
 
