@@ -30,3 +30,12 @@ def test_every_lab_has_its_page_in_both_languages_contents():
         text = index.read_text(encoding="utf-8")
         for page in [*CATALOGUE, "symbols", "warnings"]:
             assert f"\n{prefix}{page}\n" in text, f"{index}: no {prefix}{page}"
+
+
+def test_every_lab_says_how_it_is_validated_in_both_languages():
+    table = tomllib.loads((DOCS / "_ext" / "validation.toml").read_text(encoding="utf-8"))
+    assert set(table) == set(CATALOGUE)
+    for lab_id, entry in table.items():
+        assert set(entry) == {"en", "ru"} and re.search("[а-я]", entry["ru"]), lab_id
+        for path in re.findall(r"`(tests/[\w/]+\.py)`", entry["en"] + entry["ru"]):
+            assert (DOCS.parent / path).exists(), f"{lab_id}: {path} does not exist"

@@ -2,7 +2,8 @@
 they cannot drift from the code — a page per lab (its goal, the measurement file's fields,
 its results with names, symbols and units, the sample's report figures, the warnings it
 may give), the table of variables and symbols, and the warnings with what to do about them,
-each in English and Russian.
+each in English and Russian, with how its method is validated and where it fails
+(``validation.toml``).
 
 They are written into ``generated/`` of the documentation's source when a build starts
 (the ``builder-inited`` event), by reducing every bundled sample once; the folder is not kept
@@ -17,6 +18,7 @@ import tomllib
 import warnings as pywarnings
 from dataclasses import dataclass
 from importlib import import_module
+from importlib.util import resolve_name
 from pathlib import Path
 
 from docutils import nodes
@@ -51,7 +53,7 @@ WORDS = {
                         "what is suspect, what it does to the results and what to do; here "
                         "is each code's meaning and remedy.",
            "code": "code", "meaning": "meaning", "remedy": "what to do",
-           "labs": "lab"},
+           "labs": "lab", "validation": "Validation, and where the method fails"},
     "ru": {"goal": "Цель работы", "measure": "Что измеряется: файл измерений",
            "section": "Раздел", "required": "обязательный", "optional": "необязательный",
            "repeated": "по таблице на каждый объект", "field": "поле", "symbol": "обозначение",
@@ -77,7 +79,7 @@ WORDS = {
                         "сомнительно, как это сказывается на результатах и что делать; "
                         "здесь — смысл каждого кода и что предпринять.",
            "code": "код", "meaning": "смысл", "remedy": "что делать",
-           "labs": "работа"},
+           "labs": "работа", "validation": "Как проверен метод и где он не работает"},
 }
 
 
@@ -103,17 +105,28 @@ def _table(head: list[str], rows: list[list]) -> list[str]:
 
 
 def _sources(module) -> str:
-    """The source of a lab's module, its report module and the ``processing`` modules it
-    imports directly: where the warnings it may give are named."""
-    texts = [inspect.getsource(module)]
-    report = module.__name__ + "_report"
+    """The source of a lab's module, its report module, and the ``processing`` modules they
+    import and those import in turn (the readers of records, photographs and films), but the
+    catalogue of warnings itself: where the warnings it may give are named."""
+    names = [module.__name__]
     try:
-        texts.append(inspect.getsource(import_module(report)))
+        import_module(module.__name__ + "_report")
+        names.append(module.__name__ + "_report")
     except ModuleNotFoundError:
         pass
-    for name in re.findall(r"^from (processing[\w.]*) import", texts[0], flags=re.M):
-        texts.append(inspect.getsource(import_module(name)))
-    return "\n".join(texts)
+    seen: dict[str, str] = {}
+    for depth in range(4):
+        fresh = []
+        for name in names:
+            if name in seen or name == "processing.diagnostics":
+                continue
+            mod = import_module(name)
+            text = seen[name] = inspect.getsource(mod)
+            package = name if hasattr(mod, "__path__") else name.rpartition(".")[0]
+            fresh += [resolve_name(m, package) for m in re.findall(
+                r"^\s*from (\.+[\w.]*|processing[\w.]*) import", text, flags=re.M)]
+        names = fresh
+    return "\n".join(seen.values())
 
 
 def _labs() -> list[Lab]:
@@ -191,7 +204,7 @@ def _heading(spec, lang: str) -> str:
     return f"{spec.number}. {spec.title[lang]}" if spec.number else spec.title[lang]
 
 
-def lab_page(lab: Lab, lang: str, remedies: dict, figures: Path) -> str:
+def lab_page(lab: Lab, lang: str, remedies: dict, validation: dict, figures: Path) -> str:
     w = WORDS[lang]
     spec = lab.spec
     lines = [f"# {_heading(spec, lang)}", "", f"**{w['goal']}.** {spec.goal[lang]}", ""]
@@ -228,6 +241,7 @@ def lab_page(lab: Lab, lang: str, remedies: dict, figures: Path) -> str:
         lines += _table([w["code"], w["meaning"], w["remedy"]],
                         [[f"`{c.code}`", _meaning(c, remedies[c.code], lang),
                           remedies[c.code][f"remedy_{lang}"]] for c in classes])
+    lines += [f"## {w['validation']}", "", validation[lab.id][lang], ""]
     return "\n".join(lines)
 
 
@@ -275,6 +289,7 @@ def warnings_page(labs: list[Lab], lang: str, remedies: dict) -> str:
 def generate(root: Path) -> None:
     """Write every generated page under ``root`` (``generated/`` of the docs' source)."""
     remedies = _remedies()
+    validation = tomllib.loads((HERE / "validation.toml").read_text(encoding="utf-8"))
     labs = _labs()
     figures = root / "figures"
     figures.mkdir(parents=True, exist_ok=True)
@@ -282,7 +297,7 @@ def generate(root: Path) -> None:
         folder = root / lang
         folder.mkdir(parents=True, exist_ok=True)
         for lab in labs:
-            (folder / f"{lab.id}.md").write_text(lab_page(lab, lang, remedies, figures),
+            (folder / f"{lab.id}.md").write_text(lab_page(lab, lang, remedies, validation, figures),
                                                  encoding="utf-8")
         (folder / "symbols.md").write_text(symbols_page(labs, lang), encoding="utf-8")
         (folder / "warnings.md").write_text(warnings_page(labs, lang, remedies),
