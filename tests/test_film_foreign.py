@@ -259,3 +259,18 @@ def test_a_patch_at_a_harmonic_of_the_swing_is_not_the_marker():
     ring = (0.999, 400.0, 100.0, 100.0, 21, 50.0, way, found, 1.6)
     sticker = (0.995, 150.0, 140.0, 90.0, 15, 50.0, way, found, 0.8)
     assert _chosen([ring, sticker], times, (200, 300))[:2] == (140.0, 90.0)
+
+
+def test_an_amplitude_given_with_a_film_is_carried_to_the_films_rms(short):
+    """The student's amplitude (read at the film's start, 8°) is the one the decaying
+    film's mean period belongs to only at its start: lab 1 corrects with it times the
+    film's RMS-to-start ratio of its envelope."""
+    from labs.registry import evaluate
+
+    folder, shot = short
+    _, swing = _read(shot.path)
+    result = evaluate(_lab1_pendulum(folder, "short.mp4", 'amplitude = "8 deg"\n'),
+                      n_samples=500)
+    used = result.to_dict()["inputs"]["pendulum.amplitude"]["value"]
+    ratio = swing.reference_amplitude / swing.amplitude
+    assert ratio < 0.99 and used == pytest.approx(math.radians(8.0) * ratio, rel=1e-6)
