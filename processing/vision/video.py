@@ -985,8 +985,8 @@ def filmed_times(inputs, films: dict[str, dict[str, str]], needed=("t",)):
         for video, time_field in pairs.items():
             if video in entry:
                 where = f"{section}.{video}"
-                track = track_marker(entry[video], field=where, roi=entry.get("roi"),
-                                     roi_field=f"{section}.roi")
+                track = _track_in(inputs, entry[video], where, entry.get("roi"),
+                                  f"{section}.roi")
                 swings[video] = Filmed(where, track, swing_of(track, field=where),
                                        entry.get(time_field))
         if not swings:
@@ -1007,6 +1007,17 @@ def filmed_times(inputs, films: dict[str, dict[str, str]], needed=("t",)):
                 _check_amplitude(film, f"{section}.amplitude")
         inputs = inputs.changed(section, **changes)
     return inputs, read
+
+
+def _track_in(inputs, film, where: str, roi, roi_field: str) -> Track:
+    """:func:`track_marker` of a film named by a measurement file, a region that does not
+    fit the film refused as the file's own field."""
+    try:
+        return track_marker(film, field=where, roi=roi, roi_field=roi_field)
+    except InputError as exc:
+        if exc.field == roi_field:
+            raise inputs.error(exc.problem, exc.fix, roi_field, exc.ru) from None
+        raise
 
 
 def _over_film(amplitude: Measured, film: Filmed) -> Measured:
