@@ -691,7 +691,8 @@ def _phase_step(t, s, fit, drifting, interval: float):
     of the drop as a slope) is fitted through the :data:`DROP_REACH` offsets each side but
     j's, and the step is taken
     where it lies within :data:`DROP_WHOLE` of a whole number m ≥ 1 of intervals and
-    :data:`DROP_SIGMAS` times its standard error (from the robust σ about the line) out.
+    :data:`DROP_SIGMAS` times its standard error out (the offsets' scatter from their
+    second differences over the whole film, robustly: a step is a single outlier there).
     The frame it starts at is the one of half period j that leaves the least residual.
 
     Returns
@@ -712,8 +713,10 @@ def _phase_step(t, s, fit, drifting, interval: float):
         part = slice(j * half, (j + 1) * half)
         design = np.column_stack([swing[part], v[part], np.ones(half)])
         offsets[j] = np.linalg.lstsq(design, r[part], rcond=None)[0][1]
+    wiggle = np.diff(offsets, 2)
+    noise = 1.4826 * float(np.median(np.abs(wiggle - np.median(wiggle)))) / math.sqrt(6)
     for k in np.argsort(offsets[:-2] - offsets[2:])[:DROP_CANDIDATES]:
-        found = _step_at(offsets, int(k), interval)
+        found = _step_at(offsets, int(k), interval, noise)
         if found is not None:
             span = np.arange((k + 1) * half, (k + 2) * half)
             late = offsets[k] + found * interval
@@ -723,18 +726,17 @@ def _phase_step(t, s, fit, drifting, interval: float):
     return None
 
 
-def _step_at(offsets: np.ndarray, k: int, interval: float) -> int | None:
+def _step_at(offsets: np.ndarray, k: int, interval: float, noise: float) -> int | None:
     """Whole intervals m ≥ 1 by which half periods' offsets in time step between k and
-    k + 2 (see :func:`_phase_step`), or None where they do not."""
+    k + 2 (see :func:`_phase_step`), or None where they do not; ``noise`` is the offsets'
+    own scatter (from their second differences over the film, robustly)."""
     j = np.arange(max(k - DROP_REACH + 1, 0), min(k + DROP_REACH + 2, offsets.size))
     j = j[j != k + 1]
     if j.size < 5:
         return None
     design = np.column_stack([np.ones(j.size), j - k, j > k + 1])
     coef, *_ = np.linalg.lstsq(design, offsets[j], rcond=None)
-    rest = offsets[j] - design @ coef
-    se = math.sqrt(float(rest @ rest) / (j.size - 3)
-                   * float(np.linalg.inv(design.T @ design)[2, 2]))
+    se = noise * math.sqrt(float(np.linalg.inv(design.T @ design)[2, 2]))
     step = float(coef[2])
     m = int(round(step / interval))
     if m < 1 or abs(step - m * interval) > DROP_WHOLE * interval or step < DROP_SIGMAS * se:
