@@ -339,7 +339,9 @@ SPEC = LabSpec(
                            "радиус точек крепления нитей на нижнем диске"), **RIG_RADIUS,
                   symbol="R₂"),
             Field("l", bi("thread length", "длина нити"), **SUSPENSION),
-            Field("n_osc", bi("full oscillations timed", "число полных колебаний"), **COUNT),
+            Field("n_osc", bi("full oscillations timed (a film needs none)",
+                               "число полных колебаний (для видео не нужно)"),
+                  **COUNT, required=False),
             Field("t", bi("time of n_osc oscillations, part on the platform",
                           "время n колебаний, деталь на платформе"),
                   **{**STOPWATCH, "required": False}),
@@ -347,6 +349,11 @@ SPEC = LabSpec(
                               "a marker on the platform's edge)",
                               "или: видео качаний платформы с деталью (MP4, MOV, AVI; метка на "
                               "краю платформы)"), kind="file", required=False),
+            Field("roi", bi("where the marker is in the films' first frame, [x, y, w, h] in "
+                            "pixels (without it: the patch that swings at the swing's "
+                            "frequency)", "где метка на первом кадре видео, [x, y, w, h] в "
+                            "пикселях (без него — пятно, качающееся с частотой качаний)"),
+                  kind="region", required=False),
             Field("m_p", bi("mass of the empty platform", "масса пустой платформы"), **MASS,
                   required=False, symbol="m_p"),
             Field("t_p", bi("time of n_osc oscillations, empty platform",
@@ -358,12 +365,19 @@ SPEC = LabSpec(
             Field("amplitude", bi("twist amplitude", "амплитуда закрутки"), **AMPLITUDE),
         )),
         Section("unifilar", bi("Unifilar torsion pendulum", "Унифилярный подвес"), fields=(
-            Field("n_osc", bi("full oscillations timed", "число полных колебаний"), **COUNT),
+            Field("n_osc", bi("full oscillations timed (a film needs none)",
+                               "число полных колебаний (для видео не нужно)"),
+                  **COUNT, required=False),
             Field("t", bi("time of n_osc oscillations with the part",
                           "время n колебаний с деталью"), **{**STOPWATCH, "required": False}),
             Field("video", bi("or: a film of the twist with the part (a marker on it)",
                               "или: видео крутильных колебаний с деталью (метка на ней)"),
                   kind="file", required=False),
+            Field("roi", bi("where the marker is in the films' first frame, [x, y, w, h] in "
+                            "pixels (without it: the patch that swings at the swing's "
+                            "frequency)", "где метка на первом кадре видео, [x, y, w, h] в "
+                            "пикселях (без него — пятно, качающееся с частотой качаний)"),
+                  kind="region", required=False),
             Field("t_0", bi("time of n_osc oscillations of the empty clamp",
                             "время n колебаний пустого подвеса"), **STOPWATCH, required=False,
                   symbol="t₀"),
@@ -393,12 +407,19 @@ SPEC = LabSpec(
         Section("pendulum", bi("Physical pendulum", "Физический маятник"), fields=(
             Field("c", bi("distance from the pivot to the centre of mass",
                           "расстояние от оси подвеса до центра масс"), **PART_LENGTH),
-            Field("n_osc", bi("full oscillations timed", "число полных колебаний"), **COUNT),
+            Field("n_osc", bi("full oscillations timed (a film needs none)",
+                               "число полных колебаний (для видео не нужно)"),
+                  **COUNT, required=False),
             Field("t", bi("time of n_osc oscillations", "время n колебаний"),
                   **{**STOPWATCH, "required": False}),
             Field("video", bi("or: a film of the swing (MP4, MOV, AVI; a marker on the part)",
                               "или: видео качаний (MP4, MOV, AVI; метка на детали)"),
                   kind="file", required=False),
+            Field("roi", bi("where the marker is in the films' first frame, [x, y, w, h] in "
+                            "pixels (without it: the patch that swings at the swing's "
+                            "frequency)", "где метка на первом кадре видео, [x, y, w, h] в "
+                            "пикселях (без него — пятно, качающееся с частотой качаний)"),
+                  kind="region", required=False),
             Field("amplitude", bi("swing amplitude", "амплитуда качаний"), **AMPLITUDE),
         )),
     ),

@@ -211,7 +211,9 @@ SPEC = LabSpec(
             Field("d_D", bi("big-end bore diameter (prism D rests on it)",
                             "диаметр отверстия кривошипной головки (опора призмы D)"),
                   **BORE, symbol="d_D"),
-            Field("n_osc", bi("full oscillations timed", "число полных колебаний"), **COUNT),
+            Field("n_osc", bi("full oscillations timed (a film needs none)",
+                               "число полных колебаний (для видео не нужно)"),
+                  **COUNT, required=False),
             Field("t_C", bi("time of n_osc oscillations hung at the small end",
                             "время n колебаний на поршневой головке"),
                   **{**STOPWATCH, "required": False}, symbol="t_C"),
@@ -219,6 +221,11 @@ SPEC = LabSpec(
                                 "a marker on the rod)", "или: видео качаний на поршневой "
                                 "головке (MP4, MOV, AVI; метка на шатуне)"), kind="file",
                   required=False),
+            Field("roi", bi("where the marker is in the films' first frame, [x, y, w, h] in "
+                            "pixels (without it: the patch that swings at the swing's "
+                            "frequency)", "где метка на первом кадре видео, [x, y, w, h] в "
+                            "пикселях (без него — пятно, качающееся с частотой качаний)"),
+                  kind="region", required=False),
             Field("t_D", bi("time of n_osc oscillations hung at the big end",
                             "время n колебаний на кривошипной головке"),
                   **{**STOPWATCH, "required": False}, symbol="t_D"),

@@ -34,6 +34,10 @@ from scipy import optimize
 
 from .decay import DampedSineFit
 
+MAX_EVALUATIONS = 1000
+"""Evaluations of the model the fit may take (a short film's few oscillations leave its
+decay and drift loosely bound: 200 did not always reach the tolerances on 3.5 oscillations)."""
+
 LEAST_DECAY = 0.02
 """Relative fall of E² over the record below which k is not fitted (the frequency cannot
 drift with an amplitude that does not change; its column would vanish)."""
@@ -142,7 +146,7 @@ def fit_anharmonic_decay(time, x, start: DampedSineFit) -> AnharmonicFit:
         return _model(p, tau, span, fit_drift) - x
 
     sol = optimize.least_squares(residual, p0, x_scale=scale, method="trf", jac="3-point",
-                                 xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=200)
+                                 xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=MAX_EVALUATIONS)
     if not sol.success:
         raise RuntimeError(f"fit_anharmonic_decay: the fit did not converge ({sol.message})")
     J = sol.jac

@@ -278,8 +278,10 @@ class IrregularFrameRateWarning(DynlabWarning):
 
 
 class DroppedFramesWarning(DynlabWarning):
-    """The camera dropped frames (gaps of about two frame intervals in the film's
-    timestamps): each frame's time is used, but the swing is followed less closely there."""
+    """The camera dropped frames: gaps of about two frame intervals in the film's
+    timestamps (each frame's time is used, but the swing is followed less closely there),
+    or, where the times claim a constant rate, the swing's phase jumping by a whole interval
+    (the frames after it are timed that much later)."""
 
     code = "dropped_frames"
 

@@ -95,9 +95,10 @@ class Field:
         How the report prints it (``R₁``); defaults to ``name``.
     limit : str, optional
         The usual instrument's limit of error ("0.5 mm"), used when the file gives none.
-    kind : {"quantity", "count", "choice", "text", "flag", "file"}
+    kind : {"quantity", "count", "choice", "text", "flag", "file", "region"}
         A ``file`` is a path relative to the measurement file (a recording, an image); it
-        is read as a :class:`~pathlib.Path` resolved against the file's folder.
+        is read as a :class:`~pathlib.Path` resolved against the file's folder. A
+        ``region`` is a rectangle of a picture, [x, y, w, h] in its pixels (a tuple).
     required : bool
         Must be present (within its section).
     default : optional
@@ -634,6 +635,8 @@ def _convert(f: Field, raw, src: _Where, path: str):
         return _short_text(str(raw), path)
     if f.kind == "file":
         return _file(f, raw, src, fail)
+    if f.kind == "region":
+        return _region(f, raw, fail)
     if f.kind == "flag":
         if not isinstance(raw, bool):
             raise fail(f"'{f.name}' must be true or false, got {raw!r}", "write true or false",
@@ -663,6 +666,24 @@ def _convert(f: Field, raw, src: _Where, path: str):
                            "напишите " + " или ".join(map(str, f.choices))))
         return raw
     return _measured(f, raw, fail, src, path)
+
+
+def _region(f: Field, raw, fail) -> tuple[float, float, float, float]:
+    """A rectangle of a picture, [x, y, w, h] in its pixels: the left and top edges from the
+    picture's top left corner, the width and the height."""
+    numbers = isinstance(raw, list) and len(raw) == 4 and all(
+        isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+        for v in raw)
+    if not numbers or raw[0] < 0 or raw[1] < 0 or raw[2] <= 0 or raw[3] <= 0:
+        raise fail(f"'{f.name}' must be four numbers [x, y, w, h] in pixels (x, y ≥ 0 from "
+                   f"the picture's top left corner, w, h > 0), got {raw!r}",
+                   f"write e.g. {f.name} = [420, 610, 80, 80]: where the marker is in the "
+                   "first frame, as an image viewer shows its pixels",
+                   ru=(f"'{f.name}' — это четыре числа [x, y, w, h] в пикселях (x, y ≥ 0 от "
+                       f"левого верхнего угла кадра, w, h > 0), а не {raw!r}",
+                       f"напишите, например, {f.name} = [420, 610, 80, 80]: где метка на "
+                       "первом кадре, в пикселях, как их показывает просмотрщик изображений"))
+    return tuple(float(v) for v in raw)
 
 
 def _file(f: Field, raw, src: _Where, fail) -> Path:

@@ -139,3 +139,138 @@ def test_a_clock_rounded_to_its_tick_is_neither_irregular_nor_dropping():
     with pytest.warns(DroppedFramesWarning, match="1 frame"):
         _, dropped = frame_clock(film, np.delete(times, 1000))
     assert dropped == 1
+
+
+def _lab1_pendulum(folder: Path, film: str, extra: str = "") -> Path:
+    """A lab 1 file whose pendulum is timed by ``film`` alone."""
+    path = folder / "m.toml"
+    path.write_text(f'lab = "lab1"\n[body]\nm = "15 kg"\ng = "9.81 m/s^2"\n[pendulum]\nc = 120\n'
+                    f'video = "{film}"\n{extra}', encoding="utf-8")
+    return path
+
+
+@pytest.fixture(scope="module")
+def short(tmp_path_factory):
+    """A pendulum filmed for 3.5 oscillations at 256 × 144 (84 frames)."""
+    folder = tmp_path_factory.mktemp("short")
+    swinger = Swinger(amplitude=math.radians(8.0), period0=0.8)
+    phone = Phone(size=(256, 144), fps=30.0, hands=0)
+    return folder, render(swinger, phone, folder / "short.mp4", oscillations=3.5, seed=2)
+
+
+def test_a_short_film_reduces_with_an_honest_u_and_no_n_osc(short):
+    """3.5 oscillations: the period within its 95 % interval (its u from the residual's
+    density across the arc too, where the camera's shake sits at the swing's frequency),
+    lab 1 reduced from the film alone (no n_osc: a film needs none) into JSON without a
+    NaN."""
+    from labs.registry import evaluate
+    from processing.reporting.render import to_json
+
+    folder, shot = short
+    _, swing = _read(shot.path)
+    assert swing.period.u > 0 and _held(swing.period, shot.mean_period)
+    result = evaluate(_lab1_pendulum(folder, "short.mp4"), n_samples=500)
+    assert 0 < result["J_pendulum_cm"].u < result["J_pendulum_cm"].value
+    assert "NaN" not in to_json(result)
+
+
+def test_a_stopwatch_time_without_n_osc_is_refused(short):
+    from labs.registry import evaluate
+    from processing.diagnostics import InputError
+
+    folder, _ = short
+    with pytest.raises(InputError, match="n_osc") as exc:
+        evaluate(_lab1_pendulum(folder, "short.mp4", "t = [20.1, 20.2]\n"), n_samples=200)
+    assert exc.value.field == "pendulum.n_osc" and exc.value.ru is not None
+
+
+def test_a_film_too_short_is_refused_with_the_length_needed(tmp_path):
+    from processing.diagnostics import InputError
+
+    swinger = Swinger(amplitude=math.radians(8.0), period0=0.8)
+    shot = render(swinger, Phone(size=(256, 144), fps=30.0, hands=0), tmp_path / "s.mp4",
+                  oscillations=1.6, seed=2)
+    with pytest.raises(InputError, match="spans 1.[0-9] oscillations") as exc:
+        _read(shot.path)
+    assert "at least 2 oscillations" in exc.value.fix and exc.value.ru is not None
+
+
+def test_the_marker_is_the_patch_inside_the_region_given(short):
+    """Without a region the tracker takes the sticker (the widest swing of the largest,
+    most contrasting patch at the swing's frequency); given the flywheel's hub as the
+    region, it follows the hub, and the period is the same swing's."""
+    folder, shot = short
+    sticker = track_marker(shot.path)
+    hub = track_marker(shot.path, roi=(113, 25, 24, 24), roi_field="pendulum.roi")
+    assert np.nanmean(sticker.y) > 55
+    assert 25 <= np.nanmean(hub.y) <= 49 and 113 <= np.nanmean(hub.x) <= 137
+    a, b = swing_of(sticker).period, swing_of(hub).period
+    assert abs(a.value - b.value) < 3 * math.hypot(a.u, b.u)
+
+
+@pytest.mark.parametrize("roi, match", [("[300, 10, 40, 40]", "beyond the film's 256 × 144"),
+                                        ("[10, 10, 40]", "four numbers"),
+                                        ("[10, -1, 40, 40]", "four numbers"),
+                                        ("[0, 0, 20, 20]", "nothing swings inside")])
+def test_a_wrong_region_is_refused_at_its_field(short, roi, match):
+    from labs.registry import evaluate
+    from processing.diagnostics import InputError
+
+    folder, _ = short
+    with pytest.raises(InputError, match=match) as exc:
+        evaluate(_lab1_pendulum(folder, "short.mp4", f"roi = {roi}\n"), n_samples=200)
+    assert exc.value.field == "pendulum.roi" and exc.value.ru is not None
+
+
+@pytest.mark.parametrize("kind, fall, share", [("pendulum", 0.25, 0.3), ("trifilar", 0.8, 1.0)])
+def test_a_synthetic_swing_decays_as_a_real_one_does(kind, fall, share):
+    """The phone family's swings lose what a real one loses over 20 swings (to 25–80 %),
+    by viscous and air damping integrated from the nonlinear equation: the share asked for
+    within a fifth (the two dampings split the loss only approximately: 0.29 for 0.25)."""
+    swinger = Swinger.decaying(kind, 1.0, math.radians(15.0), fall, share)
+    theta, _ = swinger.motion(20.5)
+    late = np.abs(theta(np.linspace(19.5, 20.5, 400))).max()
+    assert late / swinger.amplitude == pytest.approx(fall, rel=0.2)
+
+
+def test_frames_dropped_under_constant_rate_times_are_found_from_the_phase(tmp_path):
+    """A film whose times were rewritten at a constant rate (a constant-rate export) with
+    two frames dropped: the swing's phase jumps by an interval at each; both are found,
+    warned of, and taken into the timing (the period 0.7 % short without: now within
+    2·10⁻⁴)."""
+    swinger = Swinger(amplitude=math.radians(12.0), period0=1.0)
+    phone = Phone(size=(320, 180), fps=30.0, hands=0, dropped=2, restamped=True)
+    shot = render(swinger, phone, tmp_path / "restamped.mp4", oscillations=8, seed=7)
+    with pytest.warns(DroppedFramesWarning, match="2 frame.*claim a constant rate"):
+        _, swing = _read(shot.path)
+    assert abs(swing.period.value / shot.mean_period - 1) < 2e-4
+
+
+def test_a_patch_at_a_harmonic_of_the_swing_is_not_the_marker():
+    """A patch that moves twice a swing (a trifilar's ring seen from above, moving only as
+    the platform rises and sinks) is as periodic as the marker: the swing's frequency is the
+    lower one, and the marker is taken at it (else the period would come out half)."""
+    from processing.vision.marker import _chosen
+
+    times = np.linspace(0.0, 4.0, 64)
+    way = np.zeros((64, 3))
+    way[:, 0], way[:, 1] = 100.0, 100.0
+    found = np.ones(64, bool)
+    ring = (0.999, 400.0, 100.0, 100.0, 21, 50.0, way, found, 1.6)
+    sticker = (0.995, 150.0, 140.0, 90.0, 15, 50.0, way, found, 0.8)
+    assert _chosen([ring, sticker], times, (200, 300))[:2] == (140.0, 90.0)
+
+
+def test_an_amplitude_given_with_a_film_is_carried_to_the_films_rms(short):
+    """The student's amplitude (read at the film's start, 8°) is the one the decaying
+    film's mean period belongs to only at its start: lab 1 corrects with it times the
+    film's RMS-to-start ratio of its envelope."""
+    from labs.registry import evaluate
+
+    folder, shot = short
+    _, swing = _read(shot.path)
+    result = evaluate(_lab1_pendulum(folder, "short.mp4", 'amplitude = "8 deg"\n'),
+                      n_samples=500)
+    used = result.to_dict()["inputs"]["pendulum.amplitude"]["value"]
+    ratio = swing.reference_amplitude / swing.amplitude
+    assert ratio < 0.99 and used == pytest.approx(math.radians(8.0) * ratio, rel=1e-6)

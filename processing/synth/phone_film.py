@@ -63,7 +63,7 @@ class Swinger:
     decrement : float
         Logarithmic decrement of the viscous damping alone, per period.
     drag : float
-        Quadratic (air) damping, as the share of the amplitude one swing at 1 rad loses.
+        Quadratic (air) damping: a swing at amplitude a loses π·drag·a² of it.
     trifilar : (float, float, float)
         R₁, R₂, l of the suspension. [m]
     """
@@ -74,6 +74,21 @@ class Swinger:
     decrement: float = 0.01
     drag: float = 0.02
     trifilar: tuple[float, float, float] = (0.10, 0.14, 0.80)
+
+    @classmethod
+    def decaying(cls, kind: str, period0: float, amplitude: float, fall: float,
+                 viscous_share: float = 0.5, swings: float = 20.0, **more) -> Swinger:
+        """A swing whose amplitude falls to about ``fall`` of its release over ``swings``
+        periods (a real one keeps 25–80 % after 20): the share s = ``viscous_share`` of
+        the logarithmic loss by viscous damping, δ = s·ln(1/fall)/N, and the rest by air
+        drag, which alone (the torque c·θ̇|θ̇| of :meth:`motion` takes (4/3)·c·a²/M of the
+        amplitude a each half swing: da/dn = −π·drag·a² per swing) leaves
+        1/(1 + π·drag·a₀N) = fall^(1 − s) of the amplitude a₀."""
+        drag_part = fall ** (1.0 - viscous_share)
+        return cls(kind=kind, period0=period0, amplitude=amplitude,
+                   decrement=viscous_share * math.log(1.0 / fall) / swings,
+                   drag=(1.0 / drag_part - 1.0) / (math.pi * max(amplitude, 1e-3) * swings),
+                   **more)
 
     def equation(self):
         """(M, M', V') per unit mass of the scene's equation of motion."""
@@ -136,6 +151,9 @@ class Phone:
         Frames the phone drops (a gap of two intervals each).
     container : str
         ``"mp4"`` (each frame's timestamp) or ``"avi"`` (a nominal rate only).
+    restamped : bool
+        The MP4's timestamps rewritten at the nominal rate (a constant-rate export or
+        conversion): a dropped frame leaves no gap in them.
     """
 
     size: tuple[int, int] = (640, 360)
@@ -153,6 +171,7 @@ class Phone:
     jitter: float = 0.0
     dropped: int = 0
     container: str = "mp4"
+    restamped: bool = False
 
 
 @dataclass(frozen=True)
@@ -356,6 +375,8 @@ class _Encoder:
         self._stream.width, self._stream.height = size
         self._stream.pix_fmt = "yuv420p"
         self._avi = phone.container == "avi"
+        self._restamped = phone.restamped
+        self._fps = phone.fps
         self._count = 0
 
     def write(self, bgr: np.ndarray, time: float) -> None:
@@ -364,7 +385,8 @@ class _Encoder:
             frame.pts = self._count
             frame.time_base = Fraction(1, self._stream.average_rate or 30)
         else:
-            frame.pts = int(round(time * TIMESCALE))
+            stamp = self._count / self._fps if self._restamped else time
+            frame.pts = int(round(stamp * TIMESCALE))
             frame.time_base = Fraction(1, TIMESCALE)
         self._count += 1
         self._box.mux(self._stream.encode(frame))

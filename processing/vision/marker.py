@@ -49,10 +49,22 @@ MIN_PERIODIC = 0.5
 SURVEY_CONFIDENCE = 0.6
 """Correlation above which a candidate counts as found in a survey frame."""
 
-AS_PERIODIC = 0.002
+AS_PERIODIC = 0.01
 """R² below the most periodic candidate's by which a candidate still counts as periodic (a
-thread's eye and a sticker on the same platform: 0.9970 and 0.9961; a lobe of a marker's
-difference image beside the marker: 0.9934 and 0.9977)."""
+thread's eye and a sticker on the same platform: 0.9970 and 0.9961, at 240 frames per
+second 0.9964 and 0.9910, the sticker's cross turning with the platform; a lobe of a
+marker's difference image beside the marker: 0.9934 and 0.9977, told apart by its size)."""
+
+HARMONIC_R2 = 0.9
+"""R² a candidate must reach for its frequency to be taken as the swing's beneath a
+candidate moving at a harmonic of it (:func:`_fundamental`)."""
+
+HARMONIC_SHARE = 0.08
+"""Relative mismatch within which one frequency is a half or a third of another."""
+
+SAME_FREQUENCY = 2
+"""Steps of the survey's frequency grid (0.05 over its span) within which a candidate swings
+at the swing's frequency."""
 
 FOUND_SHARE = 0.6
 """Share of the survey's frames a candidate must be found in."""
@@ -256,6 +268,44 @@ def _solve(normal: np.ndarray, right: np.ndarray) -> np.ndarray:
         return np.stack([np.linalg.lstsq(a, b, rcond=None)[0] for a, b in zip(normal, right)])
 
 
+def _chosen(followed: list, times: np.ndarray, shape: tuple[int, int]):
+    """The marker among the candidates followed (each (R², promise, x, y, side, contrast,
+    way, found, frequency)): of those that swing at the swing's frequency (the most periodic
+    candidate's, within :data:`SAME_FREQUENCY` steps of the survey's frequency grid) as
+    periodically as it (R² within :data:`AS_PERIODIC`), the one that promises the most
+    precise track — the widest swing of the largest patch (not the most contrast in the
+    difference from the background: the lobes that a moving marker's difference leaves
+    beside it have more) — preferring those whose way stays a side inside the frame (a dot
+    at the frame's edge is lost half the time)."""
+    top = _fundamental(followed, max(followed, key=lambda f: f[0]))
+    step = 0.05 / float(times[-1] - times[0])
+    alike = [f for f in followed if f[0] >= top[0] - AS_PERIODIC
+             and abs(f[8] - top[8]) <= SAME_FREQUENCY * step]
+    h, w = shape
+
+    def inside(f) -> bool:
+        way, found, side = f[6], f[7], f[4]
+        xs, ys = way[found, 0], way[found, 1]
+        return bool(xs.min() >= side and ys.min() >= side and xs.max() <= w - side
+                    and ys.max() <= h - side)
+
+    return max(alike, key=lambda f: (inside(f), f[1]))[2:]
+
+
+def _fundamental(followed: list, top):
+    """The candidate whose frequency is the swing's: ``top`` (the most periodic), unless
+    another periodic one (R² ≥ :data:`HARMONIC_R2`) swings at a half or a third of its
+    frequency (within :data:`HARMONIC_SHARE`): then ``top`` moves at a harmonic of the swing
+    — a trifilar's ring about its axis, seen from above, moves only as the platform rises
+    and sinks, twice a swing — and the slower one is the swing's."""
+    for divisor in (2, 3):
+        below = [f for f in followed if f[0] >= HARMONIC_R2
+                 and abs(f[8] * divisor / top[8] - 1) <= HARMONIC_SHARE]
+        if below:
+            return max(below, key=lambda f: f[0])
+    return top
+
+
 def survey(kept: np.ndarray, times: np.ndarray, roi=None):
     """The marker in a film's first frames (see the module's notes).
 
@@ -298,13 +348,9 @@ def survey(kept: np.ndarray, times: np.ndarray, roi=None):
         if r2 >= MIN_PERIODIC and amplitude >= MOVES:
             followed.append((r2, amplitude * side, x, y, side, contrast, way, found,
                              frequency))
-    best = None
-    if followed:
-        top = max(f[0] for f in followed)
-        best = max((f for f in followed if f[0] >= top - AS_PERIODIC), key=lambda f: f[1])[2:]
-    if best is None:
+    if not followed:
         return None
-    x, y, side, contrast, way, found, frequency = best
+    x, y, side, contrast, way, found, frequency = _chosen(followed, times, small.shape[1:])
     grow = 1.0 / shrink
     wx, wy = way[found, 0] * grow, way[found, 1] * grow
     big = int(side * grow) | 1

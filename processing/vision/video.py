@@ -28,16 +28,18 @@ import math
 import warnings
 from dataclasses import dataclass, field
 from functools import cached_property
+from pathlib import Path
 
 import cv2
 import numpy as np
 
 from ..anharmonic import AnharmonicFit, fit_anharmonic_decay
 from ..decay import fit_damped_sine
-from ..diagnostics import FilmAmplitudeWarning, InconsistentInputWarning, InputError
+from ..diagnostics import (DroppedFramesWarning, FilmAmplitudeWarning,
+                           InconsistentInputWarning, InputError)
 from ..savgol import savgol
 from ..uncertainty import Measured
-from .frames import (DROPPED, frame_clock, frames, interval_spread, open_film,
+from .frames import (DROPPED, IRREGULAR, frame_clock, frames, interval_spread, open_film,
                      typical_interval)
 from .marker import SURVEY_FRAMES, SURVEY_SECONDS, TURNS, survey, turned
 
@@ -91,6 +93,45 @@ through its this-many neighbouring frames (a moment's false match: one frame of 
 bench's 3° film from above sat 15 px off a path its others follow within 0.07 px, and bent
 that short arc's circle to a 355 000 px radius)."""
 
+SURVEY_AGREES = 0.15
+"""Relative difference between the fitted swing's frequency and the one the survey saw
+(on its coarse grid, from a few seconds) beyond which the track is not of the swing: a
+point moving at twice the swing's frequency (the trifilar's axis as the platform rises)
+would halve the period."""
+
+MIN_OSCILLATIONS = 2
+"""Fewest oscillations a film must span: its period's u rests on the residual's density about
+the swing's frequency, read at frequencies 1/duration apart, and under two oscillations the
+fit's decay, drift and baseline take up the period's own information."""
+
+FEW_OSCILLATIONS = 10
+"""Oscillations a student is asked to film where a film is refused for its length or its
+fit."""
+
+MAX_DROPS = 20
+"""Dropped frames sought in a film whose times claim a constant rate."""
+
+DROP_WHOLE = 0.35
+"""Farthest the phase's step may lie from a whole number of frame intervals, in intervals."""
+
+DROP_SIGMAS = 6.0
+
+DROP_CANDIDATES = 3
+"""The largest steps between half periods tried, in turn."""
+
+DROP_REACH = 3
+"""Half periods each side of a step in the swing's phase that the step is measured over."""
+"""Standard deviations of its own noise a step of the phase must stand out by."""
+
+OUTLIER = (6.0, 0.5)
+"""A frame is left out of the swing's fit where its residual lies further than the larger of
+this many robust σ and this many px from the fit's (:func:`_consistent`); the fit is then
+repeated, at most :data:`REFITS` times. (Gaussian residuals pass 6 σ but once in 5·10⁸
+frames; a frame matched to a hand's knuckle lies tens of σ off.)"""
+
+REFITS = 3
+"""Fits repeated with the frames found off the fit left out."""
+
 NOTCH_BEYOND = 3
 """Frequency spacings past the notch the residual's density is taken over at least."""
 
@@ -123,6 +164,9 @@ class Track:
         Frames the camera dropped (gaps in the timestamps).
     timed : bool
         Whether the container held the frames' times (False: taken at the nominal rate).
+    frequency : float
+        The swing's frequency the survey saw in the film's first seconds
+        (:attr:`~processing.vision.marker.Marker.frequency`). [Hz]
     """
 
     path: str
@@ -136,6 +180,7 @@ class Track:
     scale: float = 1.0
     dropped: int = 0
     timed: bool = True
+    frequency: float = math.nan
 
     @property
     def kept(self) -> np.ndarray:
@@ -144,14 +189,26 @@ class Track:
     @cached_property
     def on_path(self) -> np.ndarray:
         """The kept frames on the marker's smooth path (:data:`OFF_PATH`): those the arc is
-        fitted through."""
+        fitted through. A frame beside one left out (a hand over the marker) is held
+        against the quadratic in time through the kept frames of its window, not through
+        frames that the gap puts out of step."""
         sigmas, floor, window = OFF_PATH
         k = self.kept
         on = k.copy()
         if k.sum() <= window:
             return on
-        x, y = self.x[k], self.y[k]
-        off = np.hypot(x - savgol(x, window, 2), y - savgol(y, window, 2))
+        smooth = np.column_stack([savgol(self.x[k], window, 2), savgol(self.y[k], window, 2)])
+        half = window // 2
+        gappy = np.convolve(~k, np.ones(window), "same")[k] > 0
+        index = np.flatnonzero(k)
+        for j in np.flatnonzero(gappy):
+            near = index[np.abs(index - index[j]) <= half]
+            if near.size < 4:
+                smooth[j] = self.x[index[j]], self.y[index[j]]
+                continue
+            dt = self.time[near] - self.time[index[j]]
+            smooth[j] = [np.polyval(np.polyfit(dt, v[near], 2), 0.0) for v in (self.x, self.y)]
+        off = np.hypot(self.x[k] - smooth[:, 0], self.y[k] - smooth[:, 1])
         on[k] = off <= max(sigmas * 1.4826 * float(np.median(off)), floor)
         return on
 
@@ -174,7 +231,37 @@ class Track:
         holds a third harmonic R θ₀³/24 (0.13 px at 10° and 600 px) that no damped sinusoid
         fits and that would pass for noise. A track too straight for its arc to be found
         (θ₀ below :data:`STRAIGHT` rad, where that harmonic is under 10⁻⁴ px) is projected on
-        its principal direction instead."""
+        its principal direction instead.
+
+        The camera's shake moves the picture by d(t) under the marker: along the arc by
+        d·t̂(θ) = d_x cos θ − d_y sin θ (axes along and across the arc's mean direction) and
+        across it by d·r̂(θ) = d_x sin θ + d_y cos θ, which is the track's distance from the
+        arc less R (:meth:`radial`). The part d_y sin θ is the slow shake times the swing
+        itself: sidebands at the swing's frequency ± the shake's, inside the band the fit
+        empties, which neither the fit nor its residual's density would carry. The radial
+        residual measures them: s = Rθ + ρ tan θ leaves the shake as d_x/cos θ, a slow
+        wander whose density at the swing's frequency the u carries (:func:`period_of`)."""
+        t, theta, rho = self._polar
+        if theta is None:
+            return t, rho
+        return t, self.circle[2] * theta + rho * np.tan(theta)
+
+    def radial(self) -> np.ndarray:
+        """The track's distance from its arc at the frames of :meth:`displacement`, less the
+        path's own shape (a polynomial in θ to the third degree: the perspective of a
+        tilted phone draws the circle as an ellipse) and a slow drift: what the camera's
+        shake and the tracker's noise move the marker across its arc. Zeros where the
+        track is too straight for an arc. [px]"""
+        t, theta, rho = self._polar
+        if theta is None:
+            return np.zeros_like(t)
+        return rho
+
+    @cached_property
+    def _polar(self):
+        """(times, θ, ρ) of the frames on the path: the angle about the arc's centre and
+        the radial residual (:meth:`radial`); θ None and ρ the projection on the principal
+        direction where the track is too straight for an arc."""
         k = self.on_path
         xy = np.column_stack([self.x[k], self.y[k]])
         mean = xy.mean(axis=0)
@@ -182,10 +269,15 @@ class Track:
         r = xy - (xc, yc)
         to_mean = mean - (xc, yc)
         theta = np.arctan2(to_mean[0] * r[:, 1] - to_mean[1] * r[:, 0], r @ to_mean)
+        t = self.time[k]
         if np.isfinite(R) and np.ptp(theta) > 2 * STRAIGHT:
-            return self.time[k], R * theta
+            rho = np.hypot(r[:, 0], r[:, 1]) - R
+            tau = (t - t[0]) / max(float(t[-1] - t[0]), 1e-9)
+            shape = np.column_stack([theta ** j for j in range(4)] + [tau, tau ** 2])
+            rho = rho - shape @ np.linalg.lstsq(shape, rho, rcond=None)[0]
+            return t, theta, rho
         _, _, vt = np.linalg.svd(xy - mean, full_matrices=False)
-        return self.time[k], (xy - mean) @ vt[0]
+        return t, None, (xy - mean) @ vt[0]
 
 
 @dataclass(frozen=True)
@@ -204,7 +296,8 @@ class Swing:
     amplitude : float
         The displacement's amplitude at the film's first frame kept. [px]
     kept_share : float
-        Share of the frames kept.
+        Share of the film's frames the swing is fitted through (found, on the marker's path
+        and consistent with the fit).
     reference_amplitude : float
         The RMS of the amplitude over the frames kept: the amplitude the period belongs to
         (a wide swing's period changes as it decays). [px]
@@ -218,8 +311,8 @@ class Swing:
     reference_amplitude: float
 
 
-def _refuse(path, field_name, problem: str, fix: str) -> InputError:
-    return InputError(problem, fix, file=str(path), field=field_name)
+def _refuse(path, field_name, problem: str, fix: str, ru=None) -> InputError:
+    return InputError(problem, fix, file=str(path), field=field_name, ru=ru)
 
 
 def _subpixel(c: np.ndarray, i: int, j: int) -> tuple[float, float]:
@@ -347,7 +440,7 @@ def _survey_frames(film, field):
     return kept[:len(times)], np.asarray(times)
 
 
-def track_marker(path, *, roi=None, field: str | None = None,
+def track_marker(path, *, roi=None, field: str | None = None, roi_field: str | None = None,
                  min_confidence: float = MIN_CONFIDENCE, keep_frames: int = 4) -> Track:
     """Track the marker on a swinging part through a film.
 
@@ -363,9 +456,13 @@ def track_marker(path, *, roi=None, field: str | None = None,
     path : str or Path
         The film (MP4, MOV, AVI, MKV).
     roi : (x, y, w, h), optional
-        Where the marker is in the first frames, in the film's pixels. [px]
+        Where the marker is in the first frames, in the film's pixels: the marker is the
+        patch inside it that swings. [px]
     field : str, optional
         The measurement-file field that named the film, for errors.
+    roi_field : str, optional
+        The measurement-file field that gave ``roi`` (``pendulum.roi``), for errors and for
+        the advice to give one.
     min_confidence : float
         Frames whose correlation peak is lower are left out.
     keep_frames : int
@@ -387,13 +484,28 @@ def track_marker(path, *, roi=None, field: str | None = None,
     if len(kept) < 16:
         raise _refuse(path, field, f"the film holds {len(kept)} frames",
                       "film the whole swing: 20 oscillations or more")
+    if roi is not None:
+        _check_roi(path, roi, film.size, roi_field)
     where = None if roi is None else tuple(scale * float(v) for v in roi)
     marker = survey(kept, stamps, where)
+    if marker is None and roi is not None:
+        x, y, w, h = (round(v) for v in roi)
+        raise _refuse(path, roi_field or field, "nothing swings inside the region "
+                      f"[{x}, {y}, {w}, {h}] in the film's first {stamps[-1] - stamps[0]:.1f} s",
+                      "give the rectangle the marker swings through in the first frame, in "
+                      "the film's pixels (x, y from the top left corner)",
+                      (f"в области [{x}, {y}, {w}, {h}] за первые {stamps[-1] - stamps[0]:.1f} с "
+                       "видео ничего не качается", "задайте прямоугольник, по которому метка "
+                       "качается на первом кадре, в пикселях видео (x, y от левого верхнего "
+                       "угла)"))
     if marker is None:
         raise _refuse(path, field, "nothing moves periodically in the film's first "
                       f"{stamps[-1] - stamps[0]:.1f} s (no patch swings there, a hand or a "
                       "flicker aside)", "start filming while the part swings, with a "
-                      "high-contrast marker on it in view")
+                      "high-contrast marker on it in view",
+                      (f"за первые {stamps[-1] - stamps[0]:.1f} с видео ничего не качается "
+                       "(рука или мерцание не в счёт)", "начните съёмку, когда деталь уже "
+                       "качается, с контрастной меткой на ней в кадре"))
     templates = [t.astype(np.uint8) if t is not None else None for t in
                  turned(kept[marker.reference], marker.x, marker.y, marker.side, TURNS)]
     del kept
@@ -449,29 +561,77 @@ def track_marker(path, *, roi=None, field: str | None = None,
     typical = typical_interval(time)
     spread = interval_spread(steps[steps < DROPPED * typical], typical, film.tick)
     track = Track(str(path), time, np.asarray(xs), np.asarray(ys), np.asarray(conf), side,
-                  spread, snapshots, 1.0 / scale, dropped, film.timed)
+                  spread, snapshots, 1.0 / scale, dropped, film.timed, marker.frequency)
     if track.kept.mean() < 0.5:
+        at = roi_field or "roi"
         raise _refuse(path, field, f"the marker was found in {100 * track.kept.mean():.0f} % "
                       "of the frames", "stick a high-contrast marker on the part, light it "
-                      "evenly and keep it in view (or give its region, roi)")
+                      "evenly and keep it in view, or say where it is in the first frame: "
+                      f"{at} = [x, y, w, h] in pixels",
+                      (f"метка найдена на {100 * track.kept.mean():.0f} % кадров",
+                       "наклейте на деталь контрастную метку, осветите её ровно и держите в "
+                       f"кадре или укажите, где она на первом кадре: {at} = [x, y, w, h] в "
+                       "пикселях"))
     return track
+
+
+def _check_roi(path, roi, size: tuple[int, int], roi_field: str | None) -> None:
+    """Refuse a region that does not lie inside the film's frame."""
+    x, y, w, h = roi
+    W, H = size
+    if x + w > W or y + h > H:
+        shown = ", ".join(f"{v:g}" for v in roi)
+        raise _refuse(path, roi_field, f"the region [{shown}] reaches beyond the film's "
+                      f"{W} × {H} px frame", f"give x + w ≤ {W} and y + h ≤ {H}: the marker's "
+                      "place in the first frame at the film's own size (not a screenshot's)",
+                      (f"область [{shown}] выходит за кадр видео {W} × {H} пикс",
+                       f"задайте x + w ≤ {W} и y + h ≤ {H}: место метки на первом кадре в "
+                       "размере самого видео (не снимка экрана)"))
 
 
 def swing_of(track: Track, *, field: str | None = None) -> Swing:
     """Fit the track's oscillation (see the module's notes).
 
+    The fit is robust to false matches the path test let through: frames whose residual
+    from the fit lies beyond :data:`OUTLIER` are left out and the fit repeated
+    (:func:`_consistent`); the period's u is the fit's over the frames kept.
+
     Raises
     ------
     InputError
-        No swing above the track's noise, fewer than three oscillations, or a frame rate
-        below twice the oscillation's frequency (the swing cannot be told from its alias).
+        No swing above the track's noise; fewer than :data:`MIN_OSCILLATIONS` oscillations;
+        a frame rate below twice the oscillation's frequency (the swing cannot be told from
+        its alias); a track at another frequency than the swing the survey saw (a point
+        moving at a harmonic of it); a period whose u the film cannot give.
     """
     t, s = track.displacement()
+    rho = track.radial()
     try:
         fit = fit_damped_sine(t, s, baseline_order=1)
+        drifting = fit_anharmonic_decay(t, s, fit)
+        drops = 0
+        if _evenly_stamped(track):
+            interval = typical_interval(track.time)
+            for _ in range(MAX_DROPS):
+                step = _phase_step(t, s, fit, drifting, interval)
+                if step is None:
+                    break
+                t = np.where(t >= step[0], t + step[1] * interval, t)
+                drops += step[1]
+                fit = fit_damped_sine(t, s, baseline_order=1)
+                drifting = fit_anharmonic_decay(t, s, fit)
+        for _ in range(REFITS):
+            keep = _consistent(s - drifting.predict(t))
+            if keep.all():
+                break
+            t, s, rho = t[keep], s[keep], rho[keep]
+            fit = fit_damped_sine(t, s, baseline_order=1)
+            drifting = fit_anharmonic_decay(t, s, fit)
     except RuntimeError as exc:
         raise _refuse(track.path, field, f"no oscillation fits the track ({exc})",
                       "film the part swinging freely, the marker in view") from None
+    if drops:
+        _warn_unstamped_drops(track, drops)
     if not abs(fit.amplitude) > SWING_SNR * fit.residual_sd:
         raise _refuse(track.path, field, f"no swing stands out of the track's noise (amplitude "
                       f"{abs(fit.amplitude):.2g} px, noise {fit.residual_sd:.2g} px)",
@@ -481,17 +641,132 @@ def swing_of(track: Track, *, field: str | None = None) -> Swing:
         raise _refuse(track.path, field, f"the film's {rate:.3g} frames per second barely "
                       f"follow a swing of {fit.omega_d / (2 * math.pi):.3g} Hz (the swing may "
                       "be an alias of a faster one)", "film at 30 frames per second or more")
+    seen = track.frequency * fit.period
+    if math.isfinite(seen) and abs(seen - 1) > SURVEY_AGREES:
+        raise _refuse(track.path, field, f"the track swings at {1 / fit.period:.3g} Hz where the "
+                      f"film's first seconds swing at {track.frequency:.3g} Hz (the point "
+                      "followed moves at a harmonic of the swing, or not with it)",
+                      "say where the marker is in the first frame: roi = [x, y, w, h] in "
+                      "pixels",
+                      (f"траектория колеблется с частотой {1 / fit.period:.3g} Гц, а первые "
+                       f"секунды видео — с {track.frequency:.3g} Гц (прослежена точка, "
+                       "движущаяся с гармоникой качаний или не с ними)",
+                       "укажите, где метка на первом кадре: roi = [x, y, w, h] в пикселях"))
     span = (t[-1] - t[0]) / fit.period
-    if span < 3:
+    if span < MIN_OSCILLATIONS:
         raise _refuse(track.path, field, f"the film spans {span:.1f} oscillations",
-                      "film at least 10 oscillations (the manual times 20)")
-    try:
-        drifting = fit_anharmonic_decay(t, s, fit)
-    except RuntimeError as exc:
-        raise _refuse(track.path, field, f"no oscillation fits the track ({exc})",
-                      "film the part swinging freely, the marker in view") from None
-    return Swing(drifting, period_of(drifting, t, s), float(span), float(drifting.amplitude),
-                 float(track.kept.mean()), float(drifting.reference_amplitude))
+                      f"film at least {MIN_OSCILLATIONS} oscillations (the manual times 20; "
+                      f"{MIN_OSCILLATIONS * fit.period:.1f} s of this swing)",
+                      (f"видео охватывает {span:.1f} колебания",
+                       f"снимите не меньше {MIN_OSCILLATIONS} колебаний (по методичке — 20; "
+                       f"{MIN_OSCILLATIONS * fit.period:.1f} с этих качаний)"))
+    period = period_of(drifting, t, s, rho)
+    if not (math.isfinite(period.u) and period.u > 0 and math.isfinite(period.dof)):
+        raise _refuse(track.path, field, f"the period's uncertainty cannot be told from the "
+                      f"{span:.1f} oscillations the film holds", f"film {FEW_OSCILLATIONS} "
+                      "oscillations or more (the manual times 20)",
+                      (f"погрешность периода не определить по {span:.1f} колебаниям на видео",
+                       f"снимите {FEW_OSCILLATIONS} колебаний или больше (по методичке — 20)"))
+    return Swing(drifting, period, float(span), float(drifting.amplitude),
+                 t.size / track.time.size, float(drifting.reference_amplitude))
+
+
+def _evenly_stamped(track: Track) -> bool:
+    """Whether the film's times are those of a constant rate without a gap (a container
+    that claims a constant rate, or an AVI's nominal one): where a frame dropped by the
+    camera leaves no trace in them."""
+    return track.dropped == 0 and track.interval_spread <= IRREGULAR and track.time.size > 8
+
+
+def _phase_step(t, s, fit, drifting, interval: float):
+    """A frame dropped where the film's times do not show it: the swing's phase jumps.
+
+    After a dropped frame every later frame was taken an interval later than its time says,
+    so the track runs ahead of the fitted swing by its velocity v times that interval. The
+    frames are cut into half periods; in each, the residual from the fit is regressed on
+    the fitted swing's oscillation and on its velocity (an error of amplitude and one of
+    time, told apart), the second coefficient being the half period's offset in time. A
+    frame dropped in half period j steps the offsets of j − 1 and j + 1 apart by a whole
+    interval: where they step most, a line with a step (the fit's frequency takes up part
+    of the drop as a slope) is fitted through the :data:`DROP_REACH` offsets each side but
+    j's, and the step is taken
+    where it lies within :data:`DROP_WHOLE` of a whole number m ≥ 1 of intervals and
+    :data:`DROP_SIGMAS` times its standard error out (the offsets' scatter from their
+    second differences over the whole film, robustly: a step is a single outlier there).
+    The frame it starts at is the one of half period j that leaves the least residual.
+
+    Returns
+    -------
+    (float, int) or None
+        The time from which the frames are m intervals late, and m.
+    """
+    h = 0.25 * interval
+    v = (fit.predict(t + h) - fit.predict(t - h)) / (2 * h)
+    swing = fit.predict(t) - fit.baseline_at(t)
+    r = s - drifting.predict(t)
+    half = max(int(round(0.5 * fit.period / interval)), 4)
+    count = t.size // half
+    if count < 5:
+        return None
+    offsets = np.empty(count)
+    for j in range(count):
+        part = slice(j * half, (j + 1) * half)
+        design = np.column_stack([swing[part], v[part], np.ones(half)])
+        offsets[j] = np.linalg.lstsq(design, r[part], rcond=None)[0][1]
+    wiggle = np.diff(offsets, 2)
+    noise = 1.4826 * float(np.median(np.abs(wiggle - np.median(wiggle)))) / math.sqrt(6)
+    for k in np.argsort(offsets[:-2] - offsets[2:])[:DROP_CANDIDATES]:
+        found = _step_at(offsets, int(k), interval, noise)
+        if found is not None:
+            span = np.arange((k + 1) * half, (k + 2) * half)
+            late = offsets[k] + found * interval
+            cost = [float(np.sum((r[span] - v[span] * np.where(span >= p, late, offsets[k]))
+                                 ** 2)) for p in span]
+            return float(t[span[int(np.argmin(cost))]]), found
+    return None
+
+
+def _step_at(offsets: np.ndarray, k: int, interval: float, noise: float) -> int | None:
+    """Whole intervals m ≥ 1 by which half periods' offsets in time step between k and
+    k + 2 (see :func:`_phase_step`), or None where they do not; ``noise`` is the offsets'
+    own scatter (from their second differences over the film, robustly)."""
+    j = np.arange(max(k - DROP_REACH + 1, 0), min(k + DROP_REACH + 2, offsets.size))
+    j = j[j != k + 1]
+    if j.size < 5:
+        return None
+    design = np.column_stack([np.ones(j.size), j - k, j > k + 1])
+    coef, *_ = np.linalg.lstsq(design, offsets[j], rcond=None)
+    se = noise * math.sqrt(float(np.linalg.inv(design.T @ design)[2, 2]))
+    step = float(coef[2])
+    m = int(round(step / interval))
+    if m < 1 or abs(step - m * interval) > DROP_WHOLE * interval or step < DROP_SIGMAS * se:
+        return None
+    return m
+
+
+def _warn_unstamped_drops(track: Track, drops: int) -> None:
+    name = Path(track.path).name
+    warnings.warn(DroppedFramesWarning(
+        f"{name}: {drops} frame(s) dropped by the camera where the film's times claim a "
+        "constant rate (the swing's phase jumps by a whole frame interval there): the frames "
+        "after each are timed that much later, as they were taken; film as the phone records "
+        "(each frame's own time) and close other apps",
+        f"{name}: камера пропустила кадров: {drops}, а время кадров в файле — с постоянной "
+        "частотой (фаза качаний скачет там на целый интервал между кадрами): кадры после "
+        "каждого пропуска отнесены на столько же позже, как они и сняты; снимайте в "
+        "исходном формате телефона (со временем каждого кадра) и закройте другие "
+        "приложения"))
+
+
+def _consistent(r: np.ndarray) -> np.ndarray:
+    """The frames whose residual from the fit lies within :data:`OUTLIER` robust σ
+    (1.4826 × the median absolute deviation) of the median, or within its floor in px: a
+    false match (a hand's knuckle, a shadow taken for the marker) that the path test let
+    through, left out rather than let pull the least squares."""
+    sigmas, floor = OUTLIER
+    centre = float(np.median(r))
+    spread = 1.4826 * float(np.median(np.abs(r - centre)))
+    return np.abs(r - centre) <= max(sigmas * spread, floor)
 
 
 def _density_near(t: np.ndarray, r: np.ndarray, f0: float) -> tuple[float, int]:
@@ -513,7 +788,19 @@ def _density_near(t: np.ndarray, r: np.ndarray, f0: float) -> tuple[float, int]:
     return float(power.mean()), int(f.size)
 
 
-def period_of(fit: AnharmonicFit, t: np.ndarray, s: np.ndarray) -> Measured:
+def _density_at(t: np.ndarray, r: np.ndarray, f0: float) -> tuple[float, int]:
+    """A series' spectral density at f₀ (as :func:`_density_near`: a variance per frame),
+    from the periodogram at the frequencies 1/duration apart within :data:`NOTCH` spacings
+    of it, and their number."""
+    duration = float(t[-1] - t[0])
+    f = f0 + np.arange(-math.floor(NOTCH), math.floor(NOTCH) + 1) / duration
+    f = f[f > 0]
+    power = np.abs(np.exp(-2j * np.pi * np.outer(f, t - t[0])) @ r) ** 2 / r.size
+    return float(power.mean()), int(f.size)
+
+
+def period_of(fit: AnharmonicFit, t: np.ndarray, s: np.ndarray,
+              radial: np.ndarray | None = None) -> Measured:
     """T = 2π/ω̄ of a track's fit, with its u.
 
     Type A: the least-squares covariance (JᵀJ)⁻¹ scaled by the residual's spectral density
@@ -526,9 +813,20 @@ def period_of(fit: AnharmonicFit, t: np.ndarray, s: np.ndarray) -> Measured:
     of the marker's place (:data:`LOCKING` px) repeats every swing, so it does not average
     out; slowly shifted by the decay, it moves the phase by up to LOCKING/A over the film
     of N oscillations: u_B(T) = T·LOCKING/(2π A N).
+
+    The density is the larger of the residual's outside the band the fit empties and the
+    radial residual's (``radial``, :meth:`Track.radial`) within it (:func:`_density_at`):
+    the camera's shake moves the marker across its arc as much as along it, and across
+    the arc no fit empties the swing's own frequency. A phone's slow shake has most of its
+    power below the swing's frequency; on a short film the residual's density is taken
+    above it, where the shake has died out, and alone would miss it.
     """
     r = s - fit.predict(t)
     density, bins = _density_near(t, r, 1 / fit.period)
+    if radial is not None and np.any(radial):
+        across, crossing = _density_at(t, radial, 1 / fit.period)
+        if across > density:
+            density, bins = across, crossing
     i = fit.params.index("omega_d")
     u_a = fit.period / fit.omega_d * math.sqrt(density * fit.normal[i, i])
     oscillations = (t[-1] - t[0]) / fit.period
@@ -661,7 +959,10 @@ def filmed_times(inputs, films: dict[str, dict[str, str]], needed=("t",)):
         Per section, each film field and the time field it stands for (``{"trifilar":
         {"video": "t", "video_p": "t_p"}}``); the time of ``n_osc`` oscillations becomes
         n_osc·T ± n_osc·u(T) from the film, and the section's ``amplitude``, if not given,
-        the first film's.
+        the first film's; given (read at the film's start), it is carried to the RMS of the
+        first film's decaying amplitude, the one the film's period belongs to
+        (:func:`_over_film`). A section timed by films alone needs no ``n_osc``: it becomes
+        the whole oscillations its shortest film holds.
     needed : sequence of str
         Time fields a section must have, from the stopwatch or from a film.
 
@@ -673,29 +974,32 @@ def filmed_times(inputs, films: dict[str, dict[str, str]], needed=("t",)):
     Raises
     ------
     InputError
-        A needed time with neither the stopwatch's readings nor a film; any film's (see
-        :func:`track_marker`, :func:`swing_of`).
+        A needed time with neither the stopwatch's readings nor a film; a stopwatch's time
+        without ``n_osc``; any film's (see :func:`track_marker`, :func:`swing_of`).
     """
     read = []
     for section, pairs in films.items():
         if section not in inputs:
             continue
         entry = inputs[section]
-        changes = {}
+        _check_timed(inputs, section, pairs, needed)
+        swings = {}
         for video, time_field in pairs.items():
-            if video not in entry:
-                if time_field in needed and time_field not in entry:
-                    raise inputs.error(f"[{section}] has neither the stopwatch's time "
-                                       f"{time_field} nor a film", f"write {time_field} = "
-                                       f"[...] (the time of n_osc oscillations) or {video} = "
-                                       "\"swing.mp4\"", f"{section}.{time_field}")
-                continue
-            where = f"{section}.{video}"
-            track = track_marker(entry[video], field=where)
-            swing = swing_of(track, field=where)
-            n = entry["n_osc"]
-            changes[time_field] = swing.period.scaled(n)
-            film = Filmed(where, track, swing, entry.get(time_field))
+            if video in entry:
+                where = f"{section}.{video}"
+                track = _track_in(inputs, entry[video], where, entry.get("roi"),
+                                  f"{section}.roi")
+                swings[video] = Filmed(where, track, swing_of(track, field=where),
+                                       entry.get(time_field))
+        if not swings:
+            continue
+        n = entry.get("n_osc") or max(1, min(math.floor(f.swing.oscillations)
+                                              for f in swings.values()))
+        changes = {} if "n_osc" in entry else {"n_osc": n}
+        if "amplitude" in entry:
+            changes["amplitude"] = _over_film(entry["amplitude"], next(iter(swings.values())))
+        for video, film in swings.items():
+            changes[pairs[video]] = film.swing.period.scaled(n)
             read.append(film)
             _compare_stopwatch(film, n)
             if ("amplitude" not in entry and "amplitude" not in changes
@@ -703,9 +1007,56 @@ def filmed_times(inputs, films: dict[str, dict[str, str]], needed=("t",)):
                 changes["amplitude"] = Measured(film.period_amplitude,
                                                 limit=film.period_amplitude_limit)
                 _check_amplitude(film, f"{section}.amplitude")
-        if changes:
-            inputs = inputs.changed(section, **changes)
+        inputs = inputs.changed(section, **changes)
     return inputs, read
+
+
+def _track_in(inputs, film, where: str, roi, roi_field: str) -> Track:
+    """:func:`track_marker` of a film named by a measurement file, a region that does not
+    fit the film refused as the file's own field."""
+    try:
+        return track_marker(film, field=where, roi=roi, roi_field=roi_field)
+    except InputError as exc:
+        if exc.field == roi_field:
+            raise inputs.error(exc.problem, exc.fix, roi_field, exc.ru) from None
+        raise
+
+
+def _over_film(amplitude: Measured, film: Filmed) -> Measured:
+    """The amplitude a film's period belongs to, from the amplitude the student read at the
+    film's start: times the film's own ratio of the RMS of its decaying envelope to its
+    start (:attr:`Swing.reference_amplitude` over :attr:`Swing.amplitude`).
+
+    A wide swing's period shortens as it decays; the film's mean period is the period of a
+    swing of its envelope's RMS amplitude θ_r (to the order θ⁴: for a pendulum the rest is
+    Var(θ²)/3072 of T, under 10⁻⁶ at 19° decaying to a quarter), not of the amplitude at
+    its start: corrected with the start's, T₀ = T/F(θ) comes out low by (θ₀² − θ_r²)/16
+    (2–5·10⁻⁴ at 5–9° decaying by a third)."""
+    return amplitude.scaled(abs(film.swing.reference_amplitude / film.swing.amplitude))
+
+
+def _check_timed(inputs, section: str, pairs: dict[str, str], needed) -> None:
+    """Refuse a section whose needed time has neither the stopwatch's readings nor a film,
+    or whose stopwatch times do not say how many oscillations they took."""
+    entry = inputs[section]
+    for video, time_field in pairs.items():
+        if video not in entry and time_field in needed and time_field not in entry:
+            raise inputs.error(
+                f"[{section}] has neither the stopwatch's time {time_field} nor a film",
+                f"write {time_field} = [...] (the time of n_osc oscillations) or {video} = "
+                "\"swing.mp4\"", f"{section}.{time_field}",
+                ru=(f"в [{section}] нет ни времени по секундомеру {time_field}, ни видео",
+                    f"запишите {time_field} = [...] (время n_osc колебаний) или {video} = "
+                    "\"swing.mp4\""))
+    timed = [t for t in pairs.values() if t in entry]
+    if timed and "n_osc" not in entry:
+        raise inputs.error(
+            f"'n_osc' (full oscillations timed) is missing: {timed[0]} is the stopwatch's "
+            "time of n_osc oscillations", f"add a line n_osc = ... in [{section}] (a film "
+            "needs none)", f"{section}.n_osc",
+            ru=(f"нет 'n_osc' (число полных колебаний): {timed[0]} — время n_osc колебаний "
+                "по секундомеру", f"добавьте строку n_osc = ... в [{section}] (для видео "
+                "не нужна)"))
 
 
 def _declares(inputs, section: str, name: str) -> bool:
