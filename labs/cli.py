@@ -5,6 +5,7 @@
     dynlab template LAB [--lang en|ru] [-o FILE]
     dynlab demo [--out DIR] [--lang en|ru]
     dynlab kinematics --lambda 0.25 [--offset z] [--step 5] [--approx] [--format table|csv]
+    dynlab serve [--host 127.0.0.1] [--port 8000] [--lang en|ru] [--class DIR --roster CSV]
 
 Bad input prints one message naming the file, the field and the fix, and exits with 2.
 The command's own lines and its messages are in the language of ``--lang``, or, where a
@@ -412,6 +413,12 @@ def _meta_id(path: Path) -> str | None:
     return sid if isinstance(sid, str) else None
 
 
+def _serve(args) -> int:
+    from .web.serve import main as serve
+
+    return serve(args)
+
+
 def _list(_args) -> int:
     for lab_id, entry in CATALOGUE.items():
         print(f"{lab_id:8} {entry.title['en']}  /  {entry.title['ru']}")
@@ -598,6 +605,28 @@ def parser() -> argparse.ArgumentParser:
                      help="labs 3–7: the rig of this seed (0: the scene's own) under --seed's "
                           "readings and noise (default: --seed's own rig)")
     syn.set_defaults(func=_synth)
+    srv = sub.add_parser("serve", help="a local web page: each lab's form, its report; with "
+                         "--class, students hand in and the teacher watches the class")
+    srv.add_argument("--host", default="127.0.0.1", help="address to listen on (default "
+                     "127.0.0.1, this machine only; any other needs the printed link's token)")
+    srv.add_argument("--port", type=int, default=8000)
+    srv.add_argument("--lang", choices=LANGS, help=LANG_HELP)
+    srv.add_argument("--class", dest="class_dir", metavar="DIR", help="the class folder: "
+                     "hand-ins go to DIR/<id>/ as dynlab check reads them")
+    srv.add_argument("--roster", metavar="ROSTER.csv", help="with --class: the class's roster "
+                     "(columns id,name)")
+    srv.add_argument("--keys", metavar="KEYDIR", help="with --class: the answer keys of the "
+                     "variants (as for dynlab check --keys)")
+    srv.add_argument("--workers", type=int, default=2, help="reductions at once (default 2)")
+    srv.add_argument("--time-limit", type=float, default=120.0,
+                     help="seconds one reduction may take (default 120)")
+    srv.add_argument("--memory-limit", type=int, default=3072,
+                     help="MiB of address space one reduction may take (default 3072)")
+    srv.add_argument("--max-file", type=int, default=200,
+                     help="largest uploaded file, MiB (default 200)")
+    srv.add_argument("--max-upload", type=int, default=400,
+                     help="largest submission (all its files), MiB (default 400)")
+    srv.set_defaults(func=_serve)
     return p
 
 
