@@ -20,6 +20,7 @@ import re
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import cache
 
 from processing.diagnostics import InputError
 from processing.measurement import META_KEYS, Field, LabSpec
@@ -54,9 +55,24 @@ def unit_choices(f: Field, lang: str) -> list[UnitChoice]:
     of the same dimension (:data:`processing.units.SLIP_UNITS`)."""
     if f.kind != "quantity" or f.unit is None:
         return []
-    own = dimension(f.unit)
-    units = [f.unit] + [u for u in SLIP_UNITS if u and u != f.unit and dimension(u) == own]
-    return [UnitChoice(u, unit_text(u, lang) or "—") for u in units]
+    return [UnitChoice(u, unit_text(u, lang) or "—") for u in _units_like(f.unit)]
+
+
+def warm(specs) -> None:
+    """Work out every field's units now (pint: about a second for all labs), not while a
+    student waits for the first form."""
+    for spec in specs:
+        for sec in spec.sections:
+            for f in sec.fields:
+                if f.kind == "quantity" and f.unit is not None:
+                    _units_like(f.unit)
+
+
+@cache
+def _units_like(unit: str) -> tuple[str, ...]:
+    """``unit``, then the usual units of its dimension (a page asks for each field's)."""
+    own = dimension(unit)
+    return (unit, *[u for u in SLIP_UNITS if u and u != unit and dimension(u) == own])
 
 
 def hint(f: Field, lang: str) -> str:

@@ -71,6 +71,10 @@ def main(args) -> int:
                   f"{Path(s.classroom.folder).resolve()}/<id>/, сводка — в "
                   f"{s.classroom.out.resolve()}/"), flush=True)
     app.state.web.pool.warm()
+    from ..registry import LABS
+    from .forms import warm
+
+    warm(LABS[lab].SPEC for lab in LABS)
     uvicorn.run(app, host=args.host, port=args.port, log_level="warning",
                 limit_concurrency=200, timeout_keep_alive=5)
     return 0
