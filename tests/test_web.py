@@ -9,6 +9,7 @@ import os
 import re
 import time
 import tomllib
+from html.parser import HTMLParser
 import zipfile
 from pathlib import Path
 
@@ -326,3 +327,67 @@ def test_form_values_round_trip():
     values, counts = forms.values(doc, LABS["lab1"].SPEC)
     assert counts["analytic"] == 3
     assert forms.document(LABS["lab1"].SPEC, values) == doc
+
+
+class _Inputs(HTMLParser):
+    """What a browser posts from a page's form: each named input, select and textarea."""
+
+    def __init__(self):
+        super().__init__()
+        self.values, self._select, self._area = {}, None, None
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if tag == "template":
+            self._skip = True
+        if getattr(self, "_skip", False):
+            return
+        if tag == "option" and self._select:
+            if self._select not in self.values or "selected" in a:
+                self.values[self._select] = a.get("value", "")
+            return
+        if "name" not in a:
+            return
+        if tag == "input" and a.get("type") not in ("file", "checkbox"):
+            self.values[a["name"]] = a.get("value", "")
+        elif tag == "input" and a.get("type") == "checkbox" and "checked" in a:
+            self.values[a["name"]] = a.get("value", "on")
+        elif tag == "select":
+            self._select = a["name"]
+        elif tag == "textarea":
+            self._area = a["name"]
+            self.values[a["name"]] = ""
+
+    def handle_endtag(self, tag):
+        if tag == "template":
+            self._skip = False
+        if tag in ("select", "textarea"):
+            self._select = self._area = None
+
+    def handle_data(self, data):
+        if self._area:
+            self.values[self._area] += data
+
+    def handle_startendtag(self, tag, attrs):
+        self.handle_starttag(tag, attrs)
+
+
+def _posted(html: str) -> dict:
+    parser = _Inputs()
+    parser.feed(html)
+    return parser.values
+
+
+def test_a_zip_with_its_recording_opens_for_editing_and_reduces_the_same(client):
+    sample = SAMPLES / "lab9/synthetic_damper.toml"
+    blob = io.BytesIO()
+    with zipfile.ZipFile(blob, "w") as z:
+        z.write(sample, "damper/damper.toml")
+        z.write(sample.parent / "decay.csv", "damper/decay.csv")
+    form = client.post("/open", data={"csrf": csrf(client, "/")},
+                       files={"file": ("damper.zip", blob.getvalue())})
+    assert form.status_code == 200 and "decay.csv" in form.text
+    values = {k: v for k, v in _posted(form.text).items() if k != "csrf"}
+    assert values["decay.signal:kept"] == "decay.csv" and values["run[1].direction"] == "reverse"
+    run = run_of(client, post(client, "lab9", values))
+    assert comparable(client.get(f"{run}/report.json").json()) == expected_json(sample)
