@@ -63,6 +63,27 @@ def _seed(text: str) -> int:
     return int(text)
 
 
+def _count(least: int, most: int):
+    """An option's whole number from ``least`` to ``most``."""
+    def parse(text: str) -> int:
+        if not (text.isascii() and text.isdigit()) or not least <= int(text) <= most:
+            raise argparse.ArgumentTypeError(f"a whole number from {least} to {most}, got "
+                                             f"{text[:40]!r}")
+        return int(text)
+    return parse
+
+
+def _seconds(text: str) -> float:
+    """A positive, finite number of seconds."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0 < value < 1e6:
+        raise argparse.ArgumentTypeError(f"a number of seconds above 0, got {text[:40]!r}")
+    return value
+
+
 def _formats(text: str) -> tuple[str, ...]:
     from processing.reporting.render import FORMATS
 
@@ -609,7 +630,7 @@ def parser() -> argparse.ArgumentParser:
                          "--class, students hand in and the teacher watches the class")
     srv.add_argument("--host", default="127.0.0.1", help="address to listen on (default "
                      "127.0.0.1, this machine only; any other needs the printed link's token)")
-    srv.add_argument("--port", type=int, default=8000)
+    srv.add_argument("--port", type=_count(1, 65535), default=8000)
     srv.add_argument("--lang", choices=LANGS, help=LANG_HELP)
     srv.add_argument("--class", dest="class_dir", metavar="DIR", help="the class folder: "
                      "hand-ins go to DIR/<id>/ as dynlab check reads them")
@@ -617,14 +638,14 @@ def parser() -> argparse.ArgumentParser:
                      "(columns id,name)")
     srv.add_argument("--keys", metavar="KEYDIR", help="with --class: the answer keys of the "
                      "variants (as for dynlab check --keys)")
-    srv.add_argument("--workers", type=int, default=2, help="reductions at once (default 2)")
-    srv.add_argument("--time-limit", type=float, default=120.0,
+    srv.add_argument("--workers", type=_count(1, 64), default=2, help="reductions at once (default 2)")
+    srv.add_argument("--time-limit", type=_seconds, default=120.0,
                      help="seconds one reduction may take (default 120)")
-    srv.add_argument("--memory-limit", type=int, default=3072,
+    srv.add_argument("--memory-limit", type=_count(256, 1 << 20), default=3072,
                      help="MiB of address space one reduction may take (default 3072)")
-    srv.add_argument("--max-file", type=int, default=200,
+    srv.add_argument("--max-file", type=_count(1, 1 << 20), default=200,
                      help="largest uploaded file, MiB (default 200)")
-    srv.add_argument("--max-upload", type=int, default=400,
+    srv.add_argument("--max-upload", type=_count(1, 1 << 20), default=400,
                      help="largest submission (all its files), MiB (default 400)")
     srv.set_defaults(func=_serve)
     return p

@@ -391,3 +391,26 @@ def test_a_zip_with_its_recording_opens_for_editing_and_reduces_the_same(client)
     assert values["decay.signal:kept"] == "decay.csv" and values["run[1].direction"] == "reverse"
     run = run_of(client, post(client, "lab9", values))
     assert comparable(client.get(f"{run}/report.json").json()) == expected_json(sample)
+
+
+@pytest.mark.parametrize("argv, file, problem", [
+    (["--class", "{tmp}/class"], "{tmp}/class", "--class needs the class's roster"),
+    (["--class", "{tmp}/class", "--roster", "{tmp}/none.csv"], "{tmp}/none.csv",
+     "file not found"),
+    (["--roster", "{tmp}/r.csv"], "{tmp}/r.csv", "--roster goes with --class"),
+])
+def test_serve_refuses_bad_options_with_one_clear_error(capsys, tmp_path, argv, file, problem):
+    from cli_contract import assert_one_clear_error, run
+
+    argv = [a.replace("{tmp}", str(tmp_path)) for a in argv]
+    code, out, err = run(capsys, "serve", "--port", str(_free_port()), *argv)
+    assert_one_clear_error(code, out, err, Path(file.replace("{tmp}", str(tmp_path))), None,
+                           problem, tmp_path / "nothing")
+
+
+def _free_port() -> int:
+    import socket
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]

@@ -53,10 +53,10 @@ class Classroom:
                  out: str | Path | None = None):
         from ..variants import read_roster
 
-        self.folder = Path(folder)
-        self.folder.mkdir(parents=True, exist_ok=True)
         self.roster_file = Path(roster)
         self.roster = read_roster(roster)
+        self.folder = Path(folder)
+        self.folder.mkdir(parents=True, exist_ok=True)
         self.keys = None if keys is None else Path(keys)
         self.out = Path(out) if out else self.folder.parent / f"{self.folder.name}-check"
         self.version = 0

@@ -84,9 +84,10 @@ def hint(f: Field, lang: str) -> str:
     elif f.series:
         bits.append("ряд значений через «;»" if ru else "a series of values, separated by ';'")
     if f.limit:
-        bits.append(f"{'прибор' if ru else 'instrument'} ± {f.limit}")
+        bits.append(f"{'прибор' if ru else 'instrument'} ± {unit_text(f.limit, lang)}")
     if f.default is not None:
-        shown = str(f.default).lower() if isinstance(f.default, bool) else f.default
+        shown = str(f.default).lower() if isinstance(f.default, bool) else \
+            unit_text(str(f.default), lang) if f.unit else f.default
         bits.append(f"{'по умолчанию' if ru else 'default'} {shown}")
     elif not f.required:
         bits.append("необязательно" if ru else "optional")

@@ -43,6 +43,21 @@ def settings(args):
                     hosts=(args.host, "localhost") if local else None, classroom=room)
 
 
+def _can_listen(host: str, port: int) -> None:
+    """Refuse an address this machine cannot listen on (a port in use, a foreign address)
+    before the link is printed."""
+    import socket
+
+    try:
+        with socket.create_server((host, port)):
+            pass
+    except OSError as exc:
+        raise InputError(f"cannot listen on {host}:{port} ({exc.strerror or exc})",
+                         "give another --port, or a --host of this machine",
+                         ru=(f"не удаётся слушать {host}:{port} ({exc.strerror or exc})",
+                             "укажите другой --port или --host этой машины")) from None
+
+
 def main(args) -> int:
     try:
         import multipart  # noqa: F401
@@ -51,6 +66,7 @@ def main(args) -> int:
         raise _missing() from None
     from .app import create_app
 
+    _can_listen(args.host, args.port)
     s = settings(args)
     app = create_app(s)
     shown = "localhost" if args.host == "127.0.0.1" else args.host
