@@ -278,10 +278,11 @@ def hog(conn, size):
 
 
 def test_worker_time_and_memory_limits_leave_the_pool_working():
-    pool = Pool(workers=1, limits=Limits(seconds=4.0, memory=1 << 30))
+    pool = Pool(workers=1, limits=Limits(seconds=2.0, memory=1 << 30))
 
     async def go():
-        slow = await pool.run(sleeper, 30)
+        slow = await pool.run(sleeper, 60)
+        pool.limits = Limits(seconds=120.0, memory=1 << 30)   # a loaded machine starts slowly
         fast = await pool.run(sleeper, 0)
         greedy = await pool.run(hog, 2 << 30)
         return slow, fast, greedy
