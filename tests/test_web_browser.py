@@ -39,7 +39,10 @@ def server(tmp_path_factory):
     proc = subprocess.Popen([sys.executable, "-m", "labs.cli", "serve", "--port", str(port),
                              "--class", str(tmp / "class"), "--roster", str(roster)],
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    lines = [proc.stdout.readline() for _ in range(3)]
+    lines = []
+    while not any("class?key=" in line for line in lines):
+        lines.append(proc.stdout.readline())
+        assert lines[-1] or proc.poll() is None, "".join(lines)
     teacher = re.search(r"(http://\S+/class\?key=\S+)", "".join(lines))[1]
     base = f"http://localhost:{port}"
     deadline = time.time() + 60

@@ -21,6 +21,7 @@ import tempfile
 import time
 import tomllib
 import zipfile
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -46,7 +47,8 @@ from . import forms
 from .classroom import Classroom
 from .sessions import Run, Session, Store, safe_name
 from .text import TEXT
-from .worker import MEASUREMENT, REPORTS, Busy, Limits, Pool, pdf_child, reduce_child
+from .worker import (MEASUREMENT, REPORTS, Busy, Limits, Pool, pdf_child, ready_child,
+                     reduce_child)
 
 MiB = 1 << 20
 COOKIE = "dynlab_session"
@@ -77,6 +79,7 @@ class Settings:
     root: Path | None = None
     classroom: Classroom | None = None
     report_wait: float = 60.0
+    on_start: Callable[[], None] | None = None
 
 
 class TooLarge(Exception):
@@ -420,6 +423,9 @@ class WebApp:
     @contextlib.asynccontextmanager
     async def lifespan(self, app):
         self._sweeper = asyncio.get_running_loop().create_task(self._sweep())
+        if self.s.on_start is not None:
+            await self.pool.run(ready_child)       # the toolkit imported before students come
+            self.s.on_start()
         try:
             yield
         finally:

@@ -3,6 +3,7 @@ is needed) and serve until interrupted."""
 from __future__ import annotations
 
 import secrets
+import sys
 from pathlib import Path
 
 from processing.diagnostics import InputError
@@ -58,20 +59,10 @@ def _can_listen(host: str, port: int) -> None:
                              "укажите другой --port или --host этой машины")) from None
 
 
-def main(args) -> int:
-    try:
-        import multipart  # noqa: F401
-        import uvicorn
-    except ImportError:
-        raise _missing() from None
-    from .app import create_app
-
-    _can_listen(args.host, args.port)
-    s = settings(args)
-    app = create_app(s)
+def _announce(args, s, say) -> None:
+    """Print the page's link (with its token) and the class page's, once it answers."""
     shown = "localhost" if args.host == "127.0.0.1" else args.host
     link = f"http://{shown}:{args.port}/" + (f"?token={s.token}" if s.token else "")
-    say = (lambda en, ru: ru) if args.says == "ru" else (lambda en, ru: en)
     print(say(f"dynlab serve: open {link}", f"dynlab serve: откройте {link}"), flush=True)
     if s.token:
         print(say("  (students need this link with its token; the page refuses requests "
@@ -86,6 +77,24 @@ def main(args) -> int:
                   f"{s.classroom.out.resolve()}/", f"  сданные работы — в "
                   f"{Path(s.classroom.folder).resolve()}/<id>/, сводка — в "
                   f"{s.classroom.out.resolve()}/"), flush=True)
+
+
+def main(args) -> int:
+    try:
+        import multipart  # noqa: F401
+        import uvicorn
+    except ImportError:
+        raise _missing() from None
+    from .app import create_app
+
+    _can_listen(args.host, args.port)
+    say = (lambda en, ru: ru) if args.says == "ru" else (lambda en, ru: en)
+    print(say("dynlab serve: starting (the toolkit is imported once, for every reduction) …",
+              "dynlab serve: запуск (программа загружается один раз для всех обработок) …"),
+          file=sys.stderr, flush=True)
+    s = settings(args)
+    s.on_start = lambda: _announce(args, s, say)
+    app = create_app(s)
     app.state.web.pool.warm()
     from ..registry import LABS
     from .forms import warm

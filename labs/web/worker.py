@@ -126,6 +126,11 @@ def _evaluate(conn, here: Path):
     return None
 
 
+def ready_child(conn) -> None:
+    """A child that only says it started: the forkserver has imported the toolkit."""
+    conn.send(("ok", None))
+
+
 def check_child(conn, argv: list[str]) -> None:
     """The child's work for a class: ``dynlab check`` with ``argv``, its exit status sent."""
     import contextlib
