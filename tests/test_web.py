@@ -415,3 +415,18 @@ def _free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
+
+
+def test_a_zip_bomb_is_cut_off_at_the_limit(tmp_path):
+    app = create_app(Settings(root=tmp_path, file_limit=100_000, submission_limit=200_000))
+    with TestClient(app) as c:
+        blob = io.BytesIO()
+        with zipfile.ZipFile(blob, "w", zipfile.ZIP_DEFLATED) as z:
+            z.writestr("m/m.toml", 'lab = "lab9"\n')
+            z.writestr("m/decay.csv", b"0" * 50_000_000)         # 50 MB in about 50 kB
+        assert len(blob.getvalue()) < 100_000
+        reply = c.post("/open", data={"csrf": csrf(c, "/")},
+                       files={"file": ("m.zip", blob.getvalue())})
+        assert reply.status_code == 422 and "unpacks to more than" in reply.text
+        stored = [p.stat().st_size for p in (tmp_path / "sessions").rglob("decay.csv")]
+        assert stored and max(stored) <= 100_000

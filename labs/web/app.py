@@ -21,6 +21,7 @@ import tempfile
 import time
 import tomllib
 import zipfile
+import zlib
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from importlib import resources
@@ -342,22 +343,17 @@ class WebApp:
         upload = form.get("file")
         if not isinstance(upload, UploadFile) or not upload.filename:
             return self.refuse(request, session, "bad_zip", 422)
-        data = await upload.read()
+        run = self.store.new_run(session, "")
         try:
-            doc, files = _unpack(data, self.s.file_limit, self.s.max_files)
+            doc, renamed = await asyncio.to_thread(
+                _unpack, upload.file, run.folder, self.s.file_limit, self.s.submission_limit,
+                self.s.max_files)
         except InputError as exc:
             return self.refuse(request, session, "bad_zip", 422, exc.text(session.lang))
         lab = doc.get("lab")
         if lab not in CATALOGUE:
-            return self.refuse(request, session, "bad_zip", 422, str(lab))
-        run = self.store.new_run(session, lab)
-        taken: set[str] = set()
-        renamed = {}
-        for name, blob in files.items():
-            stored = safe_name(name, taken)
-            taken.add(stored)
-            renamed[name] = stored
-            (run.folder / stored).write_bytes(blob)
+            return self.refuse(request, session, "bad_zip", 422, str(lab)[:80])
+        run.lab = lab
         values, counts = forms.values(doc, _spec(lab))
         values = {k: renamed.get(v, v) for k, v in values.items()}
         (run.folder / MEASUREMENT).write_text(dumps(doc), encoding="utf-8")
@@ -464,9 +460,12 @@ def _error(exc: InputError) -> dict:
     return {"field": exc.field, "en": exc.text("en"), "ru": exc.text("ru")}
 
 
-def _unpack(data: bytes, file_limit: int, max_files: int) -> tuple[TomlDocument, dict]:
-    """A measurement zip's TOML document and its other files (by name), within the limits:
-    one .toml, plain names, each file at most ``file_limit`` bytes uncompressed."""
+def _unpack(source, folder: Path, file_limit: int, total_limit: int,
+            max_files: int) -> tuple[TomlDocument, dict[str, str]]:
+    """A measurement zip's TOML document, its other files written into ``folder`` under safe
+    names (returned: name in the zip → name stored), within the limits: one .toml, at most
+    ``max_files`` files, each at most ``file_limit`` bytes and all at most ``total_limit``
+    unpacked (counted as they are written, whatever the zip declares)."""
     def bad(problem: str, problem_ru: str) -> InputError:
         return InputError(problem, "download the measurement zip from this page again, or "
                           "put one .toml and its files in a zip", ru=(
@@ -474,9 +473,9 @@ def _unpack(data: bytes, file_limit: int, max_files: int) -> tuple[TomlDocument,
                               "сложите в zip один .toml и его файлы"))
 
     try:
-        z = zipfile.ZipFile(io.BytesIO(data))
+        z = zipfile.ZipFile(source)
         infos = [i for i in z.infolist() if not i.is_dir()]
-    except zipfile.BadZipFile:
+    except (zipfile.BadZipFile, OSError):
         raise bad("not a zip file", "не zip-файл") from None
     if len(infos) > max_files:
         raise bad(f"the zip holds {len(infos)} files, more than {max_files}",
@@ -485,22 +484,34 @@ def _unpack(data: bytes, file_limit: int, max_files: int) -> tuple[TomlDocument,
     if len(tomls) != 1:
         raise bad(f"the zip holds {len(tomls)} .toml files, not one",
                   f"в zip {len(tomls)} файлов .toml, а не один")
-    files = {}
-    for info in infos:
-        limit = MEASUREMENT_KIND.limit if info in tomls else file_limit
-        if info.file_size > limit:
-            raise bad(f"{info.filename} is larger than {limit // MiB} MiB",
-                      f"{info.filename} больше {limit // MiB} МиБ")
+    left, renamed, text = total_limit, {}, ""
+
+    def copy(info, target, limit: int) -> int:
+        size = 0
         with z.open(info) as f:
-            blob = f.read(limit + 1)
-        if len(blob) > limit:
-            raise bad(f"{info.filename} is larger than {limit // MiB} MiB",
-                      f"{info.filename} больше {limit // MiB} МиБ")
-        if info not in tomls:
-            files[info.filename.rsplit("/", 1)[-1]] = blob
-    text = z.read(tomls[0]).decode("utf-8-sig", errors="replace")
+            while chunk := f.read(1 << 20):
+                size += len(chunk)
+                if size > limit:
+                    raise bad(f"{info.filename} unpacks to more than {limit // MiB} MiB",
+                              f"{info.filename} распаковывается больше чем в {limit // MiB} МиБ")
+                target.write(chunk)
+        return size
+
     try:
-        return TomlDocument(tomllib.loads(text), text), files
+        for info in infos:
+            if info in tomls:
+                blob = io.BytesIO()
+                left -= copy(info, blob, min(MEASUREMENT_KIND.limit, left))
+                text = blob.getvalue().decode("utf-8-sig", errors="replace")
+                continue
+            name = info.filename.rsplit("/", 1)[-1]
+            renamed[name] = safe_name(name, set(renamed.values()))
+            with open(folder / renamed[name], "wb") as out:
+                left -= copy(info, out, min(file_limit, left))
+    except (zipfile.BadZipFile, zlib.error, EOFError, NotImplementedError) as exc:
+        raise bad(f"the zip is damaged ({exc})", f"zip повреждён ({exc})") from None
+    try:
+        return TomlDocument(tomllib.loads(text), text), renamed
     except tomllib.TOMLDecodeError as exc:
         raise bad(f"its .toml does not parse ({exc})", f"его .toml не читается ({exc})") \
             from None

@@ -60,10 +60,13 @@ def _limit(limits: Limits) -> None:
 
 
 def _write(folder: Path, name: str, blob: bytes) -> None:
-    """Write a report whole or not at all."""
+    """Write a report whole or not at all (nothing if its session expired meanwhile)."""
     part = folder / f".{name}.part"
-    part.write_bytes(blob)
-    os.replace(part, folder / name)
+    try:
+        part.write_bytes(blob)
+        os.replace(part, folder / name)
+    except FileNotFoundError:
+        return
 
 
 def _child(target, conn, args: tuple, limits: Limits) -> None:
