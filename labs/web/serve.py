@@ -87,12 +87,12 @@ def main(args) -> int:
         raise _missing() from None
     from .app import create_app
 
+    s = settings(args)
     _can_listen(args.host, args.port)
     say = (lambda en, ru: ru) if args.says == "ru" else (lambda en, ru: en)
     print(say("dynlab serve: starting (the toolkit is imported once, for every reduction) …",
               "dynlab serve: запуск (программа загружается один раз для всех обработок) …"),
           file=sys.stderr, flush=True)
-    s = settings(args)
     s.on_start = lambda: _announce(args, s, say)
     app = create_app(s)
     app.state.web.pool.warm()
