@@ -55,6 +55,9 @@ MiB = 1 << 20
 COOKIE = "dynlab_session"
 TOKEN_COOKIE = "dynlab_token"
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
+PAGE_POLICY = ("default-src 'self'; img-src 'self' data:; style-src 'self'; script-src 'self'; "
+               "frame-ancestors 'none'; form-action 'self'")
+"""What the page's own documents may load: nothing from elsewhere, no inline script."""
 
 
 @dataclass
@@ -140,7 +143,9 @@ class WebApp:
         html = self.env.get_template(name).render(
             t=TEXT[lang], lang=lang, langs=LANGS, csrf=session.csrf, path=request.url.path,
             catalogue=CATALOGUE, classroom=self.classroom is not None, **context)
-        response = HTMLResponse(html, status_code=status)
+        response = HTMLResponse(html, status_code=status, headers={
+            "Content-Security-Policy": PAGE_POLICY, "X-Content-Type-Options": "nosniff",
+            "Referrer-Policy": "no-referrer"})
         self._cookie(response, session)
         return response
 
@@ -309,7 +314,8 @@ class WebApp:
         if not path.exists():
             return self.refuse(request, session, "report_missing", 503)
         stem = f"{run.lab}-{run.id[:6]}"
-        headers = {"Content-Security-Policy": "script-src 'none'"} if fmt == "html" else {}
+        headers = {"Content-Security-Policy": "script-src 'none'; frame-ancestors 'self'"} \
+            if fmt == "html" else {}
         disposition = "inline" if fmt == "html" or request.query_params.get("view") else \
             "attachment"
         return FileResponse(path, filename=f"{stem}.{fmt}", headers=headers,
