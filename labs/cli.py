@@ -5,6 +5,7 @@
     dynlab template LAB [--lang en|ru] [-o FILE]
     dynlab demo [--out DIR] [--lang en|ru]
     dynlab kinematics --lambda 0.25 [--offset z] [--step 5] [--approx] [--format table|csv]
+    dynlab serve [--host 127.0.0.1] [--port 8000] [--lang en|ru] [--class DIR --roster CSV]
 
 Bad input prints one message naming the file, the field and the fix, and exits with 2.
 The command's own lines and its messages are in the language of ``--lang``, or, where a
@@ -61,6 +62,27 @@ def _seed(text: str) -> int:
         raise argparse.ArgumentTypeError(f"a seed is a whole number from 0 to {MAX_SEED}, "
                                          f"got {text[:40]!r}")
     return int(text)
+
+
+def _count(least: int, most: int):
+    """An option's whole number from ``least`` to ``most``."""
+    def parse(text: str) -> int:
+        if not (text.isascii() and text.isdigit()) or not least <= int(text) <= most:
+            raise argparse.ArgumentTypeError(f"a whole number from {least} to {most}, got "
+                                             f"{text[:40]!r}")
+        return int(text)
+    return parse
+
+
+def _seconds(text: str) -> float:
+    """A positive, finite number of seconds."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0 < value < 1e6:
+        raise argparse.ArgumentTypeError(f"a number of seconds above 0, got {text[:40]!r}")
+    return value
 
 
 def _formats(text: str) -> tuple[str, ...]:
@@ -413,6 +435,12 @@ def _meta_id(path: Path) -> str | None:
     return sid if isinstance(sid, str) else None
 
 
+def _serve(args) -> int:
+    from .web.serve import main as serve
+
+    return serve(args)
+
+
 def _list(_args) -> int:
     for lab_id, entry in CATALOGUE.items():
         print(f"{lab_id:8} {entry.title['en']}  /  {entry.title['ru']}")
@@ -600,6 +628,28 @@ def parser(says: str = "en") -> argparse.ArgumentParser:
                      help="labs 3–7: the rig of this seed (0: the scene's own) under --seed's "
                           "readings and noise (default: --seed's own rig)")
     syn.set_defaults(func=_synth)
+    srv = sub.add_parser("serve", help="a local web page: each lab's form, its report; with "
+                         "--class, students hand in and the teacher watches the class")
+    srv.add_argument("--host", default="127.0.0.1", help="address to listen on (default "
+                     "127.0.0.1, this machine only; any other needs the printed link's token)")
+    srv.add_argument("--port", type=_count(1, 65535), default=8000)
+    srv.add_argument("--lang", choices=LANGS, help=LANG_HELP)
+    srv.add_argument("--class", dest="class_dir", metavar="DIR", help="the class folder: "
+                     "hand-ins go to DIR/<id>/ as dynlab check reads them")
+    srv.add_argument("--roster", metavar="ROSTER.csv", help="with --class: the class's roster "
+                     "(columns id,name)")
+    srv.add_argument("--keys", metavar="KEYDIR", help="with --class: the answer keys of the "
+                     "variants (as for dynlab check --keys)")
+    srv.add_argument("--workers", type=_count(1, 64), default=2, help="reductions at once (default 2)")
+    srv.add_argument("--time-limit", type=_seconds, default=120.0,
+                     help="seconds one reduction may take (default 120)")
+    srv.add_argument("--memory-limit", type=_count(256, 1 << 20), default=3072,
+                     help="MiB of address space one reduction may take (default 3072)")
+    srv.add_argument("--max-file", type=_count(1, 1 << 20), default=200,
+                     help="largest uploaded file, MiB (default 200)")
+    srv.add_argument("--max-upload", type=_count(1, 1 << 20), default=400,
+                     help="largest submission (all its files), MiB (default 400)")
+    srv.set_defaults(func=_serve)
     return p
 
 
