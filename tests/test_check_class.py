@@ -109,6 +109,11 @@ def test_a_submission_bound_by_its_meta_id_when_its_folder_is_no_id(tmp_path, ca
     rows = list(csv.DictReader((out / "summary.csv").open(encoding="utf-8")))
     assert code == 0 and {r["id"] for r in rows if r["status"] == "checked"} == {"s02"}
     assert {r["status"] for r in rows if r["id"] != "s02"} == {"absent"}
+    from labs.check import read_class
+    from labs.check_report import summary_csv
+
+    with (out / "summary.csv").open(encoding="utf-8", newline="") as written:
+        assert summary_csv(read_class(tmp_path / "class", keys=variants)) == written.read()
 
 
 def test_roster_without_keys_is_refused(tmp_path, capsys, variants):
