@@ -284,7 +284,8 @@ def moodle_csv(result: ClassCheck) -> str:
 # ------------------------------------------------------------------------------- HTML
 
 STYLE = """
-body{font-family:sans-serif;font-size:10pt;margin:1em}
+body{font-family:sans-serif;font-size:10pt;margin:1em;-webkit-print-color-adjust:exact;
+ print-color-adjust:exact}
 h1{font-size:14pt}h2{font-size:12pt}
 table{border-collapse:collapse;margin-bottom:1em}
 td,th{border:1px solid #999;padding:2px 5px;vertical-align:top}

@@ -167,6 +167,28 @@ def test_copies_of_recordings_are_found_by_their_bytes_and_a_file_everyone_has_i
     assert "r3.csv" in pair.text("ru")
 
 
+def test_a_recording_handed_in_twice_is_a_copy_whatever_the_files_readings(tmp_path):
+    """Lab 9's decay recording, the same bytes in two submissions whose tables of readings
+    differ: a copy, named by the file; its hash is taken as the check reads the file."""
+    sample = Path(__file__).resolve().parents[1] / "sample_data" / "lab9"
+    text = (sample / "synthetic_damper.toml").read_text(encoding="utf-8")
+    checked = []
+    for who, scale in (("ann", 1.0), ("bob", 1.07)):
+        folder = tmp_path / who
+        folder.mkdir()
+        (folder / "decay.csv").write_bytes((sample / "decay.csv").read_bytes())
+        edited = text if scale == 1.0 else "\n".join(
+            line if not line.startswith(("phi = ", "M = ")) else line.split("=")[0] + "= [" +
+            ", ".join(f"{float(x) * scale:.2f}" for x in line.split("[")[1].rstrip("]")
+                      .split(",")) + "]" for line in text.splitlines())
+        (folder / "damper.toml").write_text(edited + '\n[reported]\nC_static = "1 N*m/rad"\n',
+                                            encoding="utf-8")
+        checked.append(check(folder / "damper.toml", confine=True))
+    assert checked[0].readings != checked[1].readings
+    (pair,) = copies(checked)
+    assert pair.recordings == ("decay.csv",) and "decay.csv" in pair.text()
+
+
 def test_the_class_summary_a_row_per_student_with_marks_units_and_moodle_grades(
         tmp_path, capsys, variants):
     """s01 perfect, s02 one value ×1000, s03 s01's variant, s04 refused, s05 absent: a row
