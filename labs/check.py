@@ -189,8 +189,8 @@ def read_policy(path: str | Path | None) -> PolicyFile:
 
 def _rule(file: str, where: str, key: str, value):
     """One rule of a policy, checked."""
-    def bad(problem, fix):
-        return InputError(problem, fix, file=file, field=where)
+    def bad(problem, fix, ru=None):
+        return InputError(problem, fix, file=file, field=where, ru=ru)
 
     if key not in POLICY_RULES:
         if "." in where:
@@ -220,21 +220,28 @@ def _rule(file: str, where: str, key: str, value):
                       "sig_figs = 3")
         return value
     if key in ("points", "partial"):
-        top = math.inf if key == "points" else 1
         if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                or not math.isfinite(value) or not (0 < value < top if key == "points"
-                                                    else 0 <= value <= top):
-            raise bad(f"{key} = {value!r} is not " + ("a positive number" if key == "points"
-                                                      else "a share from 0 to 1"),
-                      "write the points a right value earns, e.g. points = 2" if key ==
-                      "points" else "write the share of the points a rounded or over-precise "
-                      "value earns, e.g. partial = 0.5")
+                or not math.isfinite(value) or not (0 < value if key == "points"
+                                                    else 0 <= value <= 1):
+            if key == "points":
+                raise bad(f"points = {value!r} is not a positive number", "write the points a "
+                          "right value earns, e.g. points = 2",
+                          ru=(f"points = {value!r} — не положительное число", "укажите, "
+                              "сколько баллов даёт верное значение, например points = 2"))
+            raise bad(f"partial = {value!r} is not a share from 0 to 1", "write the share of "
+                      "the points a rounded or over-precise value earns, e.g. partial = 0.5",
+                      ru=(f"partial = {value!r} — не доля от 0 до 1", "укажите долю баллов "
+                          "за округлённое или слишком точное значение, например "
+                          "partial = 0.5"))
         return float(value)
     if key == "student_u":
         if not isinstance(value, bool):
             raise bad(f"student_u = {value!r} is not true or false", "write student_u = true "
                       "to let a student's own plausible u widen what counts as right, or "
-                      "leave it out")
+                      "leave it out",
+                      ru=(f"student_u = {value!r} — не true и не false", "напишите "
+                          "student_u = true, чтобы правдоподобная u студента расширяла допуск, "
+                          "или уберите строку"))
         return value
     if not isinstance(value, list) or not all(isinstance(n, str) and n.strip()
                                               for n in value):

@@ -105,6 +105,26 @@ def test_a_policy_allows_a_students_u_by_student_u(tmp_path):
         read_policy(policy)
 
 
+def test_a_policy_marks_by_points_and_partial(tmp_path):
+    from labs.check import Check, mark
+
+    policy = tmp_path / "policy.toml"
+    policy.write_text("points = 2\npartial = 0.25\n[lab5]\npoints = 3\n", encoding="utf-8")
+    read = read_policy(policy)
+    assert read.marking("lab5") == (3.0, 0.25) and read.marking("lab1") == (2.0, 0.25)
+    verdicts = [judge(n, None if n == "d" else Reported(n, x, digits=digits, last_place=place),
+                      1.0, 0.001, "m") for n, x, digits, place in
+                (("a", 1.0, 4, 1e-3), ("b", 1.004, 2, 0.1), ("c", 2.0, 4, 1e-3), ("d", 0, 0, 0))]
+    assert [v.verdict for v in verdicts] == ["right", "rounded", "wrong", "missing"]
+    assert mark(Check("f", "lab1", "s", verdicts, ()), read) == (2 * 1.25, 2 * 4)
+    assert mark(Check("f", "lab1", "s", verdicts, (), expected=("a", "c")), read) == (2, 4)
+    for text, rule in (("points = 0", "points"), ("partial = 1.5", "partial")):
+        policy.write_text(text + "\n", encoding="utf-8")
+        with pytest.raises(InputError, match=rule) as error:
+            read_policy(policy)
+        assert error.value.ru
+
+
 def test_written_digits_count_as_a_teacher_counts():
     assert written_digits("0.01230 kg") == (4, -5)
     assert written_digits("1800 rpm") == (2, 2)
