@@ -34,6 +34,7 @@ import math
 import re
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
+from functools import cache
 
 VERDICTS = ("right", "rounded", "over-precise", "wrong", "missing")
 """Every verdict, best first."""
@@ -119,6 +120,7 @@ def _pressure(unit: str) -> bool:
     return _dimension(unit) == _dimension("Pa")
 
 
+@cache
 def _dimension(unit: str) -> str | None:
     from .units import dimension
 

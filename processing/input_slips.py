@@ -14,6 +14,7 @@ import math
 import re
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
+from functools import cache
 from pathlib import Path
 
 from .measurement import Field, Inputs
@@ -55,8 +56,13 @@ class InputSlip:
     together: bool = False
 
 
+@cache
+def _dimension(unit: str) -> str:
+    return dimension(unit)
+
+
 def _unit_is(dim: str) -> Callable[[Field], bool]:
-    return lambda f: bool(f.unit) and f.kind == "quantity" and dimension(f.unit) == dim
+    return lambda f: bool(f.unit) and f.kind == "quantity" and _dimension(f.unit) == dim
 
 
 _RADIUS_OR_DIAMETER = re.compile(r"[rRdDS](?:\d|_|$)")
