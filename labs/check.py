@@ -12,7 +12,14 @@ Each reported value is judged against the reduction of the same file; a wrong on
 against the generic slips (:data:`processing.grading.FACTOR_SLIPS`) and the lab's own
 (``SLIPS`` of the lab module: inputs changed as the slip changes them, reduced again, or a
 factor on the results a slip of the arithmetic changes; only the slips that change a value
-reported wrong are made).
+reported wrong are made); a wrong value none of those explains is tried against the formula's
+transcendental constants (:data:`processing.grading.TRANSCENDENTAL_SLIPS`: 4π², π²), then
+against the slips of the formula's inputs (:mod:`processing.input_slips`, reduced again) and
+its plain constants (½, 2, g = 10).
+
+A class (:func:`read_class`, :func:`check_class`) is every submission checked, the refused
+ones with their reasons, the copies (:func:`copies`) and the roster: what the summary
+(:mod:`labs.check_report`) and the marks (:func:`mark`) are made from.
 
 A lab with tables to check (:data:`TABLE_CHECKS`: the coursework) also takes
 ``[reported.tables]``, a CSV file per table, judged row by row by the lab's checker.

@@ -16,7 +16,13 @@ summed tangential force and the compression polytrope, each right or through one
 exact or two-harmonic kinematics. The class is then checked file by file as ``dynlab check
 DIR`` does, timed.
 
-Targets: every injected slip found and named (recall 100 %), no right value called anything
+The slips drawn include those inside formulas: of the inputs
+(:data:`processing.input_slips.INPUT_SLIPS`, re-reduced) and of the constants
+(:data:`processing.grading.CONSTANT_SLIPS`); copies are seeded in every lab with readings, those
+of labs 3, 4, 6 and 7 handing in the same recordings.
+
+Targets: every injected slip found and named (recall 100 %), the slips inside formulas named
+in at least :data:`FORMULA_RECALL` of cases, no right value called anything
 but right, rounded or over-precise (0 false alarms), and a class of 200 submissions of each lab
 checked within a minute on one core (the slowest lab's mean time per submission, times 200;
 :func:`summary_lines` gives every lab's).
