@@ -12,7 +12,14 @@ Each reported value is judged against the reduction of the same file; a wrong on
 against the generic slips (:data:`processing.grading.FACTOR_SLIPS`) and the lab's own
 (``SLIPS`` of the lab module: inputs changed as the slip changes them, reduced again, or a
 factor on the results a slip of the arithmetic changes; only the slips that change a value
-reported wrong are made).
+reported wrong are made); a wrong value none of those explains is tried against the formula's
+transcendental constants (:data:`processing.grading.TRANSCENDENTAL_SLIPS`: 4π², π²), then
+against the slips of the formula's inputs (:mod:`processing.input_slips`, reduced again) and
+its plain constants (½, 2, g = 10).
+
+A class (:func:`read_class`, :func:`check_class`) is every submission checked, the refused
+ones with their reasons, the copies (:func:`copies`) and the roster: what the summary
+(:mod:`labs.check_report`) and the marks (:func:`mark`) are made from.
 
 A lab with tables to check (:data:`TABLE_CHECKS`: the coursework) also takes
 ``[reported.tables]``, a CSV file per table, judged row by row by the lab's checker.
@@ -24,13 +31,14 @@ import importlib
 import math
 import re
 import tomllib
+import warnings
 from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from processing.diagnostics import InputError
-from processing.grading import FACTOR_SLIPS, Z_LIMIT, Policy, Reported, Slip, Verdict, judge, \
+from processing.grading import CONSTANT_SLIPS, FACTOR_SLIPS, TRANSCENDENTAL_SLIPS, Z_LIMIT, Policy, Reported, Slip, Verdict, judge, \
     written_digits
 
 from .registry import LABS, evaluate, lab_module
@@ -68,6 +76,15 @@ class Check:
     values_of: str | None = None
     """The id of another student whose key the reported values are (where the readings are
     not that student's too), or None."""
+    shown: dict = field(default_factory=dict)
+    """Each result's display unit, symbol and SI unit, ``name → (unit, symbol, si)``: how the
+    lab's report prints it (kN/mm, not N/m)."""
+    recordings: tuple[tuple[str, str], ...] = ()
+    """(name, SHA-256 of the content) of every file the measurements name (recordings,
+    photographs): a copied recording is the same bytes (:func:`copies`)."""
+    expected: tuple[str, ...] = ()
+    """What the submission had to report (the policy's ``expected``, or what the lab asks
+    where the submission has a key): what its mark counts; every value judged where empty."""
 
     def to_dict(self) -> dict:
         out = {"file": self.file, "lab": self.lab, "student": self.student,
@@ -92,8 +109,15 @@ def _verdict_dict(v: Verdict) -> dict:
             "slip_text": None if v.slip is None else v.slip.text}
 
 
-POLICY_RULES = ("rel_tol", "sig_figs", "expected")
+POLICY_RULES = ("rel_tol", "sig_figs", "expected", "student_u", "points", "partial")
 """The keys of a policy, at its top and in a lab's table."""
+
+POINTS = 1.0
+"""Points a right value earns, where the policy gives no ``points``."""
+
+PARTIAL = 0.5
+"""Share of its points a right value written rounded or over-precise earns, where the policy
+gives no ``partial``."""
 
 MOST_SIG_FIGS = 15
 """Most significant figures a policy may ask for: what a double holds."""
@@ -116,7 +140,13 @@ class PolicyFile:
         if expected is None:
             expected = tuple(n for n in self.top.get("expected", ()) if knows(n))
         return Policy(rules.get("rel_tol", Policy.rel_tol), rules.get("sig_figs", Policy.sig_figs),
-                      expected)
+                      expected, rules.get("student_u", Policy.student_u))
+
+    def marking(self, lab: str) -> tuple[float, float]:
+        """``lab``'s points per value and the share of them a right value written rounded or
+        over-precise earns (:data:`POINTS`, :data:`PARTIAL` without a rule)."""
+        rules = {**self.top, **self.labs.get(lab, {})}
+        return rules.get("points", POINTS), rules.get("partial", PARTIAL)
 
     def expects(self, lab: str, knows=lambda name: True) -> bool:
         """Whether the policy says what ``lab``'s submissions must report: an ``expected``
@@ -127,7 +157,9 @@ class PolicyFile:
 
 def read_policy(path: str | Path | None) -> PolicyFile:
     """The teacher's policy from a TOML file: top-level ``rel_tol``, ``sig_figs``,
-    ``expected``, overridden by a ``[labN]`` table; the defaults of :class:`Policy` without
+    ``expected``, ``student_u`` (whether a student's plausible u may widen what is right),
+    ``points`` (per value) and ``partial`` (the share of them a rounded or over-precise value
+    earns), overridden by a ``[labN]`` table; the defaults of :class:`Policy` without
     a file.
 
     Raises
@@ -135,7 +167,8 @@ def read_policy(path: str | Path | None) -> PolicyFile:
     InputError
         A file that is not a policy (:mod:`processing.files`, TOML syntax); an unknown key or
         lab (with a did-you-mean); ``rel_tol`` not a fraction in [0, 1), ``sig_figs`` not a
-        whole number from 1 to :data:`MOST_SIG_FIGS`, ``expected`` not a list of names.
+        whole number from 1 to :data:`MOST_SIG_FIGS`, ``expected`` not a list of names,
+        ``student_u`` not true or false, ``points`` not positive, ``partial`` not in [0, 1].
     """
     from processing.files import POLICY, read_text
 
@@ -163,8 +196,8 @@ def read_policy(path: str | Path | None) -> PolicyFile:
 
 def _rule(file: str, where: str, key: str, value):
     """One rule of a policy, checked."""
-    def bad(problem, fix):
-        return InputError(problem, fix, file=file, field=where)
+    def bad(problem, fix, ru=None):
+        return InputError(problem, fix, file=file, field=where, ru=ru)
 
     if key not in POLICY_RULES:
         if "." in where:
@@ -192,6 +225,30 @@ def _rule(file: str, where: str, key: str, value):
             raise bad(f"sig_figs = {value!r} is not a whole number from 1 to {MOST_SIG_FIGS}",
                       "write how many significant figures a value must have, e.g. "
                       "sig_figs = 3")
+        return value
+    if key in ("points", "partial"):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) \
+                or not math.isfinite(value) or not (0 < value if key == "points"
+                                                    else 0 <= value <= 1):
+            if key == "points":
+                raise bad(f"points = {value!r} is not a positive number", "write the points a "
+                          "right value earns, e.g. points = 2",
+                          ru=(f"points = {value!r} — не положительное число", "укажите, "
+                              "сколько баллов даёт верное значение, например points = 2"))
+            raise bad(f"partial = {value!r} is not a share from 0 to 1", "write the share of "
+                      "the points a rounded or over-precise value earns, e.g. partial = 0.5",
+                      ru=(f"partial = {value!r} — не доля от 0 до 1", "укажите долю баллов "
+                          "за округлённое или слишком точное значение, например "
+                          "partial = 0.5"))
+        return float(value)
+    if key == "student_u":
+        if not isinstance(value, bool):
+            raise bad(f"student_u = {value!r} is not true or false", "write student_u = true "
+                      "to let a student's own plausible u widen what counts as right, or "
+                      "leave it out",
+                      ru=(f"student_u = {value!r} — не true и не false", "напишите "
+                          "student_u = true, чтобы правдоподобная u студента расширяла допуск, "
+                          "или уберите строку"))
         return value
     if not isinstance(value, list) or not all(isinstance(n, str) and n.strip()
                                               for n in value):
@@ -424,6 +481,27 @@ def _lab_slips(module, results, inputs, options, wrong=None) -> list[Slip]:
     return out
 
 
+def _input_slips(module, inputs, options, names) -> list[Slip]:
+    """The slips of the formula's inputs (:data:`processing.input_slips.INPUT_SLIPS`: min⁻¹
+    used as rad/s, g = 10, a diameter for a radius, T for T² …), each reduced again from the
+    inputs it leaves, as the values of ``names`` it gives."""
+    from processing.input_slips import slipped_inputs
+
+    out = []
+    for slip, symbol, changed in slipped_inputs(inputs):
+        try:
+            with warnings.catch_warnings():     # the slipped data's warnings are not the file's
+                warnings.simplefilter("ignore")
+                result = module.reduce(changed, **options)
+        except (InputError, ValueError, ZeroDivisionError, FloatingPointError):
+            continue
+        out.append(Slip(slip.name, {lang: t.format(symbol=symbol) for lang, t in
+                                    slip.text.items()},
+                        reduced={k: result.results[k].value for k in names
+                                 if k in result.results}))
+    return out
+
+
 def read_key(path: str | Path) -> dict[str, float]:
     """The ``"results"`` of an answer key (``dynlab synth``): result names to true values.
 
@@ -653,7 +731,7 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
         key = variants.keys[sid]
     if key and not policy.expects(result.lab, knows):
         rules = Policy(rules.rel_tol, rules.sig_figs, tuple(
-            n for n in asked(result.lab, result.results) if n in key))
+            n for n in asked(result.lab, result.results) if n in key), rules.student_u)
     names = list(reported) + [n for n in rules.expected if n not in reported]
     reference = {n: (r.value, r.u, r.unit, r.estimate.k) for n, r in result.results.items()}
     readings_of = values_of = None
@@ -688,6 +766,16 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
         slips = own_slips + _lab_slips(module, result.results, inputs, options, wrong) \
             + list(FACTOR_SLIPS)
         verdicts = [judged(v.name, slips) if v.verdict == "wrong" else v for v in verdicts]
+    for stage in (lambda names: list(TRANSCENDENTAL_SLIPS),
+                  lambda names: _input_slips(module, inputs(), options, names)
+                  + list(CONSTANT_SLIPS)):
+        # slips inside the formula, for a wrong value nothing else explains: the constants
+        # no input makes (cheap), then the inputs, each reduced again
+        unexplained = {v.name for v in verdicts if v.verdict == "wrong" and v.slip is None}
+        if not unexplained or readings_of:
+            break
+        slips = stage(unexplained)
+        verdicts = [judged(v.name, slips) if v.name in unexplained else v for v in verdicts]
     judged_tables = []
     if tables is not None:
         if result.lab not in TABLE_CHECKS:
@@ -700,8 +788,11 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
     if variants is not None and sid:    # the roster's name; the file's, if the file is theirs
         student = variants.names.get(sid) or (
             student if result.meta.get("id", sid) == sid else sid)
+    shown = {n: (r.display_unit or r.unit, r.symbol or n, r.unit)
+             for n, r in result.results.items()}
     return Check(str(path), result.lab, student, verdicts, _readings(data), judged_tables,
-                 tuple(result.results), sid, readings_of, values_of)
+                 tuple(result.results), sid, readings_of, values_of, shown,
+                 _recordings(inputs()), rules.expected)
 
 
 _NUMBER_TEXT = re.compile(r"(?<![\w^.*/])[-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?(?![\w.])")
@@ -735,6 +826,32 @@ def _readings(data: dict) -> tuple[str, ...]:
     return tuple(out)
 
 
+def _recordings(inputs) -> tuple[tuple[str, str], ...]:
+    """(name, SHA-256) of each file the inputs name, in order, each once."""
+    import hashlib
+
+    paths = []
+
+    def walk(x):
+        if isinstance(x, Path):
+            paths.append(x)
+        elif isinstance(x, dict):
+            for v in x.values():
+                walk(v)
+        elif isinstance(x, (list, tuple)):
+            for v in x:
+                walk(v)
+
+    walk(inputs.sections)
+    out = {}
+    for p in paths:
+        try:
+            out.setdefault(p.name, hashlib.sha256(p.read_bytes()).hexdigest())
+        except OSError:                 # the reduction read it; a file gone since is no copy
+            continue
+    return tuple(out.items())
+
+
 COPY_DIFFERING = 2
 """Readings two submissions may differ in (edited, added or dropped) and still be a copy; a
 tenth of the readings where that is more."""
@@ -765,6 +882,8 @@ class Copy:
     evidence : tuple of str
         The shared readings that are not the class's common ones, as written (the first few
         are shown).
+    recordings : tuple of str
+        The files (recordings, photographs) of the same bytes, by name.
     """
 
     a: Check
@@ -773,17 +892,21 @@ class Copy:
     rounded: int
     differing: int
     evidence: tuple[str, ...]
+    recordings: tuple[str, ...] = ()
 
     def text(self, lang: str = "en") -> str:
         """The evidence in words."""
         n = max(len(self.a.readings), len(self.b.readings))
         shown = ", ".join(self.evidence[:6]) + (" …" if len(self.evidence) > 6 else "")
+        files = ", ".join(self.recordings[:4]) + (" …" if len(self.recordings) > 4 else "")
         if lang == "ru":
             return (f"{self.same + self.rounded} из {n} замеров совпадают в том же порядке "
                     f"({self.rounded} с точностью до округления), {self.differing} отличаются; "
-                    f"общие: {shown}")
+                    f"общие: {shown}" + (f"; те же файлы записей (байт в байт): {files}"
+                                         if files else ""))
         return (f"{self.same + self.rounded} of {n} readings the same in the same order "
-                f"({self.rounded} up to rounding), {self.differing} differ; shared: {shown}")
+                f"({self.rounded} up to rounding), {self.differing} differ; shared: {shown}"
+                + (f"; the same recordings (byte for byte): {files}" if files else ""))
 
 
 def _decimals(text: str) -> int:
@@ -820,18 +943,10 @@ def _values(c: Check) -> list[str]:
     return [repr(float(t)) for t in c.readings]
 
 
-def _copy(a: Check, b: Check, va: list[str], vb: list[str], rarity: dict[str, float],
-          surprise: float) -> Copy | None:
-    """The evidence that ``a`` and ``b`` are copies, or None: their readings aligned in order
-    (:class:`difflib.SequenceMatcher`), identical ones and ones identical up to rounding in
-    the places where they differ; a copy differs in at most :data:`COPY_DIFFERING` readings
-    (or a tenth) and the readings it shares are rarer than ``surprise`` decades
-    (:func:`_rarity`: the class's common ones count nothing); ``va``, ``vb`` their
-    :func:`_values`."""
-    n = max(len(va), len(vb))
-    allowed = max(COPY_DIFFERING, n // 10)
-    if not n or abs(len(va) - len(vb)) > allowed:
-        return None
+def _aligned(a: Check, b: Check, va: list[str], vb: list[str]) -> tuple[int, int, list[int]]:
+    """The readings of ``a`` and ``b`` aligned in order (:class:`difflib.SequenceMatcher`):
+    how many identical, how many identical up to rounding in the places where they differ,
+    and the indices in ``a`` of both kinds; ``va``, ``vb`` their :func:`_values`."""
     same = rounded = 0
     shared = []
     matcher = difflib.SequenceMatcher(None, va, vb, autojunk=False)
@@ -844,17 +959,43 @@ def _copy(a: Check, b: Check, va: list[str], vb: list[str], rarity: dict[str, fl
                 if _same_rounded(a.readings[i], b.readings[j]):
                     rounded += 1
                     shared.append(i)
+    return same, rounded, shared
+
+
+def _copy(a: Check, b: Check, va: list[str], vb: list[str], rarity: dict[str, float],
+          surprise: float, recordings: tuple[str, ...] = ()) -> Copy | None:
+    """The evidence that ``a`` and ``b`` are copies, or None: their readings aligned in order
+    (:func:`_aligned`); a copy differs in at most :data:`COPY_DIFFERING` readings (or a
+    tenth) and the readings it shares are rarer than ``surprise`` decades (:func:`_rarity`:
+    the class's common ones count nothing) — or it shares ``recordings``, files of the same
+    bytes that no other submissions share (a recording copied); ``va``, ``vb`` their
+    :func:`_values`."""
+    n = max(len(va), len(vb))
+    allowed = max(COPY_DIFFERING, n // 10)
+    if not recordings and (not n or abs(len(va) - len(vb)) > allowed):
+        return None
+    same, rounded, shared = _aligned(a, b, va, vb)
     differing = n - same - rounded
     evidence = [i for i in shared if rarity.get(va[i], 0.0) > 0]
-    if differing > allowed or sum(rarity.get(va[i], 0.0) for i in evidence) < surprise:
+    if not recordings and (differing > allowed or sum(rarity.get(va[i], 0.0)
+                                                      for i in evidence) < surprise):
         return None
-    return Copy(a, b, same, rounded, differing, tuple(a.readings[i] for i in evidence))
+    return Copy(a, b, same, rounded, differing, tuple(a.readings[i] for i in evidence),
+                recordings)
 
 
 COPY_SHARED = 0.5
 """Share of the fewer uncommon values two submissions must have in common (in any order) to
 be compared in order: honest lab 5 variants share at most 0.47 of them (200 variants, 19 900
 pairs), a copy with two readings edited 0.9 or more."""
+
+
+def _own_recordings(group: list[Check]) -> list[set[str]]:
+    """The digests of each submission's files that are not the class's common ones (a file
+    in :data:`COMMON_SHARE` of the submissions, three at least: one handed to everyone)."""
+    seen = Counter(d for c in group for d in {d for _, d in c.recordings})
+    least = max(3, COMMON_SHARE * len(group))
+    return [{d for _, d in c.recordings if seen[d] < least} for c in group]
 
 
 def copies(checks: list[Check]) -> list[Copy]:
@@ -872,12 +1013,163 @@ def copies(checks: list[Check]) -> list[Copy]:
         rarity = _rarity(values)
         surprise = COPY_SURPRISE + math.log10(max(len(group) * (len(group) - 1) // 2, 1))
         own = [{v for v in vs if rarity[v] > 0} for vs in values]
+        files = _own_recordings(group)
         for i, a in enumerate(group):
             for j in range(i + 1, len(group)):
+                same_files = tuple(name for name, digest in a.recordings
+                                   if digest in files[i] & files[j])
                 fewer = min(len(own[i]), len(own[j]))
-                if not fewer or len(own[i] & own[j]) < COPY_SHARED * fewer:
+                if not same_files and (not fewer
+                                       or len(own[i] & own[j]) < COPY_SHARED * fewer):
                     continue
-                found = _copy(a, group[j], values[i], values[j], rarity, surprise)
+                found = _copy(a, group[j], values[i], values[j], rarity, surprise, same_files)
                 if found is not None:
                     out.append(found)
     return out
+
+
+CREDIT = {"right": 1.0, "rounded": None, "over-precise": None, "wrong": 0.0, "missing": 0.0}
+"""Share of a value's points each verdict earns (None: the policy's ``partial``)."""
+
+
+def mark(c: Check, policy: PolicyFile) -> tuple[float, float]:
+    """A submission's mark by the policy (:meth:`PolicyFile.marking`): the points its values
+    earn and the points it could earn. The values counted are those it had to report
+    (:attr:`Check.expected`), or every value judged where nothing was expected; a reported
+    table counts as a value, earning its points where all of it is right."""
+    points, partial = policy.marking(c.lab)
+    counted = [v for v in c.verdicts if not c.expected or v.name in c.expected]
+    shares = [partial if CREDIT[v.verdict] is None else CREDIT[v.verdict] for v in counted]
+    shares += [1.0 if t.verdict == "right" else 0.0 for t in c.tables]
+    return points * sum(shares), points * len(shares)
+
+
+@dataclass(frozen=True)
+class ClassCheck:
+    """A class checked (:func:`check_class`): what a summary is made from.
+
+    Attributes
+    ----------
+    checks : list of Check
+    refused : dict
+        A submission that could not be checked: its file → the reason, in the class's
+        language.
+    pairs : list of Copy
+        The copies found (:func:`copies`).
+    policy : PolicyFile
+    variants : Variants or None
+        The keys (``--keys``) and the roster's names: every student of the roster has a row
+        of the summary, handed in or not.
+    refused_ids : dict
+        A refused submission's file → the student's id, where its folder names one.
+    problems : dict
+        A refused submission's file → the :class:`InputError` (or the line of a failure of
+        the toolkit), for a caller to say in its own language.
+    """
+
+    checks: list[Check]
+    refused: dict[str, str]
+    pairs: list[Copy]
+    policy: PolicyFile = field(default_factory=PolicyFile)
+    variants: Variants | None = None
+    refused_ids: dict[str, str] = field(default_factory=dict)
+    problems: dict = field(default_factory=dict)
+
+    def roster(self) -> list[tuple[str, str]]:
+        """(id, name) of every student the class has: the roster's, or every key's."""
+        if self.variants is None:
+            return []
+        ids = list(self.variants.names) or sorted({*self.variants.keys, *self.variants.bad})
+        return [(sid, self.variants.names.get(sid, sid)) for sid in ids]
+
+
+def folder_id(path: Path, folders) -> str | None:
+    """The <id> of a submission in ``<folder>/<id>/…`` for one of ``folders`` (None for a file
+    at a folder's top, or in none of them)."""
+    from processing.files import resolved
+
+    for folder in folders:
+        try:
+            parts = resolved(path).relative_to(resolved(folder)).parts
+        except ValueError:
+            continue
+        return parts[0] if len(parts) > 1 else None
+    return None
+
+
+def _meta_id(path: Path) -> str | None:
+    """The ``[meta] id`` of a measurement file, if it gives one."""
+    from processing.measurement import read_toml
+
+    sid = read_toml(path).get("meta", {}).get("id")
+    return sid if isinstance(sid, str) else None
+
+
+def check_class(files, folders=(), *, policy: PolicyFile | None = None,
+                variants: Variants | None = None, keys: str | Path | None = None,
+                lang: str = "en", progress=lambda items: items, crash=None) -> ClassCheck:
+    """Check the submissions of a class: each file bound to its student (by its folder
+    ``<folder>/<id>/`` of ``folders``, or its ``[meta] id``) where ``variants`` (read from
+    ``keys``) are given, checked with ``confine`` where the files come from ``folders``; a
+    submission that cannot be checked is refused with its reason (in ``lang``), the others
+    checked; the copies found.
+
+    Parameters
+    ----------
+    crash : callable, optional
+        ``crash(exc, path)`` for a failure of the toolkit on one file (not bad input): the
+        line that refuses it, or it raises. Without it, the failure is raised.
+
+    Raises
+    ------
+    InputError
+        A policy's ``expected`` no submission gives (:func:`unknown_expected`).
+    """
+    policy = policy or PolicyFile()
+    checks, refused, ids, problems = [], {}, {}, {}
+    for path in progress(files):
+        sid = folder_id(path, folders)
+        try:
+            if variants is not None:
+                sid = student_key(variants, sid, _meta_id(path), path, keys)
+            checks.append(check(path, policy=policy, confine=bool(folders), variants=variants,
+                                sid=sid))
+        except InputError as exc:
+            refused[str(path)], problems[str(path)] = exc.text(lang), exc
+            ids.update({str(path): sid} if sid else {})
+        except Exception as exc:
+            if crash is None:
+                raise
+            refused[str(path)] = problems[str(path)] = crash(exc, str(path))
+            ids.update({str(path): sid} if sid else {})
+    unknown_expected(checks, policy)
+    return ClassCheck(checks, refused, copies(checks), policy, variants, ids, problems)
+
+
+def read_class(folder: str | Path, *, policy: str | Path | None = None,
+               keys: str | Path | None = None, roster: str | Path | None = None,
+               lang: str = "en") -> ClassCheck:
+    """Check a class folder as ``dynlab check FOLDER [--policy P] [--keys K [--roster R]]``
+    does (:func:`check_class` of every ``.toml`` under it): the entry point for a program
+    (the web page) that checks a class and writes its summary
+    (:func:`labs.check_report.write_summary`).
+
+    Raises
+    ------
+    InputError
+        A bad policy, roster or keys folder; no submission in the folder; a policy's
+        ``expected`` no submission gives.
+    """
+    from .variants import read_roster
+
+    folder = Path(folder)
+    files = sorted(folder.rglob("*.toml"))
+    if not files:
+        raise InputError("no .toml submission in the folder", "give the folder holding the "
+                         "students' measurement files", file=str(folder),
+                         ru=("в папке нет ни одного файла .toml",
+                             "укажите папку с файлами измерений студентов"))
+    variants = None if keys is None else read_variants(
+        keys, None if roster is None else read_roster(roster))
+    return check_class(files, [folder], policy=read_policy(policy), variants=variants,
+                       keys=keys, lang=lang)

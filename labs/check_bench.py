@@ -16,7 +16,13 @@ summed tangential force and the compression polytrope, each right or through one
 exact or two-harmonic kinematics. The class is then checked file by file as ``dynlab check
 DIR`` does, timed.
 
-Targets: every injected slip found and named (recall 100 %), no right value called anything
+The slips drawn include those inside formulas: of the inputs
+(:data:`processing.input_slips.INPUT_SLIPS`, re-reduced) and of the constants
+(:data:`processing.grading.CONSTANT_SLIPS`); copies are seeded in every lab with readings, those
+of labs 3, 4, 6 and 7 handing in the same recordings.
+
+Targets: every injected slip found and named (recall 100 %), the slips inside formulas named
+in at least :data:`FORMULA_RECALL` of cases, no right value called anything
 but right, rounded or over-precise (0 false alarms), and a class of 200 submissions of each lab
 checked within a minute on one core (the slowest lab's mean time per submission, times 200;
 :func:`summary_lines` gives every lab's).
@@ -34,10 +40,11 @@ import pandas as pd
 
 from processing.bench.harness import Target, environment, write_rows, write_targets
 from processing.diagnostics import InputError
-from processing.grading import FACTOR_SLIPS, Policy, Reported, agrees
+from processing.grading import CONSTANT_SLIPS, FACTOR_SLIPS, Policy, Reported, agrees
+from processing.input_slips import INPUT_SLIPS
 from processing.measurement import load, read_toml
 
-from .check import Check, _lab_slips, check, copies
+from .check import CHECK_SAMPLES, Check, _input_slips, _lab_slips, check, copies
 from .registry import LABS, evaluate
 
 LABS_CHECKED = ("lab1", "lab2", "lab3", "lab4", "lab5", "lab6", "lab7", "lab8", "lab9", "dyncalc")
@@ -74,10 +81,16 @@ def _written(lab_id: str, seed: int, folder: Path) -> dict:
 
 
 def _unique(candidates: list[tuple[str, float]], name: str, r) -> list[tuple[str, float]]:
-    """The candidates no other slip imitates (its value agrees with none of theirs)."""
+    """The candidates no other slip imitates: its value, written to four figures, agrees with
+    none of theirs as the check tries a slip (:func:`processing.grading.judge`: the
+    candidate's u scaled with it, half the last digit written)."""
+    def written(v: float) -> Reported:
+        place = 10.0 ** (math.floor(math.log10(abs(v))) - 3) if v else 0.0
+        return Reported(name, v, digits=4, last_place=place)
+
     return [(n, v) for n, v in candidates
-            if not any(m != n and agrees(Reported(name, v, digits=4), w, r.u, Policy(),
-                                     k=r.estimate.k)[0]
+            if not any(m != n and agrees(written(v), w, r.u * abs(w / r.value), Policy(),
+                                         k=r.estimate.k)[0]
                        for m, w in candidates)]
 
 
@@ -88,13 +101,14 @@ def _submission(lab_id: str, seed: int, folder: Path, rng) -> list[dict]:
     ours = evaluate(written["toml"], n_samples=500).results
     data = read_toml(written["toml"])
     inputs = load(written["toml"], module.SPEC, data)
-    lab_slips = _lab_slips(module, ours, lambda: inputs, {"n_samples": 500})
     names = [n for n in ours if math.isfinite(ours[n].value) and ours[n].value != 0]
+    lab_slips = _lab_slips(module, ours, lambda: inputs, {"n_samples": 500}) \
+        + _input_slips(module, inputs, {"n_samples": CHECK_SAMPLES}, names)
     lines, injected = [], []
     for name in names:
         r = ours[name]
         candidates = [(s.name, s.candidate(name, r.value, r.unit))
-                      for s in list(FACTOR_SLIPS) + lab_slips]
+                      for s in list(FACTOR_SLIPS) + lab_slips + list(CONSTANT_SLIPS)]
         candidates = _unique([(n, v) for n, v in candidates
                               if v is not None and abs(v / r.value - 1) > SLIP_SHIFT
                               and not agrees(Reported(name, v, digits=4), r.value, r.u,
@@ -212,18 +226,23 @@ def _write_table(path: Path, first: str, x, values: dict, decimals: int, sep: st
     return path
 
 
+FORMULA_SLIPS = {s.name for s in INPUT_SLIPS} | {s.name for s in CONSTANT_SLIPS}
+"""The slips inside a formula: of its inputs (re-reduced) and of its constants."""
+FORMULA_RECALL = 0.9
+"""Share of the slips inside formulas to be named (the issue's target)."""
+
 COPIES_PER_LAB = 20
 """Copies seeded per lab, each of a variant of the class with up to two readings edited."""
-COPIES_SEEDED = ("lab1", "lab2", "lab5", "lab8", "lab9")
-"""Labs whose copies are seeded: those whose readings are in the measurement file (labs 3, 4,
-6 and 7 keep theirs in recordings, which are not compared; lab 3's file holds 20 readings,
-mostly its programme: a copy is named by the key instead)."""
+COPIES_SEEDED = ("lab1", "lab2", "lab3", "lab4", "lab5", "lab6", "lab7", "lab8", "lab9")
+"""Labs whose copies are seeded: every lab with readings (the coursework's data is its
+variant's, named by the key). Labs 3, 4, 6 and 7 keep their readings in recordings: a copy
+hands in the same files (compared byte for byte), its file's readings edited as any."""
 
 
 def copy_of(check_: Check, rng, edits: int) -> Check:
     """A copy of a submission's readings as a student makes one: ``edits`` readings changed
     (by 0.2, or ±1 in the last place written), added (a reading 3 % off beside one) or
-    rounded to a decimal fewer."""
+    rounded to a decimal fewer; its recordings the same files."""
     texts = list(check_.readings)
     for _ in range(edits):
         i = int(rng.integers(len(texts)))
@@ -237,7 +256,8 @@ def copy_of(check_: Check, rng, edits: int) -> Check:
             texts.insert(i, f"{float(x) * 1.03 + 0.2:.2f}")
         else:
             texts[i] = f"{float(x):.{max(places - 1, 0)}f}"
-    return Check(f"{check_.file} (copy)", check_.lab, "copy", [], tuple(texts))
+    return Check(f"{check_.file} (copy)", check_.lab, "copy", [], tuple(texts),
+                 recordings=check_.recordings)
 
 
 def _copies_found(judged: dict[str, Check], rng) -> tuple[int, int, int, int]:
@@ -298,6 +318,9 @@ def run(out, *, quick: bool = False,
     slipped = frame[frame["injected"].notna()]
     right = frame[frame["injected"].isna()]
     recall = float((slipped["found"] == slipped["injected"]).mean())
+    formula = slipped[slipped["injected"].isin(FORMULA_SLIPS)]
+    formula_recall = float((formula["found"] == formula["injected"]).mean()) \
+        if len(formula) else math.nan
     alarms = int((right["verdict"] == "wrong").sum())
     per_class = {lab: sum(seconds[f] for f in group["file"].unique())
                  / group["file"].nunique() * CLASS_SIZE for lab, group in frame.groupby("lab")}
@@ -305,6 +328,8 @@ def run(out, *, quick: bool = False,
     targets = [
         Target("injected slips found and named", recall, 1.0, "min",
                detail=f"{len(slipped)} slipped values"),
+        Target("slips inside formulas (inputs, constants) named", formula_recall,
+               FORMULA_RECALL, "min", detail=f"{len(formula)} slipped values"),
         Target("right values called wrong", alarms, 0, detail=f"{len(right)} right values"),
         Target(f"a class of {CLASS_SIZE} submissions of the slowest lab checked",
                per_class[slowest], CLASS_SECONDS, unit="s",

@@ -300,7 +300,7 @@ def _check(args) -> int:
     with its reason and the others are checked."""
     import json
 
-    from .check import check, copies, read_policy, read_variants, student_key, \
+    from .check import ClassCheck, check, check_class, read_policy, read_variants, \
         unknown_expected
     from .check_report import terminal, write_summary
     from .variants import read_roster
@@ -344,25 +344,22 @@ def _check(args) -> int:
     variants = None if args.keys is None else read_variants(
         args.keys, None if args.roster is None else read_roster(args.roster))
     alone = len(files) == 1 and not folders
-    checks, refused, said = [], {}, []      # refused: for the summary; said: on stderr
-    for path in _progress(files, "check"):
-        try:
-            sid = None if variants is None else student_key(
-                variants, _folder_id(path, folders), _meta_id(path), path, args.keys)
-            checks.append(check(path, policy=policy, confine=bool(folders), variants=variants,
-                                sid=sid))
-        except InputError as exc:
-            if alone:
-                raise
-            refused[str(path)] = exc.text(args.lang)
-            said.append(exc.line(args.says))
-        except Exception as exc:
-            if alone or args.debug:
-                raise
-            refused[str(path)] = _internal(exc, str(path))
-            said.append(refused[str(path)])
-    unknown_expected(checks, policy)
-    pairs = copies(checks)
+
+    def crash(exc: Exception, path: str) -> str:
+        if args.debug:
+            raise exc
+        return _internal(exc, path)
+
+    if alone:                                      # bad input stops a single file
+        checks = [check(files[0], policy=policy)]
+        unknown_expected(checks, policy)
+        result = ClassCheck(checks, {}, [], policy)
+    else:
+        result = check_class([Path(f) for f in files], folders, policy=policy,
+                             variants=variants, keys=args.keys, lang=args.lang,
+                             progress=lambda items: _progress(items, "check"), crash=crash)
+    checks, pairs = result.checks, result.pairs
+    said = [p if isinstance(p, str) else p.line(args.says) for p in result.problems.values()]
     if args.json:
         print(json.dumps([c.to_dict() for c in checks] if not alone else checks[0].to_dict(),
                          ensure_ascii=False, indent=1))
@@ -376,7 +373,7 @@ def _check(args) -> int:
         print(line, file=sys.stderr)
     if folders:
         try:
-            written = write_summary(out, checks, refused, pairs, args.lang)
+            written = write_summary(out, result, args.lang)
         except OSError as exc:
             raise InputError(f"cannot write the summary there ({exc.strerror or exc})",
                              "give --out a folder you can write to", file=str(out),
@@ -384,7 +381,7 @@ def _check(args) -> int:
                                  "укажите в --out папку, в которую можно писать")) from None
         print(say(args.says, "class summary: ", "сводка по группе: ")
               + ", ".join(str(w) for w in written), file=sys.stderr)
-    return EXIT_INPUT if refused else 0
+    return EXIT_INPUT if result.refused else 0
 
 
 def _writable_folder(out: Path, option: str, what: str) -> None:
@@ -414,25 +411,6 @@ def _is_folder(path: Path) -> bool:
         return path.is_dir()
     except OSError:
         return False
-
-
-def _folder_id(path: Path, folders: list[Path]) -> str | None:
-    """The <id> of a submission in <folder>/<id>/… (None for a file at the folder's top)."""
-    for folder in folders:
-        try:
-            parts = resolved(path).relative_to(resolved(folder)).parts
-        except ValueError:
-            continue
-        return parts[0] if len(parts) > 1 else None
-    return None
-
-
-def _meta_id(path: Path) -> str | None:
-    """The ``[meta] id`` of a measurement file, if it gives one."""
-    from processing.measurement import read_toml
-
-    sid = read_toml(path).get("meta", {}).get("id")
-    return sid if isinstance(sid, str) else None
 
 
 def _serve(args) -> int:
@@ -577,8 +555,9 @@ def parser(says: str = "en") -> argparse.ArgumentParser:
     chk.add_argument("files", nargs="+", metavar="FILE_OR_FOLDER")
     chk.add_argument("--policy", help="the teacher's tolerances: a TOML file with rel_tol, "
                      "sig_figs, expected (per lab in [labN] tables)")
-    chk.add_argument("--out", default="check", help="folder for a class's summary.csv and "
-                     "summary.html (default: check)")
+    chk.add_argument("--out", default="check", help="folder for a class's summary.csv, "
+                     "summary.html and moodle.csv, the marks for Moodle's grade import "
+                     "(default: check)")
     chk.add_argument("--keys", metavar="KEYDIR", help="the answer keys of the variants "
                      "(KEYDIR/keys/<id>/answer_key.json as dynlab synth --students wrote them, "
                      "or KEYDIR/<id>/answer_key.json): each submission, bound to its student "

@@ -132,7 +132,8 @@ def write_variants(write, out_dir: str | Path, roster: str | Path, seed: int,
     the roster: the handout in ``out_dir/handouts/<id>/`` — the measurement file, its
     ``[meta] student`` the student's name and ``id`` the student's id, its recordings, and
     ``readings.html``, a printable sheet of its readings (:func:`reading_sheet`) — and the
-    answer key in ``out_dir/keys/<id>/answer_key.json``. No handout names its key, nor the
+    answer key in ``out_dir/keys/<id>/answer_key.json``; every sheet in one document to
+    print, ``out_dir/handouts/readings.html`` (:func:`all_sheets`). No handout names its key, nor the
     seed the key could be made again from (the measurement file is ``<lab>_<id>.toml``)."""
     students = read_roster(roster)
     written = {}
@@ -152,7 +153,20 @@ def write_variants(write, out_dir: str | Path, roster: str | Path, seed: int,
         files["sheet"] = files["toml"].parent / "readings.html"
         files["sheet"].write_text(reading_sheet(doc), encoding="utf-8")
         written[sid] = files
+    sheets = Path(out_dir) / HANDOUTS / "readings.html"
+    sheets.write_text(all_sheets([f["sheet"].read_text(encoding="utf-8")
+                                  for f in written.values()]), encoding="utf-8")
     return written
+
+
+def all_sheets(pages: list[str]) -> str:
+    """Every student's sheet of readings (:func:`reading_sheet`) in one document to print, a
+    page each."""
+    head = re.search(r"<head>.*</head>", pages[0], re.S).group(0) if pages else "<head></head>"
+    bodies = [re.search(r"<body>(.*)</body>", p, re.S).group(1) for p in pages]
+    return ("<!DOCTYPE html><html>" + head.replace("</style>", "section{break-after:page}"
+                                                    "</style>")
+            + "<body>" + "".join(f"<section>{b}</section>" for b in bodies) + "</body></html>")
 
 
 def reading_sheet(doc: dict) -> str:

@@ -8,10 +8,16 @@ relative tolerance, a z-score where both sides state an uncertainty):
 * the relative tolerance of the teacher's :class:`Policy`, |r − x| ≤ tol·|x|, widened by
   half a unit of the last digit the student wrote (a value rounded to its digits is not
   wrong for that);
-* the z-score z = (r − x)/√(u² + u_r²), |z| ≤ k, the coverage factor of our U = k·u (2, or
-  Student's t for the effective degrees of freedom where few readings dominate:
+* the z-score z = (r − x)/u, |z| ≤ k, the coverage factor of our U = k·u (2, or Student's t
+  for the effective degrees of freedom where few readings dominate:
   :func:`processing.uncertainty.coverage_factor`), so that a value inside the interval the
   report states agrees.
+
+The teacher's tolerance comes first: a student's own u widens the z-score,
+z = (r − x)/√(u² + u_r²), only where the policy allows it (:attr:`Policy.student_u`) and only
+where that u is plausible — no larger than :data:`STUDENT_U_MAX` times ours, what the same
+measurement can justify. A u claimed wider earns nothing (a slip of +16 % "covered" by a u of
+12 % stays wrong).
 
 A right value written to fewer significant figures than the policy asks is *rounded*; one
 written far beyond its uncertainty (its last digit below a thousandth of U = k·u) is
@@ -28,6 +34,7 @@ import math
 import re
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
+from functools import cache
 
 VERDICTS = ("right", "rounded", "over-precise", "wrong", "missing")
 """Every verdict, best first."""
@@ -36,6 +43,11 @@ OVER_PRECISE = 1e-3
 """A value whose last written digit is worth less than this share of its U = k·u is
 over-precise: GUM rounds U to two figures and the value to the same place (about U/10 to
 U/100); one digit more is tolerated, two are not."""
+
+STUDENT_U_MAX = 2.0
+"""Largest plausible student's u, in units of ours: the same readings evaluated more coarsely
+(a Type B bound for a repeated reading, a rounded constant) may double u; a wider u is more
+than the measurement can justify and widens nothing."""
 
 Z_LIMIT = 2.0
 """|z| up to which a reported value agrees with ours where our u has infinite degrees of
@@ -54,11 +66,15 @@ class Policy:
         Significant figures a value must be written with; fewer is *rounded*.
     expected : tuple of str
         Result names every submission must report; absent ones are *missing*.
+    student_u : bool
+        Whether a student's own u may widen what agrees (where it is plausible:
+        :func:`counted_u`); by default only the tolerance and our own U count.
     """
 
     rel_tol: float = 0.01
     sig_figs: int = 3
     expected: tuple[str, ...] = ()
+    student_u: bool = False
 
 
 @dataclass(frozen=True)
@@ -97,6 +113,34 @@ class Slip:
 
 def _is(*units: str) -> Callable[[str], bool]:
     return lambda unit: unit in units
+
+
+def _pressure(unit: str) -> bool:
+    """Whether a result's unit is a pressure (Pa, or kg/m/s² as the coursework writes it)."""
+    return _dimension(unit) == _dimension("Pa")
+
+
+@cache
+def _dimension(unit: str) -> str | None:
+    from .units import dimension
+
+    try:
+        return dimension(unit)
+    except Exception:                   # a unit pint cannot read has no slip of a unit
+        return None
+
+
+def _not_angle(unit: str) -> bool:
+    """Whether a result is no angle: an angle read off a record (a phase, a lag) has no
+    constant of a formula to slip."""
+    return unit != "rad"
+
+
+def _holds_force(unit: str) -> bool:
+    """Whether a unit holds a force (mass·length/time², as N, N·m, Pa, N/m do): where a
+    weight m·g is inside."""
+    dims = _dimension(unit) or ""
+    return "[mass]" in dims and "[time] ** -2" in dims
 
 
 FACTOR_SLIPS = (
@@ -141,14 +185,44 @@ FACTOR_SLIPS = (
                                   "subtracted, or subtracted twice)",
                             "ru": "перепутаны избыточное и абсолютное давление (p₀ = 0,1 МПа "
                                   "не вычтено или вычтено дважды)"},
-         lambda x: x + 1e5, _is("Pa")),
+         lambda x: x + 1e5, _pressure),
     Slip("gauge_pressure_minus", {"en": "gauge and absolute pressure confused (p₀ subtracted "
                                         "where it should not be)",
                                   "ru": "перепутаны избыточное и абсолютное давление (p₀ "
                                         "вычтено лишний раз)"},
-         lambda x: x - 1e5, _is("Pa")),
+         lambda x: x - 1e5, _pressure),
 )
 """Slips that act on a result through a factor or an offset, whatever the lab."""
+
+TRANSCENDENTAL_SLIPS = (
+    Slip("four_pi_squared_dropped", {"en": "4π² dropped (ω² = 4π²/T² taken as 1/T², or the "
+                                           "reverse)",
+                                     "ru": "потерян множитель 4π² (ω² = 4π²/T² взято как 1/T²)"},
+         lambda x: x / (4 * math.pi ** 2), _not_angle),
+    Slip("four_pi_squared_extra", {"en": "4π² too many", "ru": "лишний множитель 4π²"},
+         lambda x: 4 * math.pi ** 2 * x, _not_angle),
+    Slip("pi_for_pi_squared", {"en": "π written for π² (a factor π dropped)",
+                               "ru": "π вместо π² (потерян множитель π)"},
+         lambda x: x / math.pi, _not_angle),
+    Slip("pi_squared_for_pi", {"en": "π² written for π (a factor π too many)",
+                               "ru": "π² вместо π (лишний множитель π)"},
+         lambda x: x * math.pi, _not_angle),
+)
+"""A formula's transcendental constants slipped (4π², π²) on a result whatever its unit: no
+slip of an input makes these factors, so they are tried before any input is (cheaply)."""
+
+CONSTANT_SLIPS = TRANSCENDENTAL_SLIPS + (
+    Slip("half_dropped", {"en": "a factor ½ dropped (×2)", "ru": "потерян множитель ½ (×2)"},
+         lambda x: 2 * x, _not_angle),
+    Slip("two_dropped", {"en": "a factor 2 dropped (or ½ too many: ÷2)",
+                         "ru": "потерян множитель 2 (или лишний ½: ÷2)"},
+         lambda x: x / 2, _not_angle),
+    Slip("g_as_10", {"en": "g = 10 m/s² taken for 9.81 m/s²", "ru": "принято g = 10 м/с²"},
+         lambda x: x * 10 / 9.80665, lambda unit: _holds_force(unit)),
+)
+"""A formula's constants slipped (4π², π², ½, 2, g = 10), on a result whatever its unit: ½, 2
+and g = 10 are tried last, after the slips of the inputs (:mod:`processing.input_slips`),
+which name the input a factor 2 came from."""
 
 
 @dataclass(frozen=True)
@@ -164,7 +238,8 @@ class Verdict:
     value, u : float
         Ours, SI. (NaN for a name we do not compute.)
     z : float
-        (r − x)/√(u² + u_r²); NaN where neither side states an uncertainty.
+        (r − x)/√(u² + u_r²), u_r the student's u as it counts (:func:`counted_u`); NaN
+        where neither side states an uncertainty.
     relative : float
         (r − x)/|x|.
     slip : Slip or None
@@ -181,12 +256,26 @@ class Verdict:
     slip: Slip | None = None
 
 
+def counted_u(r: Reported, u: float, policy: Policy) -> float:
+    """The part of a student's u that counts: all of it where the policy allows a student's
+    u and it is at most :data:`STUDENT_U_MAX` times ours (``u``), else none.
+
+    >>> r = Reported("J", 0.1749, u=0.002)
+    >>> counted_u(r, 0.0012, Policy()), counted_u(r, 0.0012, Policy(student_u=True))
+    (0.0, 0.002)
+    >>> counted_u(Reported("J", 0.199, u=0.02), 0.0012, Policy(student_u=True))
+    0.0
+    """
+    return r.u if policy.student_u and r.u <= STUDENT_U_MAX * u else 0.0
+
+
 def agrees(r: Reported, x: float, u: float, policy: Policy, *,
            k: float = Z_LIMIT) -> tuple[bool, float, float]:
     """Whether ``r`` agrees with x ± u by the policy's tolerance or by |z| ≤ k (the coverage
-    factor of our U = k·u); z and the relative difference."""
+    factor of our U = k·u; the student's u in it only as :func:`counted_u` allows); z and the
+    relative difference."""
     rel = (r.value - x) / abs(x) if x else (math.inf if r.value else 0.0)
-    combined = math.hypot(u, r.u)
+    combined = math.hypot(u, counted_u(r, u, policy))
     z = (r.value - x) / combined if combined > 0 else math.nan
     tolerance = policy.rel_tol * abs(x) + 0.5 * r.last_place
     ok = abs(r.value - x) <= tolerance or (combined > 0 and abs(z) <= k)
@@ -233,7 +322,7 @@ def judge(name: str, reported: Reported | None, value: float, u: float, unit: st
         return Verdict(name, "missing", None, value, u)
     ok, z, rel = agrees(reported, value, u, policy, k=k)
     if ok:
-        scale = k * max(u, reported.u)
+        scale = k * max(u, counted_u(reported, u, policy))
         if reported.digits < policy.sig_figs and abs(rel) > 1e-12:
             verdict = "rounded"
         elif scale > 0 and reported.last_place < OVER_PRECISE * scale and reported.digits > 3:

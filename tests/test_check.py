@@ -12,11 +12,11 @@ from pathlib import Path
 
 import pytest
 
-from labs.check import check
+from labs.check import check, read_policy
 from labs.cli import main
 from labs.registry import evaluate
 from processing.diagnostics import InputError
-from processing.grading import Reported, judge, written_digits
+from processing.grading import STUDENT_U_MAX, Policy, Reported, judge, written_digits
 
 ROOT = Path(__file__).resolve().parents[1]
 LAB1 = ROOT / "sample_data" / "lab1" / "flywheel.toml"
@@ -62,13 +62,67 @@ def test_our_own_values_written_to_any_precision_are_never_wrong(tmp_path, ours,
     assert {v.verdict for v in found.values()} == {expected}, found
 
 
-def test_a_value_off_by_more_than_the_tolerance_is_right_within_the_students_own_u(ours):
+def test_the_teachers_tolerance_comes_first_and_a_students_u_only_where_allowed(ours):
+    """The issue's two cases: g = 10 (+1.9 %, beyond our U) with a plausible u of its own,
+    and the platform not subtracted (+16 %) with a u of 0.02 kg·m²."""
     x = ours[LAB1]["J_trifilar"]
-    off = Reported("J_trifilar", 1.03 * x.value, digits=4, last_place=1e-4)
-    assert judge("J_trifilar", off, x.value, x.u, "kg*m^2").verdict == "wrong"
-    stated = Reported("J_trifilar", 1.03 * x.value, u=0.004, digits=4, last_place=1e-4)
-    v = judge("J_trifilar", stated, x.value, x.u, "kg*m^2")
-    assert v.verdict == "right" and abs(v.z) <= 2
+    g10 = x.value * 10 / 9.8156                 # J ∝ g: the file's g = 9.8156 m/s²
+    assert abs(g10 - x.value) > x.estimate.k * x.u and g10 / x.value - 1 > 0.01
+    plausible = Reported("J_trifilar", g10, u=1.5 * x.u, digits=4, last_place=1e-4)
+    allowed = Policy(student_u=True)
+    assert judge("J_trifilar", plausible, x.value, x.u, "kg*m^2", k=x.estimate.k) \
+        .verdict == "wrong"                     # by default only the tolerance and our U
+    if abs(g10 - x.value) <= x.estimate.k * math.hypot(x.u, 1.5 * x.u):
+        assert judge("J_trifilar", plausible, x.value, x.u, "kg*m^2", allowed,
+                     k=x.estimate.k).verdict == "right"
+    wide = Reported("J_trifilar", 1.16 * x.value, u=0.02, digits=4, last_place=1e-4)
+    assert 0.02 > STUDENT_U_MAX * x.u
+    for policy in (Policy(), allowed):
+        assert judge("J_trifilar", wide, x.value, x.u, "kg*m^2", policy,
+                     k=x.estimate.k).verdict == "wrong"
+
+
+@pytest.mark.parametrize("times, verdict", [(0.5, "right"), (STUDENT_U_MAX, "right"),
+                                            (1.01 * STUDENT_U_MAX, "wrong"), (10, "wrong")])
+def test_a_students_u_counts_up_to_what_the_measurement_justifies(times, verdict):
+    """The general rule: a value 3 of our u off (beyond U = 2u) is right with a counted u of
+    its own that brings |z| under 2 — a u no wider than STUDENT_U_MAX times ours."""
+    u = 1e-3
+    r = Reported("J", 1.0 + 3.0 * u * math.hypot(1, min(times, STUDENT_U_MAX)) / 1.6,
+                 u=times * u, digits=6, last_place=1e-5)
+    policy = Policy(rel_tol=0.0, student_u=True)
+    assert judge("J", r, 1.0, u, "kg*m^2", policy).verdict == verdict
+    assert judge("J", r, 1.0, u, "kg*m^2", Policy(rel_tol=0.0)).verdict == "wrong"
+
+
+def test_a_policy_allows_a_students_u_by_student_u(tmp_path):
+    policy = tmp_path / "policy.toml"
+    policy.write_text("student_u = true\n[lab1]\nstudent_u = false\n", encoding="utf-8")
+    read = read_policy(policy)
+    assert read.for_lab("lab2").student_u and not read.for_lab("lab1").student_u
+    policy.write_text('student_u = "yes"\n', encoding="utf-8")
+    with pytest.raises(InputError, match="student_u"):
+        read_policy(policy)
+
+
+def test_a_policy_marks_by_points_and_partial(tmp_path):
+    from labs.check import Check, mark
+
+    policy = tmp_path / "policy.toml"
+    policy.write_text("points = 2\npartial = 0.25\n[lab5]\npoints = 3\n", encoding="utf-8")
+    read = read_policy(policy)
+    assert read.marking("lab5") == (3.0, 0.25) and read.marking("lab1") == (2.0, 0.25)
+    verdicts = [judge(n, None if n == "d" else Reported(n, x, digits=digits, last_place=place),
+                      1.0, 0.001, "m") for n, x, digits, place in
+                (("a", 1.0, 4, 1e-3), ("b", 1.004, 2, 0.1), ("c", 2.0, 4, 1e-3), ("d", 0, 0, 0))]
+    assert [v.verdict for v in verdicts] == ["right", "rounded", "wrong", "missing"]
+    assert mark(Check("f", "lab1", "s", verdicts, ()), read) == (2 * 1.25, 2 * 4)
+    assert mark(Check("f", "lab1", "s", verdicts, (), expected=("a", "c")), read) == (2, 4)
+    for text, rule in (("points = 0", "points"), ("partial = 1.5", "partial")):
+        policy.write_text(text + "\n", encoding="utf-8")
+        with pytest.raises(InputError, match=rule) as error:
+            read_policy(policy)
+        assert error.value.ru
 
 
 def test_written_digits_count_as_a_teacher_counts():

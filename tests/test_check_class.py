@@ -13,6 +13,7 @@ import pytest
 
 from labs.check import Check, asked, check, copies, read_variants
 from labs.check_bench import copy_of
+from labs.cli import main
 from labs.registry import evaluate
 from tests.cli_contract import assert_one_clear_error, run
 
@@ -62,7 +63,8 @@ def test_a_variant_handed_in_by_another_student_is_named_and_judged_against_thei
     code, printed, _ = run(capsys, "check", tmp_path / "class", "--keys", variants,
                            "--roster", variants.parent / "roster.csv", "--out", out)
     assert code == 0 and "the readings of s01's variant, not s03's" in printed
-    rows = list(csv.DictReader((out / "summary.csv").open(encoding="utf-8")))
+    rows = [r for r in csv.DictReader((out / "summary.csv").open(encoding="utf-8"))
+            if r["status"] == "checked"]
     s03 = [r for r in rows if r["id"] == "s03"]
     assert {r["readings_of"] for r in s03} == {"s01"}
     assert {r["student"] for r in s03} == {"Student s03"}
@@ -105,7 +107,13 @@ def test_a_submission_bound_by_its_meta_id_when_its_folder_is_no_id(tmp_path, ca
     out = tmp_path / "summary"
     code, _, _ = run(capsys, "check", tmp_path / "class", "--keys", variants, "--out", out)
     rows = list(csv.DictReader((out / "summary.csv").open(encoding="utf-8")))
-    assert code == 0 and {r["id"] for r in rows} == {"s02"}
+    assert code == 0 and {r["id"] for r in rows if r["status"] == "checked"} == {"s02"}
+    assert {r["status"] for r in rows if r["id"] != "s02"} == {"absent"}
+    from labs.check import read_class
+    from labs.check_report import summary_csv
+
+    with (out / "summary.csv").open(encoding="utf-8", newline="") as written:
+        assert summary_csv(read_class(tmp_path / "class", keys=variants)) == written.read()
 
 
 def test_roster_without_keys_is_refused(tmp_path, capsys, variants):
@@ -137,3 +145,98 @@ def test_copies_with_up_to_two_edited_or_added_readings_are_found_with_the_evide
         assert found[0].differing <= edits and "readings the same in the same order" in \
             found[0].text()
         assert found[0].evidence and set(found[0].evidence) <= set(honest[1].readings)
+
+
+def test_copies_of_recordings_are_found_by_their_bytes_and_a_file_everyone_has_is_none():
+    """Labs 3, 4, 6, 7 keep their readings in recordings: a copy hands in the same files (its
+    file's few readings edited); a file handed to the whole class is no evidence."""
+    rng = np.random.default_rng(7)
+    common = ("calibration.csv", "c0ffee")
+
+    def student(k: int) -> Check:
+        texts = tuple(f"{x:.1f}" for x in rng.uniform(1000, 2000, 4))   # the programme
+        return Check(f"class/s{k:02}/lab7.toml", "lab7", f"s{k:02}", [], texts,
+                     recordings=(common, (f"r{k}.csv", f"{k:064x}")))
+
+    honest = [student(k) for k in range(8)]
+    assert copies(honest) == []
+    copy = copy_of(honest[3], rng, 2)
+    (pair,) = copies([*honest, copy])
+    assert {pair.a.student, pair.b.student} == {"s03", "copy"}
+    assert pair.recordings == ("r3.csv",) and "r3.csv" in pair.text()
+    assert "r3.csv" in pair.text("ru")
+
+
+def test_a_recording_handed_in_twice_is_a_copy_whatever_the_files_readings(tmp_path):
+    """Lab 9's decay recording, the same bytes in two submissions whose tables of readings
+    differ: a copy, named by the file; its hash is taken as the check reads the file."""
+    sample = Path(__file__).resolve().parents[1] / "sample_data" / "lab9"
+    text = (sample / "synthetic_damper.toml").read_text(encoding="utf-8")
+    checked = []
+    for who, scale in (("ann", 1.0), ("bob", 1.07)):
+        folder = tmp_path / who
+        folder.mkdir()
+        (folder / "decay.csv").write_bytes((sample / "decay.csv").read_bytes())
+        edited = text if scale == 1.0 else "\n".join(
+            line if not line.startswith(("phi = ", "M = ")) else line.split("=")[0] + "= [" +
+            ", ".join(f"{float(x) * scale:.2f}" for x in line.split("[")[1].rstrip("]")
+                      .split(",")) + "]" for line in text.splitlines())
+        (folder / "damper.toml").write_text(edited + '\n[reported]\nC_static = "1 N*m/rad"\n',
+                                            encoding="utf-8")
+        checked.append(check(folder / "damper.toml", confine=True))
+    assert checked[0].readings != checked[1].readings
+    (pair,) = copies(checked)
+    assert pair.recordings == ("decay.csv",) and "decay.csv" in pair.text()
+
+
+def test_the_class_summary_a_row_per_student_with_marks_units_and_moodle_grades(
+        tmp_path, capsys, variants):
+    """s01 perfect, s02 one value ×1000, s03 s01's variant, s04 refused, s05 absent: a row
+    each, the mark by the policy, values in the lab's display units as written, the slip in
+    words, the copy on both rows, Moodle's grade import with an empty cell for no mark."""
+    cls = tmp_path / "class"
+    hand_in(cls, "s01", handout(variants, "s01"))
+    s02 = hand_in(cls, "s02", handout(variants, "s02"))
+    head, tail = s02.read_text("utf-8").split("[reported]")
+    s02.write_text(head + "[reported]" + tail.replace(' kg/s^2"', ' g/s^2"', 1), encoding="utf-8")
+    hand_in(cls, "s03", handout(variants, "s01"))
+    (cls / "s04").mkdir()
+    (cls / "s04" / "lab5.toml").write_text('lab = "lab5"\n', encoding="utf-8")
+    policy = tmp_path / "policy.toml"
+    policy.write_text("points = 2\n", encoding="utf-8")
+    out = tmp_path / "summary"
+    code, printed, _ = run(capsys, "check", cls, "--keys", variants, "--roster",
+                           variants.parent / "roster.csv", "--policy", policy, "--out", out)
+    assert code == 2 and "kN/mm" in printed and "e+0" not in printed
+    rows = list(csv.DictReader((out / "summary.csv").open(encoding="utf-8")))
+    by_id = {}
+    for r in rows:
+        by_id.setdefault(r["id"], []).append(r)
+    assert set(by_id) == set(STUDENTS)
+    asked_n = len(by_id["s01"])
+    assert {(r["mark"], r["out_of"]) for r in by_id["s01"]} == {(str(2 * asked_n),
+                                                                 str(2 * asked_n))}
+    wrong = [r for r in by_id["s02"] if r["verdict"] == "wrong"]
+    assert len(wrong) == 1 and wrong[0]["slip"] == "prefix_div1000" and wrong[0]["slip_text"]
+    assert by_id["s02"][0]["mark"] == str(2 * (asked_n - 1))
+    c_total = next(r for r in by_id["s01"] if r["name"] == "c_total")
+    assert c_total["unit"] == "kN/mm" and 0.5 < float(c_total["value"]) < 10
+    assert all("e" not in r["value"].lower() and len(r["value"]) < 12 for r in rows
+               if r["value"])
+    assert by_id["s03"][0]["readings_of"] == "s01" and "s01" in by_id["s03"][0]["copies"]
+    assert "s03" in by_id["s01"][0]["copies"]
+    (refused,) = by_id["s04"]
+    (absent,) = by_id["s05"]
+    assert refused["status"] == "refused" and "rig" in refused["detail"]
+    assert absent["status"] == "absent" and len(refused) == len(absent) == len(c_total)
+    grades = list(csv.reader((out / "moodle.csv").open(encoding="utf-8")))
+    assert grades[0] == ["ID number", "lab5"]
+    assert dict(grades[1:]) == {"s01": str(2 * asked_n), "s02": str(2 * (asked_n - 1)),
+                                "s03": "0", "s04": "", "s05": ""}
+    page = (out / "summary.html").read_text(encoding="utf-8")
+    assert "not handed in" in page and "sortBy" in page and "@media print" in page
+    assert wrong[0]["slip_text"] in page.replace("&#x27;", "'")
+    assert main(["check", str(cls), "--keys", str(variants), "--roster",
+                 str(variants.parent / "roster.csv"), "--out", str(out), "--lang", "ru"]) == 2
+    page = (out / "summary.html").read_text(encoding="utf-8")
+    assert "не сдано" in page and "кН/мм" in page and "not handed in" not in page

@@ -57,6 +57,8 @@ def test_a_class_of_variants(tmp_path, capsys):
     assert "answer_key" not in first and "seed" not in first
     sheet = (handouts / "st01" / "readings.html").read_text("utf-8")
     assert "Анна Иванова" in sheet and "[rod]" in sheet
+    every = (handouts / "readings.html").read_text("utf-8")
+    assert every.count("<section>") == 2 and "Boris Petrov" in every and "break-after" in every
     again = tmp_path / "again"
     main(["synth", "lab2", "--students", str(roster), "--seed", "11", "--out", str(again)])
     assert (again / "handouts" / "st01" / "lab2_st01.toml").read_text("utf-8") == first
