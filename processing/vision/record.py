@@ -873,9 +873,10 @@ def _record(where: _Where, found: Traces, j: int, seconds, value_scale: Measured
     pixels, u_row, conf = _resample(t_cols, time, pixels, u_row, conf)
     value = pixels * value_scale.value
     u_value = u_row * abs(value_scale.value)
-    bridged = np.zeros(value.size, bool)
-    if bridge > 0:
-        value, bridged = _bridge(time, value, bridge)
+    # a gap no longer than the stroke's own smear (where the trace crosses a line or a
+    # mark, its run merged with theirs) is crossed as a gap asked for is
+    short = SHORT_GAP * float(found.width[j]) * (time[1] - time[0])
+    value, bridged = _bridge(time, value, max(bridge, short))
     marks = {k: clock(p.rising) - clock(first) for k, p in pips.items()}
     if tb is not None:               # the time marks where the fit puts them: t = T_mark·k
         marks["time"] = tb.period * tb.numbers - clock(first)
@@ -889,6 +890,11 @@ def _record(where: _Where, found: Traces, j: int, seconds, value_scale: Measured
                          describe_lines(judged, sheet.grey.shape[0], metres, ref))
     _warn(record, tb, {k: p.edge_u for k, p in pips.items()})
     return record
+
+
+SHORT_GAP = 2.0
+"""Gaps up to this many stroke widths long are interpolated across whatever ``bridge`` asks
+(and counted in the low-confidence warning): within them the trace can hardly turn."""
 
 
 def _resample(t_cols, time, *arrays):
