@@ -32,10 +32,6 @@ MAX_WAVINESS = 0.75
 MAX_WANDER = 0.75
 """How far a line's column centroids may stray to both sides of it. [px]"""
 
-HOLDING = 0.55
-"""Least share of a line's column centroids within :data:`MAX_WANDER` of their median (a
-marker's pips move the others)."""
-
 MAX_ABSENCE = 0.1
 """Longest stretch, as a share of the sheet's length, along which a line may hold no ink: a
 line is broken only where a pip lifts it. A trace at rest for a while (a valve's force while
@@ -120,7 +116,6 @@ def remove_lines(density: np.ndarray, noise: float) -> list[Line]:
     peaks, _ = find_peaks(profile, height=6 * sigma, distance=3)
     reach = 6
     lines: list[Line] = []
-    wavy: list[float] = []
     for row in peaks[np.argsort(profile[peaks])[::-1]]:
         lo, hi = max(row - reach, 0), min(row + reach + 1, h)
         window = med[lo:hi]
@@ -137,10 +132,7 @@ def remove_lines(density: np.ndarray, noise: float) -> list[Line]:
         position = float(fit.predict(w / 2))
         wide = med[max(row - 3 * reach, 0):min(row + 3 * reach + 1, h)]
         width = _fwhm(wide[:, present].mean(axis=1), row - max(row - 3 * reach, 0))
-        if any(abs(position - r) < max(3.0, 2 * width) for r in wavy):
-            continue                    # the same trace's dwell, beside its stronger row
         if _wavy(density, fit, max(2, int(round(width))), noise):
-            wavy.append(position)
             continue                    # a trace that keeps near one level, not a line
         absent, dipping = _absences(density, fit, width, float(np.median(tops[present])),
                                     noise)
@@ -211,14 +203,11 @@ def _without_shoulders(lines: list[Line]) -> list[Line]:
 
 
 def _wavy(density: np.ndarray, fit, reach: int, noise: float) -> bool:
-    """Whether the stroke along a candidate line wanders across it: a fifth of its column
-    centroids (256 columns, ± ``reach`` rows: its width) lie more than :data:`MAX_WANDER`
-    px above the fitted line and a fifth as far below, or fewer than :data:`HOLDING` of them
-    lie within that of their median. A line holds its row in most columns (pips beside it
-    pull the centroids to one side, in the columns their sides pass); a trace that
-    oscillates about one level keeps to it only in the block medians, and one that dwells
-    near a level between dips (a speed ripple's arches) draws the fitted line towards that
-    level, its centroids leaving it to one side and hardly ever holding a row. The window spans the
+    """Whether the stroke along a candidate line wanders to both sides of it: a fifth of its
+    column centroids (256 columns, ± ``reach`` rows: its width) lie more than
+    :data:`MAX_WANDER` px above the fitted line and a fifth as far below. A line holds its
+    row in every column (pips beside it pull the centroids to one side only); a trace that
+    oscillates about one level keeps to it only in the block medians. The window spans the
     candidate's width as the block medians show it, which for a small ripple blurred into
     its own stroke (or a trace dwelling at one level and dipping off it) is the width of the
     rows it dwells on: narrower windows saw too little of its swing to tell it from a line."""
@@ -234,8 +223,7 @@ def _wavy(density: np.ndarray, fit, reach: int, noise: float) -> bool:
         return False
     y = (v * rows).sum(axis=0)[seen] / mass[seen] - centre[seen]
     low, high = np.percentile(y, [20, 80])
-    holding = np.mean(np.abs(y - np.median(y)) < MAX_WANDER)
-    return bool((low < -MAX_WANDER and high > MAX_WANDER) or holding < HOLDING)
+    return bool(low < -MAX_WANDER and high > MAX_WANDER)
 
 
 def _absences(density: np.ndarray, fit, width: float, strength: float,
