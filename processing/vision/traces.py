@@ -426,6 +426,8 @@ def _apexes(runs: Runs, chosen: np.ndarray, row: np.ndarray) -> tuple[np.ndarray
         if not ok[j].any():
             continue
         width = _across(bottom[j] - top[j], slope[j])
+        if not np.isfinite(width):      # no two neighbouring columns read: no extreme
+            continue
         half, reach = width / 2, max(1, int(np.ceil(width)))
         crest = top[j] + half * np.sqrt(1 + s_top[j] ** 2)
         trough = bottom[j] - half * np.sqrt(1 + s_bottom[j] ** 2)
