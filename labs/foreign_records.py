@@ -13,6 +13,7 @@ the capture (:meth:`~processing.synth.paper_strip.Scan.draw`,
 from __future__ import annotations
 
 import json
+import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -348,6 +349,38 @@ def lab9_scene(seed: int, folder, *, capture: str = "scan", dpi: float = SCAN_DP
                         "expected_refusal": ""})
 
 
+def lab6_scene(seed: int, folder, *, capture: str = "scan", dpi: float = SCAN_DPI,
+               size: tuple[int, int] = PHOTO_SIZE) -> ForeignCase:
+    """Lab 6: the valve drive's rocker-force oscillograms on strips.
+
+    The lab's own scene (:func:`labs.lab6_valve_dynamics.write_synthetic`: the seed's cam and
+    drive, both valves' forces on one strip, 4.4 revolutions a record, 5 ms time marks, a
+    TDC mark per revolution) at one clearance and two speeds 400 min⁻¹ apart from a start
+    drawn in 900–1300 min⁻¹, each record drawn by :func:`paper`.
+
+    Returns
+    -------
+    ForeignCase
+        Truth ``n_i`` (each record's speed, from its TDC marks and time base) and
+        ``P_max_v_i`` (each valve's largest force).
+    """
+    from labs import lab6_valve_dynamics as lab6
+
+    rng = np.random.default_rng([seed, 28, 6])
+    folder = Path(folder) / f"lab6_{capture}_{seed}"
+    start = float(np.round(rng.uniform(900, 1300), -1))
+    chosen: dict = {}
+    written = lab6.write_synthetic(folder, seed, image=True, speeds=(start, start + 400),
+                                   clearances=(float(rng.choice([0.3e-3, 0.5e-3])),),
+                                   draw=paper(capture, rng, dpi=dpi, size=size, chosen=chosen))
+    _scanned(written["toml"], capture, dpi)
+    names = [k for k in json.loads(written["answer"].read_text())["results"]
+             if re.fullmatch(r"n_\d+|P_max_(in|ex)_\d+", k)]
+    return ForeignCase(written["toml"], written["r1"], _read_truth(written["answer"], names),
+                       None, {"lab": "lab6", "seed": seed, "capture": capture,
+                              "start_rpm": start, **_settings(chosen), "expected_refusal": ""})
+
+
 def _scanned(toml: Path, capture: str, dpi: float) -> None:
     """A scan's measurement file gives the scanner's resolution for the length scale, as a
     student with a scan does (a light lid may hide the sheet's edges)."""
@@ -364,5 +397,5 @@ def _settings(chosen: dict) -> dict:
     return {k: "/".join(str(c[k]) for c in chosen.values()) for k in keys}
 
 
-SCENES = {"lab3": lab3_scene, "lab7": lab7_scene, "lab9": lab9_scene}
+SCENES = {"lab3": lab3_scene, "lab6": lab6_scene, "lab7": lab7_scene, "lab9": lab9_scene}
 """The lab scenes of the foreign-records benchmark, by lab."""

@@ -377,9 +377,10 @@ def _oscillogram(inputs: Inputs, i: int, entry: dict, revolutions: int) -> Oscil
     """δ of the mean working cycle of a photographed speed trace: its swing over its level
     above the zero line (the manual's (h_max − h_min)/h_cp, read by the machine), the cycles
     bounded by every ``revolutions``-th TDC mark, u by the jackknife over the cycles. The
-    photograph's blur flattens the ripple (order m of a cycle τ by exp(−(2πmσ/τ)²/2)); σ² is
-    taken between 0 and what the stroke implies (:attr:`~processing.vision.record.PaperRecord.
-    stroke_blur`), rectangular: δ restored at its middle, with that rectangle's u (type B)."""
+    light spot and the photograph's blur flatten the ripple (order m of a cycle τ by
+    exp(−(2πmσ/τ)²/2), σ the stroke's spread: :attr:`~processing.vision.record.PaperRecord.
+    stroke_blur`): δ restored, with the restoration's size as the width of a rectangle
+    (type B)."""
     if "oscillogram" not in entry:
         return None
     field, path = f"regime[{i}].oscillogram", entry["oscillogram"]
@@ -405,13 +406,12 @@ def _oscillogram(inputs: Inputs, i: int, entry: dict, revolutions: int) -> Oscil
     inside = starts[(starts >= channel.time[0]) & (starts <= channel.time[-1])]
     omega = mean_speed(inside, 2 * np.pi * revolutions, channel.time_scale)
     _check_tdc_speed(omega, entry, tdc, channel, path, field)
-    # the camera's blur low-passed the ripple by an amount between none and what the stroke's
-    # whole width allows: δ between the two, u of that rectangle (type B)
-    sigma = channel.stroke_blur
-    full, half = cycles.deblurred(sigma), cycles.deblurred(sigma / np.sqrt(2))
+    # the spot and the camera's blur low-passed the ripple: restored by the σ the stroke
+    # shows, the restoration known within its own size (a rectangle that wide, type B)
+    full = cycles.deblurred(channel.stroke_blur)
     if channel.overlay.taken is None:            # no zero on the paper: the swing alone
         # each extreme is read within ± half the stroke (rectangular), and the blur's range
-        swing, u = half.absolute_swing()
+        swing, u = full.absolute_swing()
         swing = _jack(swing, u, cycles.cycles,
                       u_b=np.hypot(abs(full.swing - cycles.swing) / (2 * np.sqrt(3)),
                                    channel.stroke_value / np.sqrt(6)))
@@ -419,7 +419,7 @@ def _oscillogram(inputs: Inputs, i: int, entry: dict, revolutions: int) -> Oscil
         nominal = swing.value / _converter_level(entry)
     else:
         span = abs(full.swing / full.level - cycles.swing / cycles.level)
-        delta, u = half.relative_swing()
+        delta, u = full.relative_swing()
         osc = Oscillogram(channel, cycles, _jack(delta, u, cycles.cycles,
                                                  u_b=span / (2 * np.sqrt(3))), omega)
         nominal = delta

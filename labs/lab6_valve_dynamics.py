@@ -738,7 +738,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
                     clearances=CLEARANCES, valves=VALVES, snr_db: float | None = None,
                     sample_rate: float = 10e3, revolutions: float = 4.4,
                     bend: float = 0.0, image: bool = False, shot=None,
-                    part: int | None = None) -> dict[str, Path]:
+                    part: int | None = None, draw=None) -> dict[str, Path]:
     """Write a synthetic lab 6 measurement: the calibrations, a record per speed and
     clearance, the measurement file and the answer key.
 
@@ -784,6 +784,10 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
     part : int, optional
         Seed of the part: the cam's lift and the drive (default ``seed``; 0: the scene's
         defaults, whatever ``seed`` draws the readings).
+    draw : callable, optional
+        With ``image``: who draws each record's paper instead of the phone's photograph
+        (:func:`labs.foreign_records.paper` protocol: ``draw(stem, signals, *, duration,
+        gain, zeros, mark_period, tdc_times, seed) -> Path``).
 
     Returns
     -------
@@ -826,7 +830,10 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
             events = {v: simulate_event(cam, drive, c, n * RPM / 2) for v in valves}
             rec = record(cam, drive, gauge, c, n * RPM, valves=valves, revolutions=revolutions,
                          seed=seed * 1000 + number, events=events)
-            if image:
+            if image and draw is not None:
+                name, rate, marks = _drawn(draw, out / f"r{number:02d}", rec, valves,
+                                           seed * 1000 + number), "", ""
+            elif image:
                 name, rate, marks = f"r{number:02d}.jpg", "", ""
                 _photograph(rec, valves, seed * 1000 + number, shot).write(out / name)
             else:
@@ -873,6 +880,16 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
     written["answer"].write_text(json.dumps({"seed": seed, "results": truth}, indent=1),
                                  encoding="utf-8")
     return written
+
+
+def _drawn(draw, stem: Path, rec, valves, seed: int) -> str:
+    """A record's paper drawn by ``draw`` (as :func:`_photograph` lays it out): the file's
+    name."""
+    t = rec.time
+    return draw(stem, [lambda x, v=v: np.interp(x, t, rec.channels[v]) for v in valves],
+                duration=float(t[-1]), gain=1e-3, zeros=[PHOTO_ZEROS[v] for v in valves],
+                mark_period=PHOTO_MARKS, tdc_times=_marks(rec.channels["tdc"], 1.0 / (t[1] - t[0])),
+                seed=seed).name
 
 
 def _photograph(rec, valves, seed: int, shot=None):

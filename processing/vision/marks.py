@@ -43,6 +43,11 @@ galvanometer swings out fast, so the sides of a short tick are far fainter than 
 its tip (a spot's exposure goes as one over its speed); a trace passing by leaves nothing
 there."""
 
+MIN_RISE = 1.5
+"""Least distance of a pip's tops from its line's centre, in the line's widths (+1 px): a
+marker lifts its spot clear of the line it draws at rest; a trace that keeps near one level
+and dips off it by less than its own stroke (a small speed ripple) is no mark line."""
+
 MIN_TIME_MARKS = 3
 """Fewest time marks a time base is fitted to."""
 
@@ -133,6 +138,7 @@ def find_pips(density: np.ndarray, line: Line, noise: float,
         peaks = peaks - 1
         peaks = peaks[(profile[peaks] >= 8 * noise / math.sqrt(w))
                       & (profile[peaks] >= TOPS_OVER_SIDES * np.median(profile))]
+        peaks = peaks[offsets[peaks] >= MIN_RISE * line.width + 1]
         for j in peaks[np.argsort(profile[peaks])[::-1]][:3]:
             found = _pips_at(density, strip, offsets, int(j), side, line, noise, centre)
             if found is not None and (best is None or found.count > best.count):

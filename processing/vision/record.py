@@ -154,6 +154,9 @@ class PaperRecord:
         The trace's stroke width across where it runs flat. [px] Times and extremes read off
         a steep or sharply turning stroke are known only within about this much
         (:attr:`stroke_time`, :attr:`stroke_value`).
+    spread : float
+        σ of the light across the stroke where it runs flat (the spot's and the capture's
+        blur, :attr:`~.traces.Traces.spread`). [px]
     overlay : Overlay
         What was read, to draw over the sheet.
     turns : int
@@ -179,6 +182,7 @@ class PaperRecord:
     time_base: TimeBase | None
     bridged: np.ndarray
     stroke: float
+    spread: float
     overlay: Overlay = field(repr=False)
     turns: int = 0
     lines: str = ""
@@ -204,12 +208,12 @@ class PaperRecord:
 
     @property
     def stroke_blur(self) -> float:
-        """σ of a Gaussian blur along the time axis were the whole stroke blur: its
-        edge-to-edge width (at about a quarter of its peak) is then 2√(2 ln 4)·σ. [s] The
-        blur low-passes the trace read (a ripple of period P by exp(−(2πσ/P)²/2)), the
-        pen's own width does not; on the synthetic phone photographs (pen 2.5 px, blur
-        1–2 px) the flattening read is that of 0.85–1.1 of this σ."""
-        return self.stroke_time / (2 * np.sqrt(2 * np.log(4)))
+        """σ of the low-pass along the time axis that the rows read have been through [s]:
+        an exposure centroid is the spot's path averaged over the light spot's profile and
+        the capture's blur along the time axis (a ripple of period P flattened by
+        exp(−(2πσ/P)²/2)), which a round spot and an even blur spread alike across the
+        stroke (:attr:`spread`)."""
+        return self.spread * self.time_scale.value
 
     # --- the channel's interface (processing.signals.Channel) ---
 
@@ -869,9 +873,10 @@ def _record(where: _Where, found: Traces, j: int, seconds, value_scale: Measured
     pixels, u_row, conf = _resample(t_cols, time, pixels, u_row, conf)
     value = pixels * value_scale.value
     u_value = u_row * abs(value_scale.value)
-    bridged = np.zeros(value.size, bool)
-    if bridge > 0:
-        value, bridged = _bridge(time, value, bridge)
+    # a gap no longer than the stroke's own smear (where the trace crosses a line or a
+    # mark, its run merged with theirs) is crossed as a gap asked for is
+    short = SHORT_GAP * float(found.width[j]) * (time[1] - time[0])
+    value, bridged = _bridge(time, value, max(bridge, short))
     marks = {k: clock(p.rising) - clock(first) for k, p in pips.items()}
     if tb is not None:               # the time marks where the fit puts them: t = T_mark·k
         marks["time"] = tb.period * tb.numbers - clock(first)
@@ -881,10 +886,15 @@ def _record(where: _Where, found: Traces, j: int, seconds, value_scale: Measured
                          taken=None if ref is None else ref.position)
     record = PaperRecord(where.path, name, where.field, time, value, conf, u_value, unit,
                          marks, marks_u, per_px, value_scale, tb, bridged,
-                         float(found.width[j]), overlay, sheet.turns,
+                         float(found.width[j]), float(found.spread[j]), overlay, sheet.turns,
                          describe_lines(judged, sheet.grey.shape[0], metres, ref))
     _warn(record, tb, {k: p.edge_u for k, p in pips.items()})
     return record
+
+
+SHORT_GAP = 2.0
+"""Gaps up to this many stroke widths long are interpolated across whatever ``bridge`` asks
+(and counted in the low-confidence warning): within them the trace can hardly turn."""
 
 
 def _resample(t_cols, time, *arrays):

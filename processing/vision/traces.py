@@ -3,12 +3,17 @@ per column and gaps where a trace is lost or two traces cross.
 
 :func:`find_runs` cuts every column of the density (straight lines and marks already lifted
 off) into *runs*: stretches of rows above a threshold (4.5 σ of the paper's noise, and a
-quarter of a trace's typical peak). Each run gets its density-weighted centroid (over the run
-and two rows either side), its mass and peak, and the centroid's standard uncertainty from
+quarter of a trace's typical peak). Each run gets its exposure-weighted centroid (over the
+run and two rows either side; the exposure E undoes the paper's saturation,
+:func:`exposure`), its mass, peak and spread, and the centroid's standard uncertainty from
 the noise:
 
-.. math:: \\bar y = \\frac{\\sum_i D_i y_i}{\\sum_i D_i}, \\qquad
-          u(\\bar y) = \\frac{\\sigma_D \\sqrt{\\sum_i (y_i - \\bar y)^2}}{\\sum_i D_i}
+.. math:: \\bar y = \\frac{\\sum_i E_i y_i}{\\sum_i E_i}, \\qquad
+          u(\\bar y) = \\frac{\\sigma_D \\sqrt{\\sum_i (E'_i (y_i - \\bar y))^2}}{\\sum_i E_i}
+
+The exposure centroid is the light spot's path averaged over the spot's profile (and the
+capture's blur) along the time axis: the trace low-passed by a Gaussian of about the σ the
+stroke shows across (:attr:`Traces.spread`), even at a crest sharper than the stroke is wide.
 
 :func:`follow` links runs into traces. It starts from a column where every trace shows as a
 separate run and walks to either end, predicting each trace's row from its last row and slope;
@@ -77,6 +82,8 @@ class Runs(Record):
         Its standard uncertainty from the noise. [px]
     peak : numpy.ndarray
         Highest density in the run.
+    sigma : numpy.ndarray
+        The stroke's spread about the centroid in the column (:func:`_spread_of`). [px]
     starts : numpy.ndarray
         Index of the first run of each column (length columns + 1).
     noise : float
@@ -93,6 +100,7 @@ class Runs(Record):
     centre: np.ndarray
     u: np.ndarray
     peak: np.ndarray
+    sigma: np.ndarray
     starts: np.ndarray
     noise: float
     typical_peak: float
@@ -149,7 +157,8 @@ def find_runs(density: np.ndarray, noise: float, lines=()) -> Runs:
     starts = np.searchsorted(col, np.arange(w + 1))
     if col.size == 0:
         empty = np.empty(0)
-        return Runs(col, lo, hi, empty, empty, empty, empty, empty, starts, noise, typical)
+        return Runs(col, lo, hi, empty, empty, empty, empty, empty, empty, starts, noise,
+                    typical)
     # padded windows, not reaching into the neighbouring runs of the column
     same_prev = np.concatenate([[False], col[1:] == col[:-1]])
     same_next = np.concatenate([col[1:] == col[:-1], [False]])
@@ -162,16 +171,85 @@ def find_runs(density: np.ndarray, noise: float, lines=()) -> Runs:
     offset = np.arange(run.size) - np.repeat(np.cumsum(size) - size, size)
     rows = np.repeat(a, size) + offset
     values = density[rows, col[run]].astype(np.float64)
-    mass = np.bincount(run, values, col.size)
-    moment = np.bincount(run, values * rows, col.size)
+    weights, gain = exposure(values, saturation(col_max, noise))
+    mass = np.bincount(run, weights, col.size)
+    moment = np.bincount(run, weights * rows, col.size)
     centre = moment / np.where(mass > 0, mass, 1.0)
-    spread = np.bincount(run, (rows - centre[run]) ** 2, col.size)
+    spread = np.bincount(run, ((rows - centre[run]) * gain) ** 2, col.size)
     u = noise * np.sqrt(spread) / np.where(mass > 0, mass, np.inf)
+    sigma = _spread_of(run, rows - centre[run], weights, values, col.size)
     inner = (rows >= np.repeat(lo, size)) & (rows < np.repeat(hi, size))
     peak = np.zeros(col.size)
     np.maximum.at(peak, run[inner], values[inner])
     top, bottom = _edges(density, col, lo, hi, threshold)
-    return Runs(col, lo, hi, top, bottom, centre, u, peak, starts, noise, typical)
+    return Runs(col, lo, hi, top, bottom, centre, u, peak, sigma, starts, noise, typical)
+
+
+SATURATION_PERCENTILE = 99
+"""The paper's saturated density is taken as this percentile of the columns' highest
+densities (the beams' slow strokes reach it) ..."""
+
+SATURATION_MARGIN = 1.05
+"""... times this (a blurred core falls a little short of it)."""
+
+EXPOSURE_CLIP = 0.99
+"""Densities are turned into exposures up to this share of the saturated density (beyond,
+the noise would decide)."""
+
+
+def saturation(col_max: np.ndarray, noise: float) -> float:
+    """The density at which the paper saturates, from the columns' highest densities
+    (:data:`SATURATION_PERCENTILE`, :data:`SATURATION_MARGIN`); inf on a bare sheet."""
+    strong = col_max[col_max > 2 * THRESHOLD_SIGMA * noise]
+    if strong.size == 0:
+        return float("inf")
+    return SATURATION_MARGIN * float(np.percentile(strong, SATURATION_PERCENTILE))
+
+
+def exposure(density: np.ndarray, saturated: float) -> tuple[np.ndarray, np.ndarray]:
+    r"""The light each pixel received, from its density on a saturating paper.
+
+    A light-beam oscillograph's paper darkens as :math:`D = D_s (1 - e^{-E/E_0})` with the
+    exposure E (a development's characteristic curve, first-order), so that
+
+    .. math:: E = -D_s \ln(1 - D/D_s)
+
+    in units of density (E ≈ D on faint strokes). The centroid of E across a stroke is the
+    spot's path averaged over the time it lights the column (the beam's dwell at a crest
+    counts fully); that of D is pulled towards where the ink is merely wide (a saturated
+    stroke's flat top, the flanks' ink under a sharp crest).
+
+    Parameters
+    ----------
+    density : numpy.ndarray
+        Optical density above the paper's.
+    saturated : float
+        The paper's saturated density :math:`D_s` (:func:`saturation`).
+
+    Returns
+    -------
+    exposure : numpy.ndarray
+        E, the density's share of :math:`D_s` clipped to [0, :data:`EXPOSURE_CLIP`].
+    gain : numpy.ndarray
+        dE/dD there: how the density's noise is amplified.
+    """
+    share = np.clip(density / saturated, 0.0, EXPOSURE_CLIP)
+    return -saturated * np.log1p(-share), 1.0 / (1.0 - share)
+
+
+def _spread_of(run: np.ndarray, offset: np.ndarray, weights: np.ndarray, values: np.ndarray,
+               count: int) -> np.ndarray:
+    """σ of each run across the stroke: the root of the mean of two second moments about
+    the centroid, the exposure's (``weights``: the spot's profile, right where the paper
+    saturates and the capture adds little) and the absorbed light's, 1 − 10^(−D) (linear in
+    the capture's blur, right where that blur dominates). [px]"""
+    light = -np.expm1(-np.log(10.0) * np.clip(values, 0.0, None))
+    square = offset ** 2
+    exposed = np.bincount(run, weights * square, count) / np.maximum(
+        np.bincount(run, weights, count), 1e-12)
+    absorbed = np.bincount(run, light * square, count) / np.maximum(
+        np.bincount(run, light, count), 1e-12)
+    return np.sqrt(0.5 * (exposed + absorbed))
 
 
 def _edges(density, col, lo, hi, threshold: float) -> tuple[np.ndarray, np.ndarray]:
@@ -224,6 +302,9 @@ class Traces(Record):
         traces × columns, 0 to 1; 0 in a gap.
     width : numpy.ndarray
         Each trace's stroke width across it (:func:`_across`). [px]
+    spread : numpy.ndarray
+        Each trace's σ across it (:func:`_across` of the runs' ``sigma``): the light spot's
+        and the capture's blur, which low-pass the rows read. [px]
     """
 
     run: np.ndarray
@@ -231,6 +312,7 @@ class Traces(Record):
     u: np.ndarray
     confidence: np.ndarray
     width: np.ndarray
+    spread: np.ndarray
 
     @property
     def count(self) -> int:
@@ -302,28 +384,35 @@ def follow(runs: Runs, columns: int, count: int | None = None) -> Traces:
     order = sorted(keep, key=lambda j: np.nanmean(row[j]))
     chosen, row, u, cap, apex = chosen[order], row[order], u[order], cap[order], apex[order]
     conf, width = confidence(runs, chosen, row, apex)
-    return Traces(chosen, row, u, np.minimum(conf, cap), width)
+    return Traces(chosen, row, u, np.minimum(conf, cap), width, _spread(runs, chosen, row))
+
+
+SHARP = 1.0
+"""A crest is read off the stroke's outer edge where the run under it is taller than a single
+stroke by more than this many stroke widths: the flanks' ink merged under a crest sharper
+than the stroke is wide."""
 
 
 def _apexes(runs: Runs, chosen: np.ndarray, row: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Rows at the trace's sharp extremes read off the stroke's outer edge.
+    """Rows at the trace's extremes sharper than the stroke, read off its outer edge.
 
-    Where a swing's crest is sharper than the stroke is wide, the ink of both flanks fills
-    the columns under the crest and the centroid sinks towards the inside; the outer edge
-    still lies half a stroke's width off the centre line (the ink is the union of discs
-    about it, and on the convex side their envelope is the offset curve). So where the run
-    is taller than a single stroke at its edges' slopes explains, and an extreme of the
+    Where a column's run is taller than a single stroke at its edges' slopes explains (by a
+    quarter of the stroke's width across, :func:`_across`, and 1 px) and an extreme of the
     centroids is near (within a stroke width of columns; the nearer kind decides), the
-    row is the outer edge ∓ (W/2)·√(1 + s²), s the edge's slope — the upper edge at a
-    crest, the lower at a trough — W being the stroke's edge-to-edge width across
-    (:func:`_across`).
+    column lies under a crest or trough: the ink of both flanks fills it. The exposure
+    centroid (:func:`exposure`) is still the spot's path there, low-passed by the spot and
+    the blur; where the run is taller than the stroke by more than :data:`SHARP` widths,
+    the swing is too sharp for that low-pass to be undone, and the row is the outer edge ∓
+    (W/2)·√(1 + s²) instead, s the edge's slope — the upper edge at a crest, the lower at a
+    trough — W the stroke's edge-to-edge width across (on the convex side the union of
+    the spot's discs is bounded by the offset curve).
 
     Returns
     -------
     row : numpy.ndarray
-        The rows, corrected at the extremes.
+        The rows, read off the outer edge at the sharp extremes.
     apex : numpy.ndarray
-        True where corrected.
+        True under every extreme (the tall run explained).
     """
     ok = chosen >= 0
     idx = np.maximum(chosen, 0)
@@ -337,6 +426,8 @@ def _apexes(runs: Runs, chosen: np.ndarray, row: np.ndarray) -> tuple[np.ndarray
         if not ok[j].any():
             continue
         width = _across(bottom[j] - top[j], slope[j])
+        if not np.isfinite(width):      # no two neighbouring columns read: no extreme
+            continue
         half, reach = width / 2, max(1, int(np.ceil(width)))
         crest = top[j] + half * np.sqrt(1 + s_top[j] ** 2)
         trough = bottom[j] - half * np.sqrt(1 + s_bottom[j] ** 2)
@@ -348,10 +439,11 @@ def _apexes(runs: Runs, chosen: np.ndarray, row: np.ndarray) -> tuple[np.ndarray
         to_up, to_down = _distance_to(up), _distance_to(down)
         with np.errstate(invalid="ignore"):
             tall = (trough - crest) > max(1.0, 0.25 * width)
+            sharp = (trough - crest) > SHARP * width
         at_crest = tall & (to_up < to_down) & (to_up <= reach)
         at_trough = tall & (to_down < to_up) & (to_down <= reach)
-        out[j, at_crest] = crest[at_crest]
-        out[j, at_trough] = trough[at_trough]
+        out[j, at_crest & sharp] = crest[at_crest & sharp]
+        out[j, at_trough & sharp] = trough[at_trough & sharp]
         apex[j] = at_crest | at_trough
     return out, apex
 
@@ -635,6 +727,15 @@ def _across(extent: np.ndarray, slope: np.ndarray) -> float:
         return float(np.median(extent[flat]))
     w = extent[seen] / np.sqrt(1 + s[seen] ** 2)
     return float(np.percentile(w, STROKE_PERCENTILE)) if w.size else float("nan")
+
+
+def _spread(runs: Runs, chosen: np.ndarray, row: np.ndarray) -> np.ndarray:
+    """Each trace's σ across the stroke (:func:`_across` of its runs' σ). [px]"""
+    ok = chosen >= 0
+    sigma = np.where(ok, runs.sigma[np.maximum(chosen, 0)], np.nan)
+    with np.errstate(invalid="ignore"):
+        slope = _slope(row)
+    return np.array([_across(sigma[j], slope[j]) for j in range(len(chosen))])
 
 
 def _distance_to(mask: np.ndarray) -> np.ndarray:
