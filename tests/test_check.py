@@ -239,16 +239,18 @@ def test_check_json_of_one_submission(tmp_path, ours, capsys):
 
 
 def test_a_seeded_class_with_injected_slips(tmp_path):
-    """The benchmark's quick class (a variant of every lab with a scene, about half its values
-    slipped):
-    every injected slip found and named, no right value called wrong. (Its timing target
-    lives in ``python -m processing.bench --topic check``.)"""
+    """The benchmark's quick class (a variant of each lab read from typed readings, about half
+    its values slipped, the formula slips re-reduced): every injected slip found and named, no
+    right value called wrong. The labs reading recordings (3, 4, 6, 7) are checked against
+    their slips by :mod:`test_check_slips`; the whole class and its timing target live in
+    ``python -m processing.bench --topic check``."""
     from labs import check_bench
 
-    frame, targets = check_bench.run(tmp_path, quick=True, log=lambda _: None)
+    frame, targets = check_bench.run(tmp_path, quick=True, log=lambda _: None,
+                                     labs=("lab1", "lab2", "lab5", "lab8", "lab9", "dyncalc"))
     found, alarms = targets[:2]
     assert found.passed and alarms.passed, (found.line(), alarms.line())
-    assert frame["injected"].notna().sum() > 100
+    assert frame["injected"].notna().sum() > 60
 
 
 def test_a_class_of_variants_checked_against_its_keys(tmp_path, capsys):
