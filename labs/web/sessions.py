@@ -21,7 +21,7 @@ _ID = re.compile(r"^[0-9a-f]{16}$")
 
 
 def safe_name(filename: str, taken=()) -> str:
-    """A file's name as it may be stored: its last part only, letters, digits, ``. _ -``,
+    """A file's name as it may be stored: its last part only, letters, digits and ``._-``,
     no leading dot, at most 100 characters, not the measurement file's, not one in ``taken``.
 
     >>> safe_name("../../etc/passwd"), safe_name("C:\\\\photos\\\\decay 1.jpg"), safe_name(".env")
