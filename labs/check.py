@@ -179,15 +179,20 @@ def read_policy(path: str | Path | None) -> PolicyFile:
         data = tomllib.loads(read_text(path, POLICY, fix="give a TOML file with rel_tol, "
                                                         "sig_figs and expected"))
     except tomllib.TOMLDecodeError as exc:
+        from processing.measurement import toml_place
+
         raise InputError(f"not a valid TOML file ({exc})", "give a TOML file with rel_tol, "
-                         "sig_figs and expected", file=file) from None
+                         "sig_figs and expected", file=file,
+                         ru=(f"файл не по правилам TOML{toml_place(str(exc))}", "укажите файл "
+                             "TOML с rel_tol, sig_figs и expected")) from None
     top, labs = {}, {}
     for key, value in data.items():
         if key in LABS:
             if not isinstance(value, dict):
                 raise InputError(f"'{key}' must be a table [{key}] of rules",
                                  f"write the rules of {key} under a line [{key}]", file=file,
-                                 field=key)
+                                 field=key, ru=(f"'{key}' должно быть таблицей правил [{key}]",
+                                                f"запишите правила {key} под строкой [{key}]"))
             labs[key] = {k: _rule(file, f"{key}.{k}", k, v) for k, v in value.items()}
         else:
             top[key] = _rule(file, key, key, value)
@@ -202,29 +207,46 @@ def _rule(file: str, where: str, key: str, value):
     if key not in POLICY_RULES:
         if "." in where:
             raise bad(f"unknown policy key '{key}' in [{where.split('.')[0]}]",
-                      _close(key, list(POLICY_RULES), "a lab's rules are"))
+                      _close(key, list(POLICY_RULES), "a lab's rules are"),
+                      ru=(f"неизвестный ключ '{key}' в [{where.split('.')[0]}]",
+                          _close(key, list(POLICY_RULES), "правила работы", "ru")))
         if isinstance(value, dict):
-            raise bad(f"'{key}' is not a lab", _close(key, list(LABS), "the labs are"))
+            raise bad(f"'{key}' is not a lab", _close(key, list(LABS), "the labs are"),
+                      ru=(f"'{key}' — не работа", _close(key, list(LABS), "работы", "ru")))
         raise bad(f"unknown policy key '{key}'", _close(key, [*POLICY_RULES, *LABS],
                                                         "use rel_tol, sig_figs, expected or a "
-                                                        "[labN] table of them; the keys are"))
+                                                        "[labN] table of them; the keys are"),
+                  ru=(f"неизвестный ключ допусков '{key}'",
+                      _close(key, [*POLICY_RULES, *LABS], "используйте rel_tol, sig_figs, "
+                             "expected или таблицу [labN] из них; ключи", "ru")))
     if key == "rel_tol":
         if isinstance(value, bool) or not isinstance(value, (int, float)) \
                 or not math.isfinite(value):
             raise bad(f"rel_tol = {value!r} is not a number", "write the relative tolerance "
-                      "as a fraction: rel_tol = 0.01 for 1 %")
+                      "as a fraction: rel_tol = 0.01 for 1 %",
+                      ru=(f"rel_tol = {value!r} — не число", "запишите относительный допуск "
+                          "долей: rel_tol = 0.01 для 1 %"))
         if not 0 <= value < 1:
             raise bad(f"rel_tol = {value!r} is {'negative' if value < 0 else 'not below 1'}: "
                       "it is a fraction of the value, from 0 up to (not including) 1",
                       "write e.g. rel_tol = 0.01 for 1 %" + (
-                          f", rel_tol = {value / 100:g} for {value:g} %" if value >= 1 else ""))
+                          f", rel_tol = {value / 100:g} for {value:g} %" if value >= 1 else ""),
+                      ru=(f"rel_tol = {value!r} "
+                          f"{'отрицательно' if value < 0 else 'не меньше 1'}: это доля "
+                          "значения, от 0 до 1 (не включая 1)",
+                          "напишите, например, rel_tol = 0.01 для 1 %" + (
+                              f", rel_tol = {value / 100:g} для {value:g} %" if value >= 1
+                              else "")))
         return float(value)
     if key == "sig_figs":
         if isinstance(value, bool) or not isinstance(value, int) \
                 or not 1 <= value <= MOST_SIG_FIGS:
             raise bad(f"sig_figs = {value!r} is not a whole number from 1 to {MOST_SIG_FIGS}",
                       "write how many significant figures a value must have, e.g. "
-                      "sig_figs = 3")
+                      "sig_figs = 3",
+                      ru=(f"sig_figs = {value!r} — не целое число от 1 до {MOST_SIG_FIGS}",
+                          "укажите, сколько значащих цифр должно быть у значения, например "
+                          "sig_figs = 3"))
         return value
     if key in ("points", "partial"):
         if isinstance(value, bool) or not isinstance(value, (int, float)) \
@@ -254,13 +276,19 @@ def _rule(file: str, where: str, key: str, value):
                                               for n in value):
         raise bad(f"expected = {value!r} is not a list of result names",
                   "write expected = [\"J_trifilar\", \"J_pendulum_cm\"] (the names of the "
-                  "result JSON)")
+                  "result JSON)",
+                  ru=(f"expected = {value!r} — не список имён результатов",
+                      "напишите expected = [\"J_trifilar\", \"J_pendulum_cm\"] (имена из JSON "
+                      "результата)"))
     return tuple(dict.fromkeys(n.strip() for n in value))
 
 
-def _close(word: str, options: list[str], listing: str) -> str:
+def _close(word: str, options: list[str], listing: str, lang: str = "en") -> str:
+    """The option nearest ``word`` as a question, else ``listing`` and every option."""
     close = difflib.get_close_matches(word, options, n=1, cutoff=0.6)
-    return f"did you mean '{close[0]}'?" if close else f"{listing}: {', '.join(options)}"
+    if close:
+        return f"может быть, '{close[0]}'?" if lang == "ru" else f"did you mean '{close[0]}'?"
+    return f"{listing}: {', '.join(options)}"
 
 
 def lab_knows(lab: str, names) -> Callable[[str], bool]:
@@ -316,7 +344,10 @@ def unknown_expected(checks: list[Check], policy: PolicyFile) -> None:
                 f"'{name}' is not a result of {' or '.join(labs)} (none of the {count} "
                 f"submission(s) checked gives it)",
                 _close(name, results, "correct the name in expected; the results are"),
-                file=policy.file, field=where)
+                file=policy.file, field=where,
+                ru=(f"'{name}' — не результат {' или '.join(labs)} (ни одна из {count} "
+                    f"проверенных работ его не даёт)",
+                    _close(name, results, "исправьте имя в expected; результаты", "ru")))
 
 
 REPORTED_KEYS = ("value", "u")
@@ -329,21 +360,26 @@ def _reported(path: str, table, results) -> dict[str, Reported]:
         raise InputError(f"'reported' must be a table, got {table!r}",
                          "write the values you got under a line [reported], named as in the "
                          "result JSON (e.g. J_trifilar = \"0.1234 kg*m^2\")", file=path,
-                         field="reported")
+                         field="reported",
+                         ru=(f"'reported' должно быть таблицей, а не {table!r}",
+                             "запишите полученные значения под строкой [reported], с именами "
+                             "из JSON результата (например, J_trifilar = \"0,1234 кг*м^2\")"))
     if not table:
         raise InputError("the file has no [reported] table: nothing to check",
                          "add a [reported] table with the values you got, named as in the "
                          "result JSON (e.g. J_trifilar = \"0.1234 kg*m^2\")", file=path,
-                         field="reported")
+                         field="reported",
+                         ru=("в файле нет таблицы [reported]: проверять нечего",
+                             "добавьте таблицу [reported] с полученными значениями, с именами "
+                             "из JSON результата (например, J_trifilar = \"0,1234 кг*м^2\")"))
     out = {}
     for name, entry in table.items():
         field = f"reported.{name}"
         if name not in results:
-            close = difflib.get_close_matches(name, list(results), n=1, cutoff=0.6)
-            hint = f"did you mean '{close[0]}'?" if close else \
-                f"the results are: {', '.join(results)}"
-            raise InputError(f"'{name}' is not a result of this lab", hint, file=path,
-                             field=field)
+            raise InputError(f"'{name}' is not a result of this lab",
+                             _close(name, list(results), "the results are"), file=path,
+                             field=field, ru=(f"'{name}' — не результат этой работы",
+                                              _close(name, list(results), "результаты", "ru")))
         value, u = _entry(path, field, entry)
         out[name] = _quantity(path, field, value, u, results[name].unit)
     return out
@@ -359,10 +395,16 @@ def _entry(path: str, field: str, entry) -> tuple:
             raise InputError(f"unknown key '{key}' in the table of '{field.split('.', 1)[1]}'",
                              (f"did you mean '{close[0]}'? " if close else "") + "a reported "
                              "value's table holds value and, optionally, u (your standard "
-                             "uncertainty)", file=path, field=f"{field}.{key}")
+                             "uncertainty)", file=path, field=f"{field}.{key}",
+                             ru=(f"неизвестный ключ '{key}' в таблице '{field.split('.', 1)[1]}'",
+                                 (f"может быть, '{close[0]}'? " if close else "") + "таблица "
+                                 "значения содержит `value` и, если нужно, `u` (вашу "
+                                 "стандартную неопределённость)"))
     if "value" not in entry:
         raise InputError("the table gives no value", "write { value = \"0.1234 kg*m^2\", "
-                         "u = \"0.0004 kg*m^2\" }, or the value alone", file=path, field=field)
+                         "u = \"0.0004 kg*m^2\" }, or the value alone", file=path, field=field,
+                         ru=("в таблице нет значения", "напишите { value = \"0,1234 кг*м^2\", "
+                             "u = \"0,0004 кг*м^2\" } или одно значение"))
     return entry["value"], entry.get("u")
 
 
@@ -371,26 +413,36 @@ def _quantity(path: str, field: str, value, u, unit: str) -> Reported:
 
     if isinstance(value, bool) or not isinstance(value, (int, float, str)):
         raise InputError(f"{value!r} is not a value", "write a number with its unit, e.g. "
-                         "\"0.1234 kg*m^2\"", file=path, field=field)
+                         "\"0.1234 kg*m^2\"", file=path, field=field,
+                         ru=(f"{value!r} — не значение", "напишите число с единицей, например "
+                             "\"0,1234 кг*м^2\""))
     text = value if isinstance(value, str) else repr(value)
     if unit and not isinstance(value, str):
         raise InputError(f"{value!r} has no unit", f"write the value with its unit, as a "
                          f"string: \"{value} {unit}\" (or in the unit you used)", file=path,
-                         field=field)
-    wanted = unit or "a pure number"
+                         field=field, ru=(f"у {value!r} нет единицы", "напишите значение с "
+                                          f"единицей строкой: \"{value} {unit}\" (или в той "
+                                          "единице, в которой считали)"))
+    wanted, wanted_ru = _wanted(unit)
     try:
         si, limit = parse_quantity(text, unit or "")
     except ValueError as exc:
         raise InputError(str(exc), f"write the value as a number and a unit of {wanted}",
-                         file=path, field=field) from None
+                         file=path, field=field,
+                         ru=(getattr(exc, "problem_ru", None) or str(exc),
+                             f"запишите значение числом и единицей: {wanted_ru}")) from None
     if not math.isfinite(si):
         raise InputError(f"{text!r} is not a finite number", f"write the value you got, a "
-                         f"number and a unit of {wanted}", file=path, field=field)
+                         f"number and a unit of {wanted}", file=path, field=field,
+                         ru=(f"{text!r} — не конечное число", "запишите полученное значение "
+                             f"числом и единицей: {wanted_ru}"))
     u_si = limit or 0.0
     if u is not None:
         if limit is not None:
             raise InputError(f"the uncertainty is given twice: ± in the value and u = {u!r}",
-                             "keep one of them", file=path, field=f"{field}.u")
+                             "keep one of them", file=path, field=f"{field}.u",
+                             ru=(f"неопределённость дана дважды: ± в значении и u = {u!r}",
+                                 "оставьте одно из двух"))
         u_si = _uncertainty(path, f"{field}.u", u, unit)
     text = decimal_point(text)          # "0,1708" has the digits of 0.1708
     digits, exponent = written_digits(text)
@@ -399,27 +451,42 @@ def _quantity(path: str, field: str, value, u, unit: str) -> Reported:
     return Reported(field.split(".", 1)[1], si, u_si, digits, abs(scale) * 10.0 ** exponent)
 
 
+def _wanted(unit: str) -> tuple[str, str]:
+    """What a reported value's unit must be, in English and Russian."""
+    from processing.units import unit_text
+
+    return (unit or "a pure number", unit_text(unit, "ru") if unit else "безразмерное число")
+
+
 def _uncertainty(path: str, field: str, u, unit: str) -> float:
     """A reported standard uncertainty in SI: a number (a pure result) or a string with the
     result's unit, finite and ≥ 0."""
     from processing.units import parse_quantity
 
-    wanted = unit or "a pure number"
+    wanted, wanted_ru = _wanted(unit)
     if isinstance(u, bool) or not isinstance(u, (int, float, str)):
         raise InputError(f"u = {u!r} is not an uncertainty", f"write u as a number and a unit "
-                         f"of {wanted}", file=path, field=field)
+                         f"of {wanted}", file=path, field=field,
+                         ru=(f"u = {u!r} — не неопределённость", "запишите u числом и "
+                             f"единицей: {wanted_ru}"))
     if unit and not isinstance(u, str):
         raise InputError(f"the uncertainty {u!r} has no unit", f"write it with its unit, as a "
-                         f"string: u = \"{u} {unit}\"", file=path, field=field)
+                         f"string: u = \"{u} {unit}\"", file=path, field=field,
+                         ru=(f"у неопределённости {u!r} нет единицы", "напишите её с единицей "
+                             f"строкой: u = \"{u} {unit}\""))
     try:
         u_si, limit = parse_quantity(u if isinstance(u, str) else repr(u), unit or "")
     except ValueError as exc:
         raise InputError(str(exc), f"write u as a number and a unit of {wanted}", file=path,
-                         field=field) from None
+                         field=field, ru=(getattr(exc, "problem_ru", None) or str(exc),
+                                          f"запишите u числом и единицей: {wanted_ru}")) from None
     if limit is not None or not math.isfinite(u_si) or u_si < 0:
         raise InputError(f"u = {u!r} is not a standard uncertainty (a finite number ≥ 0)",
                          "give your standard uncertainty, a positive number with its unit, or "
-                         "leave u out", file=path, field=field)
+                         "leave u out", file=path, field=field,
+                         ru=(f"u = {u!r} — не стандартная неопределённость (конечное число "
+                             "≥ 0)", "укажите свою стандартную неопределённость, положительное "
+                             "число с единицей, или уберите u"))
     return u_si
 
 
@@ -518,21 +585,29 @@ def read_key(path: str | Path) -> dict[str, float]:
     if not Path(path).exists():
         raise InputError("no answer key for this submission", "name each submission's folder "
                          "by the student's id, as in the roster the variants were written for",
-                         file=str(path))
+                         file=str(path),
+                         ru=("для этой работы нет ключа ответов", "назовите папку каждой работы "
+                             "номером студента, как в списке, по которому писались варианты"))
     fix = "give the answer_key.json that dynlab synth wrote"
+    fix_ru = "укажите answer_key.json, записанный dynlab synth"
     try:
         results = json.loads(read_text(path, ANSWER_KEY, fix=fix))["results"]
     except (ValueError, KeyError, TypeError) as exc:
         raise InputError(f"not an answer key ({type(exc).__name__}: {exc})", fix,
-                         file=str(path), field="results") from None
+                         file=str(path), field="results",
+                         ru=(f"это не ключ ответов ({type(exc).__name__}: {exc})",
+                             fix_ru)) from None
     if not isinstance(results, dict):
         raise InputError("\"results\" is not a table of result names and values", fix,
-                         file=str(path), field="results")
+                         file=str(path), field="results",
+                         ru=("\"results\" — не таблица имён и значений результатов", fix_ru))
     for name, value in results.items():
         if isinstance(value, bool) or not isinstance(value, (int, float)) \
                 or not math.isfinite(value):
             raise InputError(f"the true value of '{name}' is {value!r}, not a finite number",
-                             fix, file=str(path), field=f"results.{name}")
+                             fix, file=str(path), field=f"results.{name}",
+                             ru=(f"истинное значение '{name}' — {value!r}, а не конечное число",
+                                 fix_ru))
     return {str(k): float(v) for k, v in results.items()}
 
 
@@ -596,7 +671,11 @@ def student_key(variants: Variants, folder_id: str | None, meta_id: str | None,
                      f"{keys_folder(keydir)}/<id>/answer_key.json of that id)",
                      "name each submission's folder by the student's id, as in the roster the "
                      "variants were written for, or write the id in [meta] id = \"…\"",
-                     file=str(path), field="meta.id")
+                     file=str(path), field="meta.id",
+                     ru=(f"для этой работы нет ключа ответов ({tried}: нет "
+                         f"{keys_folder(keydir)}/<id>/answer_key.json с таким номером)",
+                         "назовите папку каждой работы номером студента, как в списке, по "
+                         "которому писались варианты, или впишите номер в [meta] id = \"…\""))
 
 
 def asked(lab: str, results) -> tuple[str, ...]:
@@ -781,7 +860,9 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
         if result.lab not in TABLE_CHECKS:
             raise InputError(f"{result.lab} has no tables to check", "report its values in "
                              "[reported] and delete [reported.tables]", file=str(path),
-                             field="reported.tables")
+                             field="reported.tables",
+                             ru=(f"в {result.lab} нет таблиц для проверки", "укажите её "
+                                 "значения в [reported] и удалите [reported.tables]"))
         checker = importlib.import_module(TABLE_CHECKS[result.lab])
         judged_tables = checker.check_tables(path, tables, inputs(), rules, confine=confine)
     student = result.meta.get("student", Path(path).stem)

@@ -536,7 +536,10 @@ def check_tables(path: str | Path, entries, inputs: Inputs, policy: Policy = Pol
     if not isinstance(entries, dict) or not entries:
         raise InputError("[reported.tables] names no table", "write e.g. forces = "
                          "\"forces.csv\" (tables: " + ", ".join(KINDS) + ")", file=str(path),
-                         field="reported.tables")
+                         field="reported.tables",
+                         ru=("[reported.tables] не называет ни одной таблицы", "напишите, "
+                             "например, forces = \"forces.csv\" (таблицы: " + ", ".join(KINDS)
+                             + ")"))
     args = arguments(inputs)
     drawing = inputs.sections.get("drawing")
     out = []
@@ -544,14 +547,19 @@ def check_tables(path: str | Path, entries, inputs: Inputs, policy: Policy = Pol
         where = f"reported.tables.{name}"
         if name not in KINDS:
             raise InputError(f"'{name}' is not a table of the coursework",
-                             f"name the tables {', '.join(KINDS)}", file=str(path), field=where)
+                             f"name the tables {', '.join(KINDS)}", file=str(path), field=where,
+                             ru=(f"'{name}' — не таблица курсовой работы",
+                                 f"называйте таблицы {', '.join(KINDS)}"))
         if not isinstance(file, str):
             raise InputError(f"{file!r} is not a file name", f"write {name} = \"{name}.csv\"",
-                             file=str(path), field=where)
+                             file=str(path), field=where,
+                             ru=(f"{file!r} — не имя файла", f"напишите {name} = \"{name}.csv\""))
         csv_path = path.parent / file
         if confine and resolved(path.parent) not in resolved(csv_path).parents:
             raise InputError(f"'{file}' lies outside the submission's folder",
-                             "put the table beside the submission", file=str(path), field=where)
+                             "put the table beside the submission", file=str(path), field=where,
+                             ru=(f"'{file}' лежит вне папки работы",
+                                 "положите таблицу рядом с файлом работы"))
         table = read_table(csv_path, name, cylinders=args["cylinders"],
                            piston_area=args["piston_area"],
                            mu_p=drawing["mu_p"].value if drawing else None, shown=str(csv_path))

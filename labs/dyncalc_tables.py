@@ -167,10 +167,14 @@ def read_table(path: Path, name: str, *, cylinders: int, piston_area: float,
         rows = _cells(text)
     except csv.Error as exc:
         raise InputError(f"cannot read the table ({exc})", "export the sheet as CSV (UTF-8)",
-                         file=shown, field=where) from None
+                         file=shown, field=where,
+                         ru=(f"таблицу не прочитать ({exc})", "сохраните лист как CSV (UTF-8)")
+                         ) from None
     if len(rows) < 2:
         raise InputError("the table has no rows", "export the header row and the rows of the "
-                         "table", file=shown, field=where)
+                         "table", file=shown, field=where,
+                         ru=("в таблице нет строк", "сохраните строку заголовка и строки "
+                             "таблицы"))
     headers = [h.strip() for h in rows[0]]
     parsed, keys = [], {}
     for col, header in enumerate(headers):
@@ -184,11 +188,15 @@ def read_table(path: Path, name: str, *, cylinders: int, piston_area: float,
                 known.insert(1, "T1 … T" + str(cylinders))
             raise InputError(f"unknown column '{header}'", f"name the columns of the {name} "
                              f"table as the coursework does: {', '.join(known)}",
-                             file=shown, field=f"{where}, column '{header}'")
+                             file=shown, field=f"{where}, column '{header}'",
+                             ru=(f"неизвестный столбец '{header}'", "назовите столбцы таблицы "
+                                 f"{name}, как в курсовой работе: {', '.join(known)}"))
         if key in keys:
             raise InputError(f"column '{header}' repeats '{headers[keys[key]]}'",
                              "keep one column per quantity", file=shown,
-                             field=f"{where}, column '{header}'")
+                             field=f"{where}, column '{header}'",
+                             ru=(f"столбец '{header}' повторяет '{headers[keys[key]]}'",
+                                 "оставьте по одному столбцу на величину"))
         keys[key] = col
         parsed.append((col, header, key, _scale(key, _unit(unit_text), header, shown, where,
                                                 piston_area, mu_p)))
@@ -209,7 +217,9 @@ def read_table(path: Path, name: str, *, cylinders: int, piston_area: float,
             except ValueError:
                 raise InputError(f"'{row[col]}' is not a number", "write a number in each cell "
                                  "(or leave it empty)", file=shown,
-                                 field=f"{where}, column '{header}', row {r}") from None
+                                 field=f"{where}, column '{header}', row {r}",
+                                 ru=(f"'{row[col]}' — не число", "впишите число в каждую "
+                                     "ячейку (или оставьте её пустой)")) from None
             halves.append(0.5 * 10.0 ** written_digits(text)[1] * abs(scale))
         columns[key] = Column(key, header, np.array(values), np.array(halves))
     lines = np.arange(2, len(rows) + 1)
@@ -218,7 +228,9 @@ def read_table(path: Path, name: str, *, cylinders: int, piston_area: float,
     if abscissa_key not in columns:
         wanted = "α, °" if abscissa_key == "alpha" else "V_a/V_x (or V_x/V_z) or V_x, L"
         raise InputError(f"the {name} table has no column {wanted}", f"add the column "
-                         f"'{wanted}' the rows are computed at", file=shown, field=where)
+                         f"'{wanted}' the rows are computed at", file=shown, field=where,
+                         ru=(f"в таблице {name} нет столбца {wanted}", "добавьте столбец "
+                             f"'{wanted}', для которого посчитаны строки"))
     x = columns.pop(abscissa_key)
     given = ~np.isnan(x.values)
     ordered = sorted(columns.values(), key=lambda c: _rank(c.key))
@@ -241,19 +253,28 @@ def _scale(key, unit, header, shown, where, piston_area, mu_p) -> float:
     if quantity == RATIO:
         if unit and dimension(unit) != "dimensionless":
             raise InputError(f"'{header}' is a pure number, not in {unit}", "leave the unit out",
-                             file=shown, field=field_)
+                             file=shown, field=field_,
+                             ru=(f"'{header}' — безразмерное число, а не {unit}",
+                                 "уберите единицу"))
         return si_factor(unit) if unit else 1.0
     examples = {FORCE: "kN, MPa (per piston area) or mm (as drawn)", PRESSURE: "MPa or mm "
                 "(as drawn)", TORQUE: "N*m", ANGLE: "deg", VOLUME: "L or cm^3"}
+    examples_ru = {FORCE: "kN, MPa (на площадь поршня) или mm (на чертеже)",
+                   PRESSURE: "MPa или mm (на чертеже)", TORQUE: "N*m", ANGLE: "deg",
+                   VOLUME: "L или cm^3"}
     if not unit:
         raise InputError(f"column '{header}' has no unit", f"write its unit after a comma: "
                          f"'{header}, {examples[quantity].split()[0]}'", file=shown,
-                         field=field_)
+                         field=field_, ru=(f"у столбца '{header}' нет единицы", "напишите "
+                                           "единицу после запятой: "
+                                           f"'{header}, {examples[quantity].split()[0]}'"))
     try:
         dim, factor = dimension(unit), si_factor(unit)
     except Exception:
         raise InputError(f"'{unit}' in '{header}' is not a unit", f"use {examples[quantity]}",
-                         file=shown, field=field_) from None
+                         file=shown, field=field_,
+                         ru=(f"'{unit}' в '{header}' — не единица",
+                             f"используйте {examples_ru[quantity]}")) from None
     drawn = mu_p * (piston_area if quantity == FORCE else 1.0) if mu_p else None
     allowed = {dimension(quantity or ""): 1.0}
     if quantity == FORCE:
@@ -264,9 +285,13 @@ def _scale(key, unit, header, shown, where, piston_area, mu_p) -> float:
         allowed = {"dimensionless": 1.0}
     if dim not in allowed:
         raise InputError(f"'{header}' is in {unit}, not a unit of this column",
-                         f"use {examples[quantity]}", file=shown, field=field_)
+                         f"use {examples[quantity]}", file=shown, field=field_,
+                         ru=(f"'{header}' в {unit} — это не единица этого столбца",
+                             f"используйте {examples_ru[quantity]}"))
     if allowed[dim] is None:
         raise InputError(f"'{header}' is in {unit}: ordinates as drawn need the drawing's "
                          f"scale", "add [drawing] mu_p (MPa/mm) to the file", file=shown,
-                         field=field_)
+                         field=field_, ru=(f"'{header}' в {unit}: ординатам в масштабе чертежа "
+                                           "нужен масштаб чертежа", "добавьте в файл [drawing] "
+                                           "mu_p (МПа/мм)"))
     return factor * allowed[dim]

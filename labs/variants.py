@@ -27,6 +27,10 @@ _RESERVED = re.compile(r"(con|prn|aux|nul|com\d|lpt\d)(\..*)?", re.I)
 _CONTROL = re.compile(r"[\x00-\x1f\x7f]")
 
 
+FIX_RU = "сохраните список группы как CSV (строка заголовка id,name и по строке на студента)"
+"""How to write a roster, in Russian."""
+
+
 def read_roster(path: str | Path) -> list[tuple[str, str]]:
     """(id, name) of every student of a roster CSV with the columns ``id`` and ``name``
     (``name`` optional), ids unique and usable as folder names.
@@ -57,16 +61,22 @@ def read_roster(path: str | Path) -> list[tuple[str, str]]:
         rows = list(reader)
     except csv.Error as exc:
         raise InputError(f"not a CSV table ({exc})", "save the roster as CSV: a header row "
-                         "id,name and a row per student", file=str(path)) from None
+                         "id,name and a row per student", file=str(path),
+                         ru=(f"это не таблица CSV ({exc})", FIX_RU)) from None
     if "id" not in header:
         if looks_binary(text):
             raise InputError("not a text file (binary data), so not a roster", fix,
-                             file=str(path))
+                             file=str(path), ru=("это не текстовый файл (двоичные данные), "
+                                                 "а значит, не список группы", FIX_RU))
         raise InputError("the roster has no 'id' column", "write a header row id,name and a "
-                         "row per student", file=str(path), field="id")
+                         "row per student", file=str(path), field="id",
+                         ru=("в списке группы нет столбца 'id'", "напишите строку заголовка "
+                             "id,name и по строке на студента"))
     if len(rows) > MAX_STUDENTS:
         raise InputError(f"{len(rows)} rows: a roster holds at most {MAX_STUDENTS} students",
-                         "give the roster of one class or group", file=str(path))
+                         "give the roster of one class or group", file=str(path),
+                         ru=(f"{len(rows)} строк: в списке группы не больше {MAX_STUDENTS} "
+                             "студентов", "укажите список одной группы"))
     at, named = header.index("id"), header.index("name") if "name" in header else None
     students, seen = [], {}
     for line, row in enumerate(rows, start=2):
@@ -79,38 +89,52 @@ def read_roster(path: str | Path) -> list[tuple[str, str]]:
                              + ("" if sid in (s for s, _ in students) else
                                 " (ids that differ only in letter case name one folder on "
                                 "Windows and macOS)"),
-                             "give every student a different id", file=str(path), field="id")
+                             "give every student a different id", file=str(path), field="id",
+                             ru=(f"номер {sid!r} стоит в строках {seen[sid.casefold()]} и "
+                                 f"{line}" + ("" if sid in (s for s, _ in students) else
+                                              " (номера, различающиеся только регистром букв, "
+                                              "называют одну папку в Windows и macOS)"),
+                                 "дайте каждому студенту свой номер"))
         seen[sid.casefold()] = line
         name = row[named].strip() if named is not None and named < len(row) else ""
         if _CONTROL.search(name):
             raise InputError(f"row {line}: the name holds a control character",
                              "write the student's name as plain text", file=str(path),
-                             field="name")
+                             field="name", ru=(f"строка {line}: в имени управляющий символ",
+                                               "запишите имя студента простым текстом"))
         students.append((sid, name or sid))
     if not students:
         raise InputError("the roster names no student", "add a row per student under the "
-                         "header id,name", file=str(path), field="id")
+                         "header id,name", file=str(path), field="id",
+                         ru=("в списке группы нет ни одного студента", "добавьте по строке на "
+                             "студента под заголовком id,name"))
     return students
 
 
 def _check_id(path: Path, line: int, sid: str) -> None:
     """Refuse an id that cannot name a folder on every system a class is copied to."""
-    def refuse(problem: str) -> InputError:
+    def refuse(problem: str, problem_ru: str) -> InputError:
         return InputError(f"row {line}: {problem}", "give each student a plain id (letters, "
                           f"digits, - or _, at most {MAX_ID} characters)", file=str(path),
-                          field="id")
+                          field="id", ru=(f"строка {line}: {problem_ru}", "дайте каждому "
+                                          "студенту простой номер (буквы, цифры, - или _, не "
+                                          f"больше {MAX_ID} знаков)"))
 
     if not sid:
-        raise refuse("the id is empty")
+        raise refuse("the id is empty", "номер пуст")
     if len(sid) > MAX_ID:
-        raise refuse(f"the id is {len(sid)} characters long, more than {MAX_ID}")
+        raise refuse(f"the id is {len(sid)} characters long, more than {MAX_ID}",
+                     f"в номере {len(sid)} знаков, больше {MAX_ID}")
     if _CONTROL.search(sid):
-        raise refuse(f"the id {sid!r} holds a control character")
+        raise refuse(f"the id {sid!r} holds a control character",
+                     f"в номере {sid!r} управляющий символ")
     if any(c in sid for c in '/\\:*?"<>|') or sid in (".", ".."):
         raise refuse(f"id {sid!r} cannot name a folder (a path separator or a character "
-                     "file systems forbid)")
+                     "file systems forbid)", f"номер {sid!r} не может быть именем папки "
+                     "(разделитель пути или символ, запрещённый файловыми системами)")
     if _RESERVED.fullmatch(sid) or sid.endswith((".", " ")):
-        raise refuse(f"id {sid!r} cannot name a folder on Windows")
+        raise refuse(f"id {sid!r} cannot name a folder on Windows",
+                     f"номер {sid!r} не может быть именем папки в Windows")
 
 
 def student_seed(seed: int, student_id: str) -> int:

@@ -460,16 +460,16 @@ def read_toml(path: str | Path) -> TomlDocument:
                          "correct the syntax: key = value, strings in quotes, "
                          "arrays in [ ]; compare with 'dynlab template LAB'",
                          file=str(path),
-                         ru=(f"файл не по правилам TOML{_toml_place(str(exc))}",
+                         ru=(f"файл не по правилам TOML{toml_place(str(exc))}",
                              "исправьте запись: ключ = значение, строки в кавычках, массивы в "
                              "[ ]; сравните с 'dynlab template LAB'")) from None
 
 
-def _toml_place(message: str) -> str:
+def toml_place(message: str) -> str:
     """Where a TOML parser's (English) message places the fault, in Russian: " (строка 2,
     столбец 6)", or nothing.
 
-    >>> _toml_place("Expected ']' (at line 2, column 6)"), _toml_place("Invalid value")
+    >>> toml_place("Expected ']' (at line 2, column 6)"), toml_place("Invalid value")
     (' (строка 2, столбец 6)', '')
     """
     found = re.search(r"line (\d+), column (\d+)", message)
