@@ -49,7 +49,12 @@ _TIFF_TYPES = {3: ("H", 2), 4: ("I", 4), 16: ("Q", 8)}
 
 
 class HeaderError(ValueError):
-    """The file is not an image of a known format, or its header is broken: the reason."""
+    """The file is not an image of a known format, or its header is broken: the reason, and
+    in Russian (``ru``)."""
+
+    def __init__(self, reason: str, ru: str):
+        super().__init__(reason)
+        self.ru = ru
 
 
 @dataclass(frozen=True)
@@ -122,17 +127,28 @@ def image_header(path) -> Header:
             header = _bmp(f)
         else:
             raise HeaderError(f"its first bytes, {start[:8].hex(' ')}, are not those of a "
-                              f"{FORMATS} file")
+                              f"{FORMATS} file", f"его первые байты, {start[:8].hex(' ')}, — не "
+                              f"начало файла {FORMATS.replace(' or ', ' или ')}")
     if header.width <= 0 or header.height <= 0:
         raise HeaderError(f"its {header.format} header ({header.field}) states a size of "
-                          f"{header.width} × {header.height} px")
+                          f"{header.width} × {header.height} px",
+                          f"его заголовок {header.format} ({header.field}) указывает размер "
+                          f"{header.width} × {header.height} пикс.")
     return header
+
+
+_PARTS_RU = {"PNG header": "заголовка PNG", "JPEG markers": "маркеров JPEG",
+             "JPEG segment": "сегмента JPEG", "JPEG frame header": "заголовка кадра JPEG",
+             "BigTIFF header": "заголовка BigTIFF", "TIFF directory": "каталога TIFF",
+             "BMP header": "заголовка BMP"}
+"""The parts of an image's header a file may end inside, in Russian."""
 
 
 def _read(f: BinaryIO, n: int, what: str) -> bytes:
     data = f.read(n)
     if len(data) < n:
-        raise HeaderError(f"the file ends inside its {what}")
+        raise HeaderError(f"the file ends inside its {what}",
+                          f"файл обрывается внутри {_PARTS_RU.get(what, what)}")
     return data
 
 
@@ -140,7 +156,8 @@ def _png(f: BinaryIO) -> Header:
     f.seek(8)
     length, kind, width, height = struct.unpack(">I4sII", _read(f, 16, "PNG header"))
     if kind != b"IHDR":
-        raise HeaderError(f"its first PNG chunk is {kind!r}, not the IHDR header")
+        raise HeaderError(f"its first PNG chunk is {kind!r}, not the IHDR header",
+                          f"его первый блок PNG — {kind!r}, а не заголовок IHDR")
     return Header("PNG", "IHDR", width, height)
 
 
@@ -150,7 +167,8 @@ def _jpeg(f: BinaryIO) -> Header:
         byte = _read(f, 1, "JPEG markers")
         if byte != b"\xff":
             raise HeaderError(f"a JPEG marker was expected at byte {f.tell() - 1}, "
-                              f"found {byte.hex()}")
+                              f"found {byte.hex()}", f"на байте {f.tell() - 1} ожидался маркер "
+                              f"JPEG, а стоит {byte.hex()}")
         marker = 0xFF
         while marker == 0xFF:                          # fill bytes before a marker
             marker = _read(f, 1, "JPEG markers")[0]
@@ -158,16 +176,20 @@ def _jpeg(f: BinaryIO) -> Header:
             continue
         if marker in (0xD9, 0xDA):
             raise HeaderError("its JPEG data starts (SOS) or ends (EOI) before any frame "
-                              "header (SOFn) states the picture's size")
+                              "header (SOFn) states the picture's size", "данные JPEG "
+                              "начинаются (SOS) или кончаются (EOI) раньше, чем заголовок кадра "
+                              "(SOFn) указывает размер снимка")
         (length,) = struct.unpack(">H", _read(f, 2, "JPEG segment"))
         if length < 2:
             raise HeaderError(f"a JPEG segment at byte {f.tell() - 4} states a length of "
-                              f"{length}")
+                              f"{length}", f"сегмент JPEG на байте {f.tell() - 4} указывает "
+                              f"длину {length}")
         if marker in _JPEG_SOF:
             _, height, width = struct.unpack(">BHH", _read(f, 5, "JPEG frame header"))
             return Header("JPEG", f"SOF{marker - 0xC0}", width, height)
         f.seek(length - 2, 1)
-    raise HeaderError(f"no JPEG frame header (SOFn) in its first {MAX_SEGMENTS} segments")
+    raise HeaderError(f"no JPEG frame header (SOFn) in its first {MAX_SEGMENTS} segments",
+                      f"в первых {MAX_SEGMENTS} сегментах нет заголовка кадра JPEG (SOFn)")
 
 
 def _tiff(f: BinaryIO, start: bytes) -> Header:
@@ -184,7 +206,8 @@ def _tiff(f: BinaryIO, start: bytes) -> Header:
     size = struct.calcsize(count_format)
     (count,) = struct.unpack(order + count_format, _read(f, size, "TIFF directory"))
     if count > MAX_TIFF_TAGS:
-        raise HeaderError(f"its first TIFF directory claims {count} tags")
+        raise HeaderError(f"its first TIFF directory claims {count} tags",
+                          f"его первый каталог TIFF заявляет {count} тегов")
     entries = _read(f, entry * count, "TIFF directory")
     found = {}
     for k in range(count):
@@ -196,7 +219,8 @@ def _tiff(f: BinaryIO, start: bytes) -> Header:
     kind = "BigTIFF" if big else "TIFF"
     if set(found) != {256, 257}:
         raise HeaderError(f"its first {kind} directory lacks the ImageWidth (256) or "
-                          "ImageLength (257) tag")
+                          "ImageLength (257) tag", f"в его первом каталоге {kind} нет тега "
+                          "ImageWidth (256) или ImageLength (257)")
     return Header(kind, "tags 256/257", found[256], found[257])
 
 

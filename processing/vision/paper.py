@@ -88,6 +88,9 @@ lifted off. [px]"""
 
 _LOG = np.log(np.maximum(np.arange(256, dtype=np.float64), 0.5)).astype(np.float32)
 
+FIX_RU = "дайте фотографию или скан записи в PNG, JPEG или TIFF"
+"""How to give a picture of a record, in Russian."""
+
 
 def load_image(path, *, field: str | None = None) -> tuple[np.ndarray, float]:
     """Read a photograph or scan as its darkness channel, at most :data:`WORK_PIXELS` large.
@@ -124,13 +127,21 @@ def load_image(path, *, field: str | None = None) -> tuple[np.ndarray, float]:
         header = image_header(p)
     except HeaderError as exc:
         raise InputError(f"not an image: {exc}", "give a photograph or scan of the "
-                         "record as PNG, JPEG or TIFF", file=str(p), field=field) from None
+                         "record as PNG, JPEG or TIFF", file=str(p), field=field,
+                         ru=(f"это не изображение: {exc.ru}", FIX_RU)) from None
     if header.pixels > MAX_PIXELS:
         raise InputError(f"{header.says()}, more than the {MAX_PIXELS / 1e6:.0f} Mpx a "
                          "photograph or scan is read at", "photograph the record at up to "
                          "50 Mpx (a phone's usual 12 Mpx is plenty) or scan it at 600 dpi, or "
                          f"scale the image down below {MAX_PIXELS / 1e6:.0f} Mpx",
-                         file=str(p), field=field)
+                         file=str(p), field=field,
+                         ru=(f"заголовок {header.format} ({header.field}) указывает "
+                             f"{header.width} × {header.height} пикс. "
+                             f"({header.pixels / 1e6:.3g} Мпикс), больше "
+                             f"{MAX_PIXELS / 1e6:.0f} Мпикс, при которых читается снимок или "
+                             "скан", "снимайте запись не больше чем в 50 Мпикс (обычных 12 "
+                             "Мпикс телефона достаточно), сканируйте при 600 dpi или уменьшите "
+                             f"снимок до {MAX_PIXELS / 1e6:.0f} Мпикс"))
     reduction = 1
     while header.format == "JPEG" and reduction < 8 \
             and header.pixels / (2 * reduction) ** 2 >= WORK_PIXELS:
@@ -138,7 +149,8 @@ def load_image(path, *, field: str | None = None) -> tuple[np.ndarray, float]:
     image = _decode(p, _DECODE[reduction])
     if image is None:
         raise InputError("not an image (OpenCV cannot decode it)", "give a photograph or scan "
-                         "of the record as PNG, JPEG or TIFF", file=str(p), field=field)
+                         "of the record as PNG, JPEG or TIFF", file=str(p), field=field,
+                         ru=("это не изображение (OpenCV не может его декодировать)", FIX_RU))
     decoded = image.shape[0] * image.shape[1]
     grey = darkness(image, name=str(p), field=field)
     del image

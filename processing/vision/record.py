@@ -332,9 +332,10 @@ class _Where:
     field: str | None
     options: str
 
-    def error(self, problem: str, fix: str, option: str | None = None) -> InputError:
+    def error(self, problem: str, fix: str, option: str | None = None,
+              ru: tuple[str, str] | None = None) -> InputError:
         where = f"{self.options}.{option}" if option else self.field
-        return InputError(problem, fix, file=self.path, field=where)
+        return InputError(problem, fix, file=self.path, field=where, ru=ru)
 
 
 def read_paper_record(source, *, trace: int = 0, **options) -> PaperRecord:
@@ -363,7 +364,10 @@ def read_paper_record(source, *, trace: int = 0, **options) -> PaperRecord:
         where = _where(source, options.get("field"), options.get("options", "image"))
         raise where.error(f"trace {trace} asked for, {len(records)} trace(s) found on the sheet",
                           f"choose trace = 0 … {len(records) - 1} (0 is the topmost), or look "
-                          "at the overlay for the trace missed", "trace")
+                          "at the overlay for the trace missed", "trace",
+                          ru=(f"запрошена линия {trace}, а на ленте найдено линий: "
+                              f"{len(records)}", f"выберите trace = 0 … {len(records) - 1} "
+                              "(0 — верхняя) или найдите пропущенную линию на наложении"))
     return records[trace]
 
 
@@ -438,10 +442,12 @@ def read_paper_records(source, *, traces: int | None = None, mark_period=None,
     given = _options(where, mark_period=mark_period, paper_speed=paper_speed, dpi=dpi,
                      paper_width=paper_width, grid=grid, scale=scale)
     if zero not in ZERO_CHOICES:
-        raise where.error(f"zero = {zero!r}", f"use one of {', '.join(ZERO_CHOICES)}", "zero")
+        raise where.error(f"zero = {zero!r}", f"use one of {', '.join(ZERO_CHOICES)}", "zero",
+                          ru=(f"zero = {zero!r}", f"укажите одно из {', '.join(ZERO_CHOICES)}"))
     if not (bridge >= 0 and math.isfinite(bridge)):
         raise where.error(f"bridge = {bridge!r}", "give the longest gap to interpolate, ≥ 0 s",
-                          "bridge")
+                          "bridge", ru=(f"bridge = {bridge!r}", "укажите наибольший "
+                                        "интерполируемый разрыв, ≥ 0 с"))
     grey, reduction = (load_image(source, field=field) if isinstance(source, (str, Path))
                        else working_copy(darkness(source, name=where.path, field=field)))
     laid = _upright(where, grey)
@@ -651,13 +657,17 @@ def _options(where: _Where, **values) -> dict[str, Measured]:
             except (TypeError, ValueError):
                 raise where.error(f"{name} = {v!r} is not a number",
                                   f"give {name} as a positive number in SI units",
-                                  name) from None
+                                  name, ru=(f"{name} = {v!r} — не число", f"укажите {name} "
+                                            "положительным числом в единицах СИ")) from None
         if not (math.isfinite(m.value) and m.value > 0) and name != "scale":
             raise where.error(f"{name} = {m.value!r}", f"{name} must be a positive number",
-                              name)
+                              name, ru=(f"{name} = {m.value!r}",
+                                        f"{name} должно быть положительным числом"))
         if name == "scale" and not (math.isfinite(m.value) and m.value != 0):
             raise where.error(f"scale = {m.value!r}", "scale must be a non-zero number of "
-                              "value units per metre of deflection", name)
+                              "value units per metre of deflection", name,
+                              ru=(f"scale = {m.value!r}", "scale — ненулевое число единиц "
+                                  "величины на метр отклонения"))
         out[name] = m
     return out
 
@@ -732,7 +742,9 @@ def _length_scale(where: _Where, given: dict, sheet, plain: list[Line],
         if g is None:
             raise where.error("no printed grid found on the sheet (at least 4 evenly spaced "
                               "straight lines)", "leave grid out, or give paper_width or dpi",
-                              "grid")
+                              "grid", ru=("на ленте не найдена отпечатанная сетка (хотя бы 4 "
+                                          "равноотстоящие прямые)", "уберите grid или укажите "
+                                          "paper_width или dpi"))
         m = given["grid"]
         scales["grid"] = Measured(m.value / g.pitch, u_b=math.hypot(
             m.u / g.pitch, m.value * g.u_pitch / g.pitch ** 2))
@@ -740,7 +752,10 @@ def _length_scale(where: _Where, given: dict, sheet, plain: list[Line],
         if sheet.paper_size is None:
             raise where.error("the sheet's edges are not in the picture, so its width in "
                               "pixels is unknown", "photograph the whole sheet on a darker "
-                              "background, or give dpi (a scan) or grid", "paper_width")
+                              "background, or give dpi (a scan) or grid", "paper_width",
+                              ru=("края ленты не видны на снимке, и её ширина в пикселях "
+                                  "неизвестна", "снимите ленту целиком на более тёмном фоне "
+                                  "или укажите dpi (скан) или grid"))
         m, px = given["paper_width"], sheet.paper_size[1]
         scales["paper_width"] = Measured(m.value / px, u_b=math.hypot(m.u / px,
                                                                        m.value / px ** 2))
@@ -759,7 +774,10 @@ def _length_scale(where: _Where, given: dict, sheet, plain: list[Line],
             raise where.error(f"{other} gives {s.value * 1e3:.5g} mm per pixel and {names[0]} "
                               f"{first.value * 1e3:.5g} ({100 * gap:+.1f} %)",
                               f"correct {other} or {names[0]}, or give only one of them",
-                              other)
+                              other, ru=(f"{other} даёт {s.value * 1e3:.5g} мм на пиксель, а "
+                                         f"{names[0]} — {first.value * 1e3:.5g} "
+                                         f"({100 * gap:+.1f} %)", f"исправьте {other} или "
+                                         f"{names[0]} либо укажите только одно из них"))
     return first
 
 
@@ -793,17 +811,28 @@ def _time_scale(where: _Where, given: dict, metres: Measured | None,
                         f"mean a paper speed of {implied:.4g} m/s with mark_period = "
                         f"{period.value:.4g} s, not the {speed.value:.4g} m/s given "
                         f"({100 * gap:+.1f} %)", "correct paper_speed or mark_period (the "
-                        "marker's period), or leave paper_speed out", "paper_speed")
+                        "marker's period), or leave paper_speed out", "paper_speed",
+                        ru=(f"отметки времени в {tb.spacing * metres.value * 1e3:.4g} мм друг от "
+                            f"друга при mark_period = {period.value:.4g} с означают скорость "
+                            f"ленты {implied:.4g} м/с, а не заданные {speed.value:.4g} м/с "
+                            f"({100 * gap:+.1f} %)", "исправьте paper_speed или mark_period "
+                            "(период отметчика) либо уберите paper_speed"))
             return tb, per_px
     if speed is None:
         raise where.error("no time base: neither the time marks' period nor the paper speed "
                           "is given", "give mark_period (the time marker's period, e.g. "
                           "\"10 ms\"), or paper_speed with paper_width, grid or dpi",
-                          "mark_period")
+                          "mark_period", ru=("нет масштаба времени: не заданы ни период "
+                                             "отметок времени, ни скорость ленты", "укажите "
+                                             "mark_period (период отметчика времени, например "
+                                             "\"10 ms\") или paper_speed вместе с "
+                                             "paper_width, grid или dpi"))
     if metres is None:
         raise where.error("paper_speed needs a length scale to turn pixels into time",
                           "also give paper_width, grid or dpi, or give mark_period",
-                          "paper_speed")
+                          "paper_speed", ru=("paper_speed нужен масштаб длины, чтобы перевести "
+                                             "пиксели во время", "укажите также paper_width, "
+                                             "grid или dpi либо задайте mark_period"))
     value = metres.value / speed.value
     return None, Measured(value, u_b=value * math.hypot(metres.u / metres.value,
                                                         speed.u / speed.value))
@@ -814,7 +843,9 @@ def _value_scale(where: _Where, given: dict, metres: Measured | None,
     if "scale" in given:
         if metres is None:
             raise where.error("scale (value per metre of deflection) needs a length scale",
-                              "also give paper_width, grid or dpi", "scale")
+                              "also give paper_width, grid or dpi", "scale",
+                              ru=("scale (величина на метр отклонения) нужен масштаб длины",
+                                  "укажите также paper_width, grid или dpi"))
         s = given["scale"]
         v = s.value * metres.value
         return Measured(v, u_b=abs(v) * math.hypot(s.u / s.value, metres.u / metres.value)), unit
