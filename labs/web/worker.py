@@ -95,15 +95,13 @@ def reduce_child(conn, folder: str, lang: str) -> None:
 def pdf_child(conn, folder: str, lang: str) -> None:
     """The child's work for a PDF report, asked for when a student downloads it: the same
     reduction, its figures, the A4 PDF."""
-    from processing.reporting.pdf import to_pdf
-    from processing.reporting.render import figure_png
+    from processing.reporting.render import render
 
     here = Path(folder)
     result = _evaluate(conn, here)
     if result is None:
         return
-    pngs = [figure_png(f, lang) for f in result.figures]
-    _write(here, REPORTS["pdf"], to_pdf(result, lang, pngs))
+    _write(here, REPORTS["pdf"], render(result, ("pdf",), lang)["pdf"])
     conn.send(("ok", None))
 
 
