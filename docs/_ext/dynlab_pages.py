@@ -85,12 +85,13 @@ WORDS = {
 
 @dataclass
 class Lab:
-    """One lab as the pages show it: its spec, its modules' sources, its samples' results."""
+    """One lab as the pages show it: its spec, its samples' results, and the warning classes
+    its modules name (those it may give)."""
 
     id: str
     spec: object
-    sources: str
     samples: list[tuple[Path, object]]
+    warnings: list[type]
 
 
 def _cell(text) -> str:
@@ -145,7 +146,10 @@ def _labs() -> list[Lab]:
             with pywarnings.catch_warnings():
                 pywarnings.simplefilter("ignore")
                 samples.append((path, evaluate(path)))
-        found.append(Lab(lab_id, module.SPEC, _sources(module), samples))
+        sources = _sources(module)
+        named = [c for name, c in _warning_classes().items()
+                 if re.search(rf"\b{name}\b", sources)]
+        found.append(Lab(lab_id, module.SPEC, samples, named))
     return found
 
 
@@ -234,13 +238,11 @@ def lab_page(lab: Lab, lang: str, remedies: dict, validation: dict, figures: Pat
         lines += [f"## {w['figures']}", ""]
         for png, caption in shown:
             lines += [f"![{caption}]({png})", "", f"*{caption}*", ""]
-    classes = [c for name, c in _warning_classes().items()
-               if re.search(rf"\b{name}\b", lab.sources)]
-    if classes:
+    if lab.warnings:
         lines += [f"## {w['warnings']}", "", w["warnings_intro"], ""]
         lines += _table([w["code"], w["meaning"], w["remedy"]],
                         [[f"`{c.code}`", _meaning(c, remedies[c.code], lang),
-                          remedies[c.code][f"remedy_{lang}"]] for c in classes])
+                          remedies[c.code][f"remedy_{lang}"]] for c in lab.warnings])
     lines += [f"## {w['validation']}", "", validation[lab.id][lang], ""]
     return "\n".join(lines)
 
@@ -279,8 +281,8 @@ def warnings_page(labs: list[Lab], lang: str, remedies: dict) -> str:
     w = WORDS[lang]
     lines = [f"# {w['all_warnings']}", "", w["all_intro"], ""]
     rows = []
-    for name, c in _warning_classes().items():
-        which = ", ".join(lab.id for lab in labs if re.search(rf"\b{name}\b", lab.sources))
+    for c in _warning_classes().values():
+        which = ", ".join(lab.id for lab in labs if c in lab.warnings)
         rows.append([f"`{c.code}`", _meaning(c, remedies[c.code], lang),
                      remedies[c.code][f"remedy_{lang}"], which])
     return "\n".join(lines + _table([w["code"], w["meaning"], w["remedy"], w["labs"]], rows))
