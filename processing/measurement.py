@@ -658,12 +658,11 @@ def _convert(f: Field, raw, src: _Where, path: str):
                        ru=(f"'{f.name}' должно быть целым числом ≥ {least}, а не {raw!r}",
                            "запишите число целым, например 20"))
         if f.choices and raw not in f.choices:
-            allowed = " or ".join(map(str, f.choices))
+            allowed, allowed_ru = (word.join(map(str, f.choices)) for word in (" or ", " или "))
             raise fail(f"{f.name} = {raw}: {f.label['en']} can only be {allowed}",
                        f"write {allowed}",
-                       ru=(f"{f.name} = {raw}: {f.label['ru']} может быть только "
-                           + " или ".join(map(str, f.choices)),
-                           "напишите " + " или ".join(map(str, f.choices))))
+                       ru=(f"{f.name} = {raw}: {f.label['ru']} может быть только {allowed_ru}",
+                           f"напишите {allowed_ru}"))
         return raw
     return _measured(f, raw, fail, src, path)
 
