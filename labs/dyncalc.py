@@ -9,7 +9,7 @@ order, the mean tangential pressure checked against p_i, the excess work, the fl
 torque non-uniformity μ and the speed irregularity δ, by the shortcut A/(Iω²) and by
 integrating the crank's equation of motion.
 
-The physics is :mod:`processing.dynamics` and :mod:`processing.kinematics`; this module
+The physics is :mod:`processing.crank.dynamics` and :mod:`processing.crank.kinematics`; this module
 strings it together (:func:`dynamic_calculation`), lays it out as the coursework's tables and
 figures and reads the student's file (:data:`SPEC`, :func:`reduce`).
 
@@ -37,12 +37,12 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from processing import dynamics as dyn
+from processing.crank import dynamics as dyn
 from processing.diagnostics import (DynlabWarning, FlywheelNotNeededWarning,
                                     InconsistentInputWarning, InputError,
                                     MeanPressureDiscrepancyWarning, collect_notices)
-from processing.kinematics import (mean_piston_speed, relative_displacement, relative_velocity,
-                                   rod_angle)
+from processing.crank.kinematics import (mean_piston_speed, relative_displacement,
+                                         relative_velocity, rod_angle)
 from processing.measurement import STROKES, Field, Inputs, LabSpec, Section, bi
 from processing.result import (Figure, LabResult, Record, Table, flag_estimates, result_values,
                                with_key)
@@ -124,7 +124,8 @@ def polytrope_points(p_a, p_z, compression_ratio, n1, n2, pre_expansion_ratio=1.
     .. math:: p_x = p_a\\left(\\frac{V_a}{V_x}\\right)^{n_1}, \\qquad
               p_x = p_z\\left(\\frac{V_z}{V_x}\\right)^{n_2}
 
-    (:func:`processing.dynamics.compression_pressure`, :func:`~processing.dynamics.expansion_pressure`.)
+    (:func:`processing.crank.dynamics.compression_pressure`,
+    :func:`~processing.crank.dynamics.expansion_pressure`.)
 
     Examples
     --------
@@ -377,7 +378,7 @@ def dynamic_calculation(*, p_a, p_z, compression_ratio, n1, n2, crank_radius, la
         Cylinders in firing order, from 1 (the default 1, 2, … gives the same sum).
     mean_indicated_pressure : float, optional
         p_i of the thermal calculation for the analytic t_mean; default: the calculated
-        diagram's own (:func:`processing.dynamics.mean_indicated_pressure`) times
+        diagram's own (:func:`processing.crank.dynamics.mean_indicated_pressure`) times
         ``diagram_fullness``. [Pa]
     diagram_fullness : float
         φ_i, the fullness factor of the rounded indicator diagram (0.92–0.97 in coursework;
@@ -422,13 +423,14 @@ def dynamic_calculation(*, p_a, p_z, compression_ratio, n1, n2, crank_radius, la
 
     Notes
     -----
-    α-grid of ``step_deg`` over one cycle; p_g(α) by :func:`processing.dynamics.indicator_pressure`
-    (exact V(α)); p_j by :func:`~processing.dynamics.reciprocating_inertia_force` (exact
-    kinematics); S, N, K, T by :func:`~processing.dynamics.crank_train_forces`; the engine's
-    sum by :func:`~processing.dynamics.sum_cylinders` with
-    :func:`~processing.dynamics.firing_phases`; t_mean, A, μ over the whole cycle (right for
+    α-grid of ``step_deg`` over one cycle; p_g(α) by
+    :func:`processing.crank.dynamics.indicator_pressure` (exact V(α)); p_j by
+    :func:`~processing.crank.dynamics.reciprocating_inertia_force` (exact kinematics); S, N, K, T by
+    :func:`~processing.crank.dynamics.crank_train_forces`; the engine's sum by
+    :func:`~processing.crank.dynamics.sum_cylinders` with
+    :func:`~processing.crank.dynamics.firing_phases`; t_mean, A, μ over the whole cycle (right for
     uneven patterns too); I = A/(δω²); δ of the inertia used both by A/(Iω²) and by
-    :func:`~processing.dynamics.crank_speed_cycle`.
+    :func:`~processing.crank.dynamics.crank_speed_cycle`.
 
     Examples
     --------
@@ -876,7 +878,7 @@ SLIPS = [
      ("F_p", "V_s", "V_c", "M_mean", "N_i", "AC", "BD", "EF", *FORCE_RESULTS),
      _bore_as_radius),
 ]
-"""The coursework's classic slips (:mod:`labs.check`): name, text, the results they change,
+"""The coursework's classic slips (:mod:`labs.teachers.check`): name, text, the results they change,
 and the inputs as the slip leaves them (None where the file gives no room for it). The firing
 interval is set through ``engine.theta``, a key no file holds: only a slip sets it."""
 
@@ -1512,7 +1514,7 @@ VARIED = {"engine": ("n",), "cycle": ("p_a", "p_z", "eps", "n1", "n2"),
 
 def write_synthetic(out_dir, seed: int = 0) -> dict:
     """Write a variant of the bundled 1.8 L petrol four (:data:`VARIED` changed by up to
-    ± 10 %) with its answer key (:func:`labs.variants.design_variant`)."""
-    from .variants import design_variant
+    ± 10 %) with its answer key (:func:`labs.sample_variant.design_variant`)."""
+    from .sample_variant import design_variant
 
     return design_variant("dyncalc", "car_petrol.toml", out_dir, seed, VARIED)

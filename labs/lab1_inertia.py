@@ -22,8 +22,8 @@ from processing.diagnostics import IllConditionedWarning, collect_notices
 from processing.measurement import (AMPLITUDE, COUNT, GRAVITY, LENGTH, MASS, STOPWATCH, Field,
                                     Inputs, LabSpec, ReadingsTable, Section, bi,
                                     period_columns)
-from processing.oscillation import (check_amplitude, pendulum_period_factor, period_factor,
-                                    period_from_total)
+from processing.oscillations.oscillation import (check_amplitude, pendulum_period_factor,
+                                                 period_factor, period_from_total)
 from processing.numerals import plural
 from processing.reporting.content import fmt_pm
 from processing.reporting.figures import method_chart
@@ -163,7 +163,7 @@ def trifilar_period_factor(amplitude, m, J, R1, R2, l):
 
     The platform rises by H − h(φ) with h(φ)² = l² − R₁² − R₂² + 2R₁R₂ cos φ; the kinetic
     energy includes that vertical motion, ½(J + m h'²)φ̇². The period integral is evaluated by
-    :func:`processing.oscillation.period_factor`.
+    :func:`processing.oscillations.oscillation.period_factor`.
 
     Parameters
     ----------
@@ -494,8 +494,8 @@ SLIPS = [
         "не вычтен момент инерции пустой платформы: J детали вместе с платформой"),
      ("J_trifilar",), _platform_kept),
 ]
-"""The lab's classic slips (:mod:`labs.check`): name, text, the results they change, and the
-inputs as the slip leaves them."""
+"""The lab's classic slips (:mod:`labs.teachers.check`): name, text, the results they change, and
+the inputs as the slip leaves them."""
 
 
 REFERENCES = [
@@ -817,7 +817,7 @@ def write_synthetic(out_dir, seed: int = 0, *, film: bool = False) -> dict[str, 
 
     from processing.synth.pendulum import (measured, physical_pendulum_period, stopwatch,
                                            trifilar_period)
-    from processing.toml_writer import dumps
+    from processing.inputs.toml_writer import dumps
 
     rng = np.random.default_rng([seed, 1])
     g, rho = 9.8156, 7200.0

@@ -25,7 +25,8 @@ from processing.diagnostics import IllConditionedWarning, InconsistentInputWarni
 from processing.measurement import (AMPLITUDE, COUNT, GRAVITY, LENGTH, MASS, STOPWATCH, Field,
                                     Inputs, LabSpec, ReadingsTable, Section, bi,
                                     period_columns)
-from processing.oscillation import check_amplitude, pendulum_period_factor, period_from_total
+from processing.oscillations.oscillation import (check_amplitude, pendulum_period_factor,
+                                                 period_from_total)
 from processing.reporting.content import fmt_pm
 from processing.reporting.figures import histogram, method_chart
 from processing.result import (KEY, SIGNED, STRICTLY_POSITIVE, Figure, LabResult, Table, compare,
@@ -302,8 +303,8 @@ SLIPS = [
      ("l_shp_swinging", "l_shk_swinging", "m_shp_swinging", "m_shk_swinging", "J_cm_swinging",
       "l_C_swinging", "l_D_swinging"), _pin_distance_for_prisms),
 ]
-"""The lab's classic slips (:mod:`labs.check`): name, text, the results they change, and the
-inputs as the slip leaves them."""
+"""The lab's classic slips (:mod:`labs.teachers.check`): name, text, the results they change, and
+the inputs as the slip leaves them."""
 
 
 REFERENCES = [
@@ -515,7 +516,7 @@ def write_synthetic(out_dir, seed: int = 0, *, film: bool = False) -> dict[str, 
     import json
 
     from processing.synth.pendulum import measured, physical_pendulum_period, stopwatch
-    from processing.toml_writer import dumps
+    from processing.inputs.toml_writer import dumps
 
     rng = np.random.default_rng([seed, 2])
     g = 9.8156

@@ -6,14 +6,14 @@ and recorded; δ = (ω_max − ω_min)/ω_cp over one working cycle, ω_cp = (ω
 = πn/30 (720° for a four-stroke engine), for two regimes 20–50 min⁻¹ apart at
 (0.6…0.8) n_nom. Typical δ: automotive engines 0.01–0.02, tractor engines 0.003–0.01.
 
-Here the sensor's own signal (or a counter's edge times) is reduced: every tooth edge is
-timed (:mod:`processing.edges`), numbered (:mod:`processing.toothwheel`), and ω(α) of every
+Here the sensor's own signal (or a counter's edge times) is reduced: every tooth edge is timed
+(:mod:`processing.speed.edges`), numbered (:mod:`processing.speed.toothwheel`), and ω(α) of every
 working cycle is found twice — tooth by tooth and by a Fourier fit of the edge times
-(:mod:`processing.angular_speed`). The student's reading of the frequency-to-voltage
-oscillogram (h_max, h_min and the mean level, scaled by the tachometer) is reduced by the
-manual's formula and compared with the signal's δ. A photograph of the oscillogram is read
-by the machine (:mod:`processing.vision`): δ of its mean cycle, and the mean speed from its
-TDC marks on the time marks' scale; with no recording, the photograph alone gives the regime.
+(:mod:`processing.speed.angular_speed`). The student's reading of the frequency-to-voltage
+oscillogram (h_max, h_min and the mean level, scaled by the tachometer) is reduced by the manual's
+formula and compared with the signal's δ. A photograph of the oscillogram is read by the machine
+(:mod:`processing.vision`): δ of its mean cycle, and the mean speed from its TDC marks on the time
+marks' scale; with no recording, the photograph alone gives the regime.
 
 References
 ----------
@@ -29,21 +29,21 @@ from pathlib import Path
 import numpy as np
 
 from labs import lab3_speed_irregularity_report as report
-from processing.angular_speed import (CycleSpeeds, Irregularity, fit_cycles, jackknife,
+from processing.speed.angular_speed import (CycleSpeeds, Irregularity, fit_cycles, jackknife,
                                       pitch_uncertainty, tooth_cycles)
-from processing.cycle_range import cycle_range
+from processing.speed.cycle_range import cycle_range
 from processing.diagnostics import (GapNotFoundWarning, InconsistentInputWarning, InputError,
                                     PitchErrorWarning, ShortRecordWarning, TeethMiscountedWarning,
                                     UndersampledWarning, UnequalCyclesWarning, collect_notices)
-from processing.edges import METHODS as EDGE_METHODS
-from processing.edges import stream_edges
-from processing.measurement import (ENGINE_SPEED, SAMPLE_RATE, STROKES, Field, Inputs, LabSpec, Section,
-                                    bi, image_section)
-from processing.record_quality import check_pulse_channel, check_record
+from processing.speed.edges import METHODS as EDGE_METHODS
+from processing.speed.edges import stream_edges
+from processing.measurement import (ENGINE_SPEED, SAMPLE_RATE, STROKES, Field, Inputs, LabSpec,
+                                    Section, bi, image_section)
+from processing.inputs.record_quality import check_pulse_channel, check_record
 from processing.result import (KEY, STRICTLY_POSITIVE, LabResult, Typical, compare, computed,
                                flag_estimates, result_values)
-from processing.signals import image_options, open_channel, read_edge_times, read_figures
-from processing.toothwheel import ToothTrack, calibrate_pitch, recurring_gap, track_teeth
+from processing.inputs.signals import image_options, open_channel, read_edge_times, read_figures
+from processing.speed.toothwheel import ToothTrack, calibrate_pitch, recurring_gap, track_teeth
 from processing.uncertainty import Measured, propagate
 
 REFERENCE_RANGES = {"automotive": (0.01, 0.02), "tractor": (0.003, 0.01)}
@@ -325,7 +325,7 @@ class Oscillogram:
 
     channel: object
     cycles: object
-    """:class:`processing.cycle_range.CycleRange` of the working cycles between TDC marks."""
+    """:class:`processing.speed.cycle_range.CycleRange` of the working cycles between TDC marks."""
     delta: Measured | None
     """δ from the trace's height above its zero line (None: scaled by the converter)."""
     omega_mean: Measured
@@ -996,10 +996,10 @@ SLIPS = [
         "δ по половине размаха, (ω_max − ω_min)/(2 ω_ср): амплитуда колебаний скорости "
         "принята за её размах"), (r"delta(_mid|_tooth|_osc)?_\d+",), 0.5),
 ]
-"""The lab's classic slips (:mod:`labs.check`): name, text, the results they change, and the
-factor a slip of the arithmetic puts on them (set by the inputs, or fixed). δ against the
-mid-range (ω_max + ω_min)/2 instead of the mean speed is no slip here: the two differ by a
-fraction of a per cent (``delta_mid_r`` against ``delta_r``), inside any tolerance."""
+"""The lab's classic slips (:mod:`labs.teachers.check`): name, text, the results they change, and
+the factor a slip of the arithmetic puts on them (set by the inputs, or fixed). δ against the
+mid-range (ω_max + ω_min)/2 instead of the mean speed is no slip here: the two differ by a fraction
+of a per cent (``delta_mid_r`` against ``delta_r``), inside any tolerance."""
 
 
 # ------------------------------------------------------------------------ synthetic files
@@ -1126,7 +1126,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "wav", speeds=None,
     import json
     from dataclasses import replace
 
-    from processing.signals import write_csv, write_hdf5, write_wav
+    from processing.inputs.signals import write_csv, write_hdf5, write_wav
     from processing.synth.engine import Sensor, ToothWheel, coast_run, record, run_engine
 
     if fmt not in SYNTH_FORMATS:

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from processing.angular_speed import order_spectrum
+from processing.speed.angular_speed import order_spectrum
 from processing.measurement import bi
 from processing.reporting.content import fmt_pm, result_pm
 from processing.result import Figure, Table

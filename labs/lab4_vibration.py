@@ -11,14 +11,15 @@ student reads it over a speed range at several points, then cuts one cylinder's 
 reads again, and charts the readings against the speed.
 
 Here the meter's readings are tabulated and charted as they are ([[reading]]: RMS a, v, x,
-peak-to-peak, with the meter's ±15 %), or the accelerometer's records (CSV, WAV, HDF5: a
-channel per point and the ignition pickup's TDC marks) are reduced the meter's way: the band
-readings by a frequency-domain integration that does not drift (:mod:`processing.band_rms`),
-the peak-to-peak values on the mean working cycle; beyond the meter, each record's order
-spectrum against the crank angle (:mod:`processing.orders`), the order map over the sweep, the first and second
-orders against the excitation formulas, and the cut cylinder found from the orders' change
-against the healthy record at the same speed (:mod:`processing.misfire`). Where a record and a
-meter reading share a point, speed and ignition, they are compared within the meter's ±15 %.
+peak-to-peak, with the meter's ±15 %), or the accelerometer's records (CSV, WAV, HDF5: a channel per
+point and the ignition pickup's TDC marks) are reduced the meter's way: the band readings by a
+frequency-domain integration that does not drift (:mod:`processing.vibration.band_rms`), the
+peak-to-peak values on the mean working cycle; beyond the meter, each record's order spectrum
+against the crank angle (:mod:`processing.torsional.orders`), the order map over the sweep, the
+first and second orders against the excitation formulas, and the cut cylinder found from the orders'
+change against the healthy record at the same speed (:mod:`processing.vibration.misfire`). Where a
+record and a meter reading share a point, speed and ignition, they are compared within the meter's
+±15 %.
 
 Results are numbered by measurement j (a record's channel, in file order, then the meter's
 readings not paired with a record): ``a_rms_j``, ``v_rms_j``, ``x_rms_j``.
@@ -38,22 +39,22 @@ from pathlib import Path
 import numpy as np
 
 from labs import catalogue, lab4_vibration_report as report
-from processing.band_rms import (BANDS, QUANTITIES, BandRMS, band_rms, band_signals, level_db,
-                                 peaks)
-from processing.balance import phasor_sum
+from processing.vibration.band_rms import (BANDS, QUANTITIES, BandRMS, band_rms, band_signals,
+                                           level_db, peaks)
+from processing.crank.balance import phasor_sum
 from processing.diagnostics import InputError, collect_notices
-from processing.dynamics import firing_phases
-from processing.edges import detect_edges
-from processing.measurement import (ENGINE_SPEED, SAMPLE_RATE, STROKES, Column, Field, Inputs, LabSpec,
-                                    ReadingsTable, Section, bi, firing_order)
-from processing.misfire import CutCylinder, find_cut_cylinder
-from processing.orders import OrderFit, order_fit
-from processing.record_checks import check_tachometer, whole_ratio
+from processing.crank.dynamics import firing_phases
+from processing.speed.edges import detect_edges
+from processing.measurement import (ENGINE_SPEED, SAMPLE_RATE, STROKES, Column, Field, Inputs,
+                                    LabSpec, ReadingsTable, Section, bi, firing_order)
+from processing.vibration.misfire import CutCylinder, find_cut_cylinder
+from processing.torsional.orders import OrderFit, order_fit
+from processing.inputs.record_checks import check_tachometer, whole_ratio
 from processing.result import LabResult, compare, flag_estimates, result_values
-from processing.signals import open_channels
-from processing.record_quality import check_record, irregular_marks
-from processing.steady_record import decimate, mean_cycle
-from processing.torsiogram import Revolutions, revolutions, steady_crank_angle
+from processing.inputs.signals import open_channels
+from processing.inputs.record_quality import check_record, irregular_marks
+from processing.vibration.steady_record import decimate, mean_cycle
+from processing.torsional.torsiogram import Revolutions, revolutions, steady_crank_angle
 from processing.uncertainty import Measured, propagate
 from processing.units import parse_quantity
 
@@ -93,7 +94,7 @@ lowest orders (synthetic records at 800 min⁻¹: 0.7 % at 0.71 s, 0.9 % at 0.5 
 RECORD_PP_LIMIT = {"a": 0.02, "v": 0.05}
 """Relative limit of error of a peak-to-peak value read over a whole record without TDC marks
 (not over its mean working cycle), beyond the noise's lift (:data:`PEAK_NOISE`): a tapered
-record's own low frequencies reach the peaks (:func:`processing.band_rms.band_signals`).
+record's own low frequencies reach the peaks (:func:`processing.vibration.band_rms.band_signals`).
 Synthetic records of 0.8–2.4 s at 800–3400 min⁻¹ and 20–50 dB: a within 1.2 %, v within 3 %;
 the displacement's peaks err by up to 95 %, so without marks it has none."""
 
@@ -327,6 +328,14 @@ class Recorded:
     def marked(self) -> bool:
         return self.unmarked is None
 
+    @property
+    def verdict(self) -> CutCylinder | None:
+        """The channel whose finding is the most certain: found with the largest half-order
+        rise, else the largest rise (None: no channel was compared)."""
+        if not self.cut:
+            return None
+        return max(self.cut.values(), key=lambda c: (c.found, c.rise))
+
 
 @dataclass(frozen=True)
 class Timing:
@@ -347,7 +356,7 @@ class Timing:
 
 
 def _tdc_times(x: np.ndarray, rate: float) -> np.ndarray:
-    """Times of the TDC pulses' falling edges (:func:`processing.edges.detect_edges`). [s]"""
+    """Times of the TDC pulses' falling edges (:func:`processing.speed.edges.detect_edges`). [s]"""
     return detect_edges(np.asarray(x, dtype=float), "fit") / rate
 
 
@@ -522,14 +531,6 @@ def _cut_cylinders(recorded: list[Recorded], phases) -> None:
                                                    cycle_marks=r.cycle_marks, seed=r.number)
 
 
-def verdict(r: Recorded) -> CutCylinder | None:
-    """The channel whose finding is the most certain: found with the largest half-order
-    rise, else the largest rise."""
-    if not r.cut:
-        return None
-    return max(r.cut.values(), key=lambda c: (c.found, c.rise))
-
-
 # ------------------------------------------------------------------------ meter readings
 
 @dataclass
@@ -637,7 +638,7 @@ def _model(recorded: list[Recorded], readings: list[Reading], crank_angles, forc
     """Every result from the inputs of :func:`_flat`. The free forces of the cylinders' row
     are the manual's P_j and P_r summed over the cranks (:func:`free_force_factors`); each
     RMS value's level ``L_<q>_<j>`` in dB against the meter's ``reference``
-    (:func:`~processing.band_rms.level_db`)."""
+    (:func:`~processing.vibration.band_rms.level_db`)."""
     first, second = free_force_factors(crank_angles)
 
     def model(**x):
@@ -745,7 +746,7 @@ def _check_records(inputs: Inputs, recorded: list[Recorded], readings: list[Read
 def _check_cut(recorded: list[Recorded]) -> None:
     """A record marked cut where no cylinder was found; a finding against the stated one."""
     for r in recorded:
-        v = verdict(r)
+        v = r.verdict
         if r.ignition != "cut" or v is None:
             continue
         if not v.found:
@@ -817,7 +818,7 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20034) -> LabR
         declared = report.result_names(recorded, readings, forces, "mass" in engine,
                                        inputs["point"])
         results = result_values(prop, declared)
-        results.update(report.cut_results(recorded, verdict))
+        results.update(report.cut_results(recorded))
         pairs = [(f"{q}_rms_{rd.number}", f"{q}_meter_{rd.number}") for rd in readings
                  if rd.paired for q in QUANTITIES]
         comparisons = compare(prop, pairs)
@@ -861,8 +862,8 @@ SLIPS = [
      bi("the amplitude (half the swing) reported for the peak-to-peak value",
         "амплитуда (половина размаха) указана вместо размаха"), (r"[avx]_pp_\d+",), 0.5),
 ]
-"""The lab's classic slips (:mod:`labs.check`): name, text, the results they change, and the
-factor a slip of the arithmetic puts on them."""
+"""The lab's classic slips (:mod:`labs.teachers.check`): name, text, the results they change, and
+the factor a slip of the arithmetic puts on them."""
 
 
 # ------------------------------------------------------------------------ synthetic files
@@ -976,7 +977,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "h5", snr_db: float = 
     """
     import json
 
-    from processing.signals import write_csv, write_hdf5
+    from processing.inputs.signals import write_csv, write_hdf5
     from processing.synth.engine_mount import POINTS, Accelerometer, cylinder_factors, record
 
     if fmt not in SYNTH_FORMATS:

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from processing.band_rms import BANDS, QUANTITIES, REFERENCES as DB_REFERENCES
+from processing.vibration.band_rms import BANDS, QUANTITIES, REFERENCES as DB_REFERENCES
 from processing.diagnostics import (CutCylinderWarning, MethodsDisagreeWarning,
                                     NoiseFloorWarning, NoMarksWarning, RecordBandwidthWarning,
                                     SpeedDisagreesWarning)
@@ -116,12 +116,12 @@ def result_names(recorded, readings, forces: bool, mass: bool, points) -> dict:
     return out
 
 
-def cut_results(recorded, verdict) -> dict:
+def cut_results(recorded) -> dict:
     """The cut cylinder, its confidence and the half orders' rise of each record with the
     ignition cut: discrete findings, without uncertainty."""
     out = {}
     for r in recorded:
-        v = verdict(r)
+        v = r.verdict
         if r.ignition != "cut" or v is None:
             continue
         n = r.number
@@ -407,10 +407,10 @@ def _orders_table(recorded, results) -> Table | None:
                     "опор; поворот блока добавляется)"), cols, tuple(rows))
 
 
-def _cut_table(recorded, verdict) -> Table | None:
+def _cut_table(recorded) -> Table | None:
     rows = []
     for r in recorded:
-        v = verdict(r)
+        v = r.verdict
         if r.ignition != "cut" or v is None:
             continue
         shares = ", ".join(f"{c + 1}: {s:.2f}" for c, s in enumerate(v.shares))
@@ -434,11 +434,9 @@ def _cut_table(recorded, verdict) -> Table | None:
 def tables(*, recorded, readings, results, points, reference, comparisons,
            **_) -> list[Table]:
     place = placements(recorded, readings, points)
-    from labs.lab4_vibration import verdict
-
     out = [_readings_table(results, place, reference),
            _meter_table(results, comparisons), _orders_table(recorded, results),
-           _cut_table(recorded, verdict)]
+           _cut_table(recorded)]
     return [t for t in out if t is not None]
 
 
@@ -500,13 +498,11 @@ def _draw_order_map(fig, recorded, lang):
 
 
 def _draw_cut(fig, recorded, phases, lang):
-    from labs.lab4_vibration import verdict
-
-    cut = [r for r in recorded if r.ignition == "cut" and verdict(r) is not None]
+    cut = [r for r in recorded if r.ignition == "cut" and r.verdict is not None]
     if not cut:
         return
     r = cut[0]
-    v = verdict(r)
+    v = r.verdict
     ax = fig.subplots()
     span = 720 if r.cycle_marks else 360
     ax.plot(np.degrees(v.angle), v.envelope, lw=1.2)
@@ -548,8 +544,6 @@ def figures(*, recorded, readings, results, points, phases, **_) -> list[Figure]
 
 def conclusion(*, recorded, readings, results, points, **_) -> list[dict]:
     """The largest acceleration and where, the directions' order, the cut cylinder."""
-    from labs.lab4_vibration import verdict
-
     lines = []
     place = placements(recorded, readings, points)
     a = {j: results[f"a_rms_{j}"].value for j in place if f"a_rms_{j}" in results}
@@ -573,7 +567,7 @@ def conclusion(*, recorded, readings, results, points, **_) -> list[dict]:
                         + ", ".join(DIRECTION[d]["ru"] for d in ranked)
                         + " (по методичке: вертикальное, поперечное, продольное)"))
     for r in recorded:
-        v = verdict(r)
+        v = r.verdict
         if r.ignition != "cut" or v is None:
             continue
         if v.found:

@@ -10,15 +10,16 @@ they give the drive's stiffness c at the valve. The valve springs' stiffness c_n
 their characteristic on a dynamometer (1 mm = 145 N), the oscillating mass M from the parts'
 masses, and the drive's lowest natural frequency is ν = √((c + c_n)/M).
 
-The manual's formulas are in :mod:`processing.valve_train` (the chain of springs seen from
-the valve: reduced deformations, link stiffnesses, reduced mass, ν). Here every slope comes
-from least squares over the whole table
-(:func:`processing.load_cycle.fit_branches`: slope ± its type A u from the residuals), for
-the loading branch, the unloading branch and their mean Δl = (Δl_load + Δl_unload)/2 as the
-manual asks; the gauges' scale error (type B) and the lever's enter through
+The manual's formulas are in :mod:`processing.valvetrain.valve_train` (the chain of springs seen
+from the valve: reduced deformations, link stiffnesses, reduced mass, ν). Here every slope comes
+from least squares over the whole table (:func:`processing.oscillations.load_cycle.fit_branches`:
+slope ± its type A u from the residuals), for the loading branch, the unloading branch and their
+mean Δl = (Δl_load + Δl_unload)/2 as the manual asks; the gauges' scale error (type B) and the
+lever's enter through
 :func:`processing.uncertainty.propagate`. The intercept of each line (settling, lash taken
-up) is reported; the loop between the branches (:func:`processing.load_cycle.hysteresis`) and
-its share of the work say how much friction and contact slip the chain has.
+up) is reported; the loop between the branches
+(:func:`processing.oscillations.load_cycle.hysteresis`) and its share of the work say how much
+friction and contact slip the chain has.
 
 Notation: i is the rocker ratio (valve arm over push-rod arm); "reduced to the valve" means
 the valve's displacement that a part's deformation causes.
@@ -39,15 +40,16 @@ from pathlib import Path
 import numpy as np
 
 from processing.diagnostics import collect_notices
-from processing.load_cycle import BRANCHES, LoadCycle, fit_branches, hysteresis
-from processing.measurement import (ENGINE_SPEED, GRAVITY, LENGTH, MASS, STROKES, Field, Inputs, LabSpec,
-                                    Section, bi)
+from processing.oscillations.load_cycle import BRANCHES, LoadCycle, fit_branches, hysteresis
+from processing.measurement import (ENGINE_SPEED, GRAVITY, LENGTH, MASS, STROKES, Field, Inputs,
+                                    LabSpec, Section, bi)
 from processing.result import LabResult, compare, flag_estimates, result_values
-from processing.text_table import TextTable, format_table, read_table
-from processing.toml_writer import dumps
+from processing.inputs.text_table import TextTable, format_table, read_table
+from processing.inputs.toml_writer import dumps
 from processing.uncertainty import Measured, propagate
-from processing.valve_train import (at_valve, cam_order, natural_frequency, part_deformations,
-                                    reduced_mass, span_mass, stiffnesses)
+from processing.valvetrain.valve_train import (at_valve, cam_order, natural_frequency,
+                                               part_deformations, reduced_mass, span_mass,
+                                               stiffnesses)
 
 from . import catalogue, lab5_valve_stiffness_report as report
 from .lab5_valve_stiffness_report import PARTS, result_name
@@ -496,8 +498,8 @@ SLIPS = [
         "передаточное отношение коромысла перевёрнуто (1/i) при приведении деформаций к "
         "клапану"), (LINKS, *FROM_LINKS), _rocker_ratio_inverted),
 ]
-"""The lab's classic slips (:mod:`labs.check`): name, text, the results they change, and the
-inputs as the slip leaves them."""
+"""The lab's classic slips (:mod:`labs.teachers.check`): name, text, the results they change, and
+the inputs as the slip leaves them."""
 
 
 # ------------------------------------------------------------------------ synthetic files
@@ -542,7 +544,7 @@ def synthetic(seed: int = 0, *, runs: int = 1, friction: float = 8.0, contact: f
     Returns
     -------
     document : dict
-        The measurement file's content (:func:`processing.toml_writer.dumps` writes it).
+        The measurement file's content (:func:`processing.inputs.toml_writer.dumps` writes it).
     answer : dict
         ``{"seed": …, "results": {name: true value in SI}}``: the stiffnesses that straight
         lines through the exact table give (:meth:`ValveTrain.line_stiffness`: the links' own

@@ -13,7 +13,7 @@ import numpy as np
 
 from processing.diagnostics import (GaugeBackwardsWarning, InconsistentInputWarning,
                                     LargeHysteresisWarning, TableCurvatureWarning)
-from processing.load_cycle import BRANCHES, LoadCycle
+from processing.oscillations.load_cycle import BRANCHES, LoadCycle
 from processing.measurement import bi
 from processing.numerals import plural
 from processing.reporting.content import fmt_pm, result_pm

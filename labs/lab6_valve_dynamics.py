@@ -10,15 +10,14 @@ P_min = k A_min, the losses of contact (P ≤ 0: the kinematic chain broken), th
 durations φ = 360 T_open/T_cam and the valve timing against the TDC and BDC marks; then
 P_max, P_min and φ against n for each clearance.
 
-Here each record is a signal file (CSV, WAV or HDF5: one force channel per valve, the TDC
-marks, optionally the time marks) or a photograph of the paper oscillogram ([image]); a
-record is a channel of samples with its marks, whatever made it. The speed comes from the
-TDC marks' times, k from a straight line through the calibration
-(:func:`processing.regression.fit_line`), the events, forces, contact losses and free
-oscillations from :mod:`processing.valve_force` (the valve opens and closes where the force
-passes the springs' preload P₀, which the file gives from lab 5); ν is a damped sinusoid
-fitted to each opening's free oscillation. Across the records of one clearance, the speed at
-which the drive separates is where the line through the two fastest records that kept
+Here each record is a signal file (CSV, WAV or HDF5: one force channel per valve, the TDC marks,
+optionally the time marks) or a photograph of the paper oscillogram ([image]); a record is a channel
+of samples with its marks, whatever made it. The speed comes from the TDC marks' times, k from a
+straight line through the calibration (:func:`processing.regression.fit_line`), the events, forces,
+contact losses and free oscillations from :mod:`processing.valvetrain.valve_force` (the valve opens
+and closes where the force passes the springs' preload P₀, which the file gives from lab 5); ν is a
+damped sinusoid fitted to each opening's free oscillation. Across the records of one clearance, the
+speed at which the drive separates is where the line through the two fastest records that kept
 contact reaches P_min = 0.
 
 References
@@ -37,18 +36,18 @@ from pathlib import Path
 import numpy as np
 
 from processing.diagnostics import InputError, collect_notices
-from processing.measurement import (ENGINE_SPEED, MARK_PERIOD, SAMPLE_RATE, STROKES, Field, Inputs, LabSpec,
-                                    Section, bi, image_section)
-from processing.record_checks import check_tachometer, check_time_marks
-from processing.record_quality import (SENSOR_FIX, check_pulses, check_record,
+from processing.measurement import (ENGINE_SPEED, MARK_PERIOD, SAMPLE_RATE, STROKES, Field, Inputs,
+                                    LabSpec, Section, bi, image_section)
+from processing.inputs.record_checks import check_tachometer, check_time_marks
+from processing.inputs.record_quality import (SENSOR_FIX, check_pulses, check_record,
                                        clipped_mask)
 from processing.regression import calibration_fault, curvature_test, fit_line
 from processing.result import LabResult, flag_estimates, result_values
-from processing.signals import (image_options, is_image, open_channel, open_channels,
+from processing.inputs.signals import (image_options, is_image, open_channel, open_channels,
                                 read_figures)
-from processing.torsiogram import Revolutions, crank_angle, revolutions
+from processing.torsional.torsiogram import Revolutions, crank_angle, revolutions
 from processing.uncertainty import Measured, propagate
-from processing.valve_force import NU_POOR, ValveEvent, trace_zero, valve_events
+from processing.valvetrain.valve_force import NU_POOR, ValveEvent, trace_zero, valve_events
 
 from . import catalogue, lab6_valve_dynamics_report as report
 
@@ -262,7 +261,7 @@ def _marks(x, rate: float) -> np.ndarray:
 def _read(inputs: Inputs, where: str, entry: dict, names: dict):
     """Time, the valves' traces, the TDC marks' times and the channels (for their figures) of
     a record file or a photographed oscillogram; each channel checked to be what it claims
-    (:mod:`processing.record_quality`): a trace neither flat nor noise nor clipped beyond
+    (:mod:`processing.inputs.record_quality`): a trace neither flat nor noise nor clipped beyond
     the limit, the marks neither flat nor noise."""
     path, field = entry["signal"], f"{where}.signal"
     if is_image(path):
@@ -697,8 +696,8 @@ SLIPS = [
         "угол открытия по распределительному валу указан вместо угла по коленчатому "
         "(вдвое меньше)"), (r"phi_crank_(in|ex)_\d+",), 0.5),
 ]
-"""The lab's classic slips (:mod:`labs.check`): name, text, the results they change, and the
-inputs as the slip leaves them, or the factor a slip of the arithmetic puts on them."""
+"""The lab's classic slips (:mod:`labs.teachers.check`): name, text, the results they change, and
+the inputs as the slip leaves them, or the factor a slip of the arithmetic puts on them."""
 
 
 # ------------------------------------------------------------------------ synthetic files
@@ -786,7 +785,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
         defaults, whatever ``seed`` draws the readings).
     draw : callable, optional
         With ``image``: who draws each record's paper instead of the phone's photograph
-        (:func:`labs.foreign_records.paper` protocol: ``draw(stem, signals, *, duration,
+        (:func:`labs.bench.foreign_records.paper` protocol: ``draw(stem, signals, *, duration,
         gain, zeros, mark_period, tdc_times, seed) -> Path``).
 
     Returns
@@ -794,7 +793,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", speeds=SPEEDS,
     dict
         Paths written: ``toml``, ``answer``, and one per record (``r1``, ``r2``, …).
     """
-    from processing.signals import write_csv, write_hdf5
+    from processing.inputs.signals import write_csv, write_hdf5
     from processing.synth.valve_drive import (RPM, Gauge, calibration, record,
                                               separation_speed as true_separation,
                                               simulate_event)

@@ -12,18 +12,18 @@ oscillation's half range with the baseline's drift taken out — whose largest i
 value; then the amplitude–speed curve, the resonant regimes and the resonating order
 K = ν/n; a harmonic analysis where the curve is not a sine.
 
-Here each record is a signal file (CSV, WAV or HDF5: the torsiograph's channel, the TDC
-marks, optionally the time marks). Its orders are fitted against the crank angle together
-with the drift (:mod:`processing.orders`), corrected for the instrument's transfer function
-(:mod:`processing.seismic`) and describe its mean working cycle; the peak amplitudes are
-read the manual's way on the record's single oscillations (its white noise taken out, not a
-band cut: an oscillation between the orders stays), whose largest is the design value
-(:mod:`processing.torsiogram`). A record under two working cycles, too short for its half
-orders, is read by its single oscillations alone. Across the records each
-resonance is located between them with its order and the natural frequency it implies
-(:mod:`processing.resonance`), drawn on a Campbell diagram with the engine's major orders,
-and compared with an equivalent torsional chain's natural frequencies when the chain is
-given (:mod:`processing.torsion`).
+Here each record is a signal file (CSV, WAV or HDF5: the torsiograph's channel, the TDC marks,
+optionally the time marks). Its orders are fitted against the crank angle together with the drift
+(:mod:`processing.torsional.orders`), corrected for the instrument's transfer function
+(:mod:`processing.torsional.seismic`) and describe its mean working cycle; the peak amplitudes are
+read the manual's way on the record's single oscillations (its white noise taken out, not a band
+cut: an oscillation between the orders stays), whose largest is the design value
+(:mod:`processing.torsional.torsiogram`). A record under two working cycles, too short for its half
+orders, is read by its single oscillations alone. Across the records each resonance is located
+between them with its order and the natural frequency it implies
+(:mod:`processing.torsional.resonance`), drawn on a Campbell diagram with the engine's major orders,
+and compared with an equivalent torsional chain's natural frequencies when the chain is given
+(:mod:`processing.torsional.chain`).
 
 References
 ----------
@@ -40,23 +40,23 @@ import numpy as np
 
 from labs import lab7_torsiograph_report as report
 from processing.diagnostics import InputError, collect_notices
-from processing.dynamics import firing_phases
-from processing.edges import detect_edges
-from processing.measurement import (ENGINE_SPEED, MARK_PERIOD, SAMPLE_RATE, STROKES, Field, Inputs, LabSpec,
-                                    Section, bi, firing_order, image_section)
-from processing.record_checks import check_tachometer, check_time_marks, whole_ratio
-from processing.record_quality import check_record, irregular_marks
+from processing.crank.dynamics import firing_phases
+from processing.speed.edges import detect_edges
+from processing.measurement import (ENGINE_SPEED, MARK_PERIOD, SAMPLE_RATE, STROKES, Field, Inputs,
+                                    LabSpec, Section, bi, firing_order, image_section)
+from processing.inputs.record_checks import check_tachometer, check_time_marks, whole_ratio
+from processing.inputs.record_quality import check_record, irregular_marks
 from processing.regression import fit_line
-from processing.resonance import (Resonance, SweepEdge, locate_resonances, major_orders,
+from processing.torsional.resonance import (Resonance, SweepEdge, locate_resonances, major_orders,
                                  relative_phase_sum, resonance_speed)
 from processing.result import LabResult, compare, flag_estimates, result_values
-from processing.seismic import amplitude_ratio
-from processing.signals import (image_options, is_image, open_channel, open_channels,
+from processing.torsional.seismic import amplitude_ratio
+from processing.inputs.signals import (image_options, is_image, open_channel, open_channels,
                                 read_figures)
-from processing.torsion import natural_modes
-from processing.torsiogram import revolutions
-from processing.torsiogram_analysis import (MAX_ORDER, ORDER_SHARE, Torsiogram, analyse_trace,
-                                            read_oscillations)
+from processing.torsional.chain import natural_modes
+from processing.torsional.torsiogram import revolutions
+from processing.torsional.torsiogram_analysis import (MAX_ORDER, ORDER_SHARE, Torsiogram,
+                                                      analyse_trace, read_oscillations)
 from processing.uncertainty import Measured, propagate
 
 LOADS = ("idle", "part", "full")
@@ -100,8 +100,8 @@ times the oscillation on records of four working cycles leaves about 1 %)."""
 
 SIGNIFICANCE = 4.0
 """An order stands out of a record's noise when its amplitude exceeds this many of its u
-(:meth:`processing.orders.OrderFit.significant`): white noise's largest of 48 orders passes
-4 u in 2 % of records. A record where none does holds no vibration to reduce."""
+(:meth:`processing.torsional.orders.OrderFit.significant`): white noise's largest of 48 orders
+passes 4 u in 2 % of records. A record where none does holds no vibration to reduce."""
 
 CRITICAL_MODES = 2
 """The chain's modes whose critical speeds are reported (the one- and two-node modes of an
@@ -359,7 +359,7 @@ class Recorded:
 
 def _marks(x, rate: float) -> np.ndarray:
     """Times of the pulses of a mark channel (their falling edges, a local cubic through
-    each: :mod:`processing.edges`). [s]"""
+    each: :mod:`processing.speed.edges`). [s]"""
     return detect_edges(np.asarray(x, dtype=float), "fit") / rate
 
 
@@ -435,7 +435,7 @@ def _check_orders(result: Torsiogram, name: str, refuse) -> None:
 
 def _recorded(inputs: Inputs, where: str, entry: dict, refuse):
     """The torsiograph's channel, its trace, the TDC marks' times and the sample rate of a
-    recording (the trace checked by :func:`processing.record_quality.check_record`, the TDC
+    recording (the trace checked by :func:`processing.inputs.record_quality.check_record`, the TDC
     marks by :func:`_tdc_marks`, a time-mark channel against T_mark)."""
     rate = entry["sample_rate"].value if "sample_rate" in entry else None
     names = [entry.get("channel"), entry["tdc_channel"]]
@@ -509,7 +509,7 @@ def _tdc_marks(inputs: Inputs, entry: dict, x: np.ndarray, rate: float, name: st
 def _photographed(inputs: Inputs, where: str, entry: dict):
     """The trace (in mm of paper, as the calibration's deflections are read) and the TDC
     marks of a photographed torsiogram; its time marks set its time base. The trace read is
-    checked as a recorded one (:func:`processing.record_quality.check_record`)."""
+    checked as a recorded one (:func:`processing.inputs.record_quality.check_record`)."""
     path, field = entry["signal"], f"{where}.signal"
     channel = open_channel(path, channel=entry.get("channel"), field=field,
                            image=image_options(inputs.sections.get("image")))
@@ -954,8 +954,8 @@ SLIPS = [
         "порядок K = ν/n при ν в Гц и n в мин⁻¹: K в 60 раз меньше"),
      (r"K_\d+",), 1 / 60),
 ]
-"""The lab's classic slips (:mod:`labs.check`): name, text, the results they change, and the
-factor a slip of the arithmetic puts on them."""
+"""The lab's classic slips (:mod:`labs.teachers.check`): name, text, the results they change, and
+the factor a slip of the arithmetic puts on them."""
 
 
 # ------------------------------------------------------------------------ synthetic files
@@ -1034,7 +1034,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
         ``seed``; 0: the scene's defaults, whatever ``seed`` draws the readings).
     draw : callable, optional
         With ``image``: who draws each paper record instead of the first family's phone
-        (:func:`labs.foreign_records.paper` protocol: ``draw(stem, signals, *, duration,
+        (:func:`labs.bench.foreign_records.paper` protocol: ``draw(stem, signals, *, duration,
         gain, zeros, mark_period, tdc_times, seed) -> Path``, the file it wrote).
 
     Returns
@@ -1044,7 +1044,7 @@ def write_synthetic(out_dir, seed: int = 0, *, fmt: str = "csv", snr_db: float =
     """
     import json
 
-    from processing.signals import write_csv, write_hdf5
+    from processing.inputs.signals import write_csv, write_hdf5
     from processing.synth.paper_record import PHONE, Beam, Layout, render
     from processing.synth.torsiograph import (LOADS as SHARES, RPM, Torsiograph, calibration,
                                               record, resonances, sweep)
@@ -1180,7 +1180,7 @@ SWEEP = (800.0, 2100.0, 200.0, 50.0)
 speed, its step and its finer step near the resonances. [min⁻¹]"""
 
 SURE = 1.3
-"""A variant's resonance stands this many times :data:`~processing.resonance.PROMINENCE`
+"""A variant's resonance stands this many times :data:`~processing.torsional.resonance.PROMINENCE`
 above its flanks in the noise-free records of the manual's sweep, so that noise does not hide
 it from the lab's search."""
 
@@ -1201,7 +1201,7 @@ def _part(seed: int):
     tuple
         (:class:`~processing.synth.torsiograph.Crankshaft`, f_c [Hz])
     """
-    from processing.resonance import PROMINENCE
+    from processing.torsional.resonance import PROMINENCE
     from processing.synth.torsiograph import (RPM, Crankshaft, resonances, sweep,
                                               sweep_resonances)
 

@@ -14,7 +14,7 @@ from processing.diagnostics import (BaselineDriftWarning, InconsistentInputWarni
                                     UnresolvedResonanceWarning)
 from processing.measurement import bi
 from processing.reporting.content import fmt_pm, result_pm
-from processing.resonance import campbell_lines
+from processing.torsional.resonance import campbell_lines
 from processing.result import KEY, STRICTLY_POSITIVE, Figure, Table, computed
 
 RPM = 30 / np.pi

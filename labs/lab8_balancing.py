@@ -8,7 +8,7 @@ moments D_r, D_j1, D = D_r + D_j1), a counter-rotating shaft for the other half 
 dummy masses m_x on the crank pins for balancing the shaft on a machine.
 
 Beside the manual's formulas, every file gets the general in-line analysis of
-:mod:`processing.balance` (phasor sums over the cylinders): for the two-cylinder engine it
+:mod:`processing.crank.balance` (phasor sums over the cylinders): for the two-cylinder engine it
 re-derives M_r − M_pr, M_j1 max and ΣP_j2 max from the positions of the pins, webs and
 counterweights, and with ``[[cylinder]]`` tables it analyses any in-line layout (inline-3, -4,
 -6, a 360° twin, ...).
@@ -33,7 +33,7 @@ import warnings
 
 import numpy as np
 
-from processing.balance import (STECHKIN_KLIMOV_LIMIT, inline_balance, inline_history,
+from processing.crank.balance import (STECHKIN_KLIMOV_LIMIT, inline_balance, inline_history,
                                 stechkin_klimov)
 from processing.diagnostics import ImbalanceWarning, InconsistentInputWarning, collect_notices
 from processing.measurement import (ENGINE_SPEED, LENGTH, MASS, Field, Inputs, LabSpec, Section,
@@ -196,7 +196,7 @@ def lug_static_moments(dM_r, m_j, r, a, omega, l1, l4):
     ω², so D_r = r[(m_шш + m_шк)a + m_щ1 l₃ + m_щ2 l₂ − m_пр(l₃ + l₂)]/l₁ and the others
     contain no ω: the balance holds at every speed. D_r and D_j1 add as scalars because the
     residual centrifugal couple and the forward-turning half of the first-order couple both
-    turn with crank 1 (see :mod:`processing.balance`); the backward-turning half needs the
+    turn with crank 1 (see :mod:`processing.crank.balance`); the backward-turning half needs the
     shaft turning the other way.
 
     Examples
@@ -234,7 +234,8 @@ def dummy_mass(dM_r, r, omega, a):
 
 
 def two_cylinder_layout(a, l2, l3, m_j, m_crank, m_web1, m_web2, m_pr=None):
-    """The manual's two-cylinder crankshaft as the arrays of :func:`processing.balance.inline_balance`.
+    """The manual's two-cylinder crankshaft as the arrays of
+    :func:`processing.crank.balance.inline_balance`.
 
     Cylinders at x = ∓a/2 with cranks at 0° and 180°; the crank pin and the rod's big end
     (``m_crank``) in the cylinder planes; webs 1 and 4 (``m_web1``) at x = ∓l₃/2, webs 2 and 3
@@ -858,8 +859,8 @@ SLIPS = [
      bi("the rod's crank-end share m_шк left out of the rotating masses",
         "доля шатуна m_шк не включена во вращающиеся массы"), ROTATING, _crank_end_left_out),
 ]
-"""The lab's classic slips (:mod:`labs.check`): name, text, the results they change, and the
-inputs as the slip leaves them."""
+"""The lab's classic slips (:mod:`labs.teachers.check`): name, text, the results they change, and
+the inputs as the slip leaves them."""
 
 
 # ------------------------------------------------------------------------ variants
@@ -872,7 +873,7 @@ VARIED = {"engine": ("r", "lambda", "n", "D"),
 
 def write_synthetic(out_dir, seed: int = 0) -> dict:
     """Write a variant of the manual's D-120 (:data:`VARIED` changed by up to ± 10 %) with its
-    answer key (:func:`labs.variants.design_variant`)."""
-    from .variants import design_variant
+    answer key (:func:`labs.sample_variant.design_variant`)."""
+    from .sample_variant import design_variant
 
     return design_variant("lab8", "d120.toml", out_dir, seed, VARIED)

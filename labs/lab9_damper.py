@@ -11,12 +11,12 @@ suddenly, the ring rings down; its record gives the logarithmic decrement
 six dampers (Table 2) have C_d about twice C: the equivalent torsional system must be built
 with the dynamic stiffness.
 
-Here each run's loop is a closed polygon of the readings; the stiffness is also taken as the
-slope of a straight line through the loading branch; the runs' means carry their type A
-scatter. The decay is reduced from a recording (a least-squares damped sinusoid over the
-whole trace, with a line through the peaks as a check: :func:`processing.decay.analyse_decay`)
-or from the peak amplitudes a student read off a paper record with the period; whether δ
-changes along the record (rubber's damping depends on the amplitude) is tested and said.
+Here each run's loop is a closed polygon of the readings; the stiffness is also taken as the slope
+of a straight line through the loading branch; the runs' means carry their type A scatter. The decay
+is reduced from a recording (a least-squares damped sinusoid over the whole trace, with a line
+through the peaks as a check: :func:`processing.oscillations.decay.analyse_decay`) or from the peak
+amplitudes a student read off a paper record with the period; whether δ changes along the record
+(rubber's damping depends on the amplitude) is tested and said.
 
 References
 ----------
@@ -31,17 +31,17 @@ from pathlib import Path
 
 import numpy as np
 
-from processing.decay import DecrementFit, RecordedDecay, analyse_decay, log_decrement
+from processing.oscillations.decay import DecrementFit, RecordedDecay, analyse_decay, log_decrement
 from processing.diagnostics import (InputError, collect_notices)
-from processing.load_cycle import out_of_order
-from processing.loops import branch_work, loop_area
+from processing.oscillations.load_cycle import out_of_order
+from processing.oscillations.loops import branch_work, loop_area
 from processing.measurement import (SAMPLE_RATE, Field, Inputs, LabSpec, Section, bi,
                                     image_section)
-from processing.record_quality import (SENSOR_FIX, check_frequency, check_record,
+from processing.inputs.record_quality import (SENSOR_FIX, check_frequency, check_record,
                                        clipped_mask)
 from processing.regression import LineFit, calibration_fault, fit_line
 from processing.result import LabResult, compare, flag_estimates, result_values
-from processing.signals import image_options, is_image, open_channel, read_figures
+from processing.inputs.signals import image_options, is_image, open_channel, read_figures
 from processing.uncertainty import Measured, propagate
 
 from . import lab9_damper_report as report
@@ -647,9 +647,9 @@ SLIPS = [
         "ξ′ = E_n/E_max при E_max = M_max φ_max (потерян множитель ½): ξ′ вдвое меньше"),
      (r"xi_static(_\d+)?",), 0.5),
 ]
-"""The lab's classic slips (:mod:`labs.check`): name, text, the results they change, and the
-factor a slip of the arithmetic puts on them (one slip, ½ dropped from E_max, changes E_max
-and ξ′ by different factors: two entries of one name)."""
+"""The lab's classic slips (:mod:`labs.teachers.check`): name, text, the results they change, and
+the factor a slip of the arithmetic puts on them (one slip, ½ dropped from E_max, changes E_max and
+ξ′ by different factors: two entries of one name)."""
 
 
 # ------------------------------------------------------------------------ synthetic files
@@ -702,7 +702,7 @@ def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: fl
         A baseline wander the record carries besides the gauge's offset, drift and creep.
     draw : callable, optional
         With ``image``: who draws the paper record instead of the first family's phone
-        (:func:`labs.foreign_records.paper` protocol: ``draw(stem, signals, *, duration,
+        (:func:`labs.bench.foreign_records.paper` protocol: ``draw(stem, signals, *, duration,
         gain, zeros, mark_period, tdc_times, seed) -> Path``, the file it wrote).
 
     Returns
@@ -719,7 +719,7 @@ def write_synthetic(out_dir, seed: int = 0, *, snr_db: float = 40.0, periods: fl
     """
     import json
 
-    from processing.signals import write_csv
+    from processing.inputs.signals import write_csv
     from processing.synth.damper import (Ring, StrainGauge, calibration,
                                          free_decay, peak_readings, static_runs)
     from processing.synth.paper_record import photograph

@@ -1,4 +1,5 @@
-"""dynlab's shared reduction primitives: units, uncertainty, measurement files, reports."""
+"""dynlab's shared reduction primitives, by topic: the core (measurement files, units,
+uncertainty, results, diagnostics, regression) at the top, one subpackage per topic."""
 from importlib.metadata import PackageNotFoundError, version
 
 try:

@@ -312,7 +312,7 @@ def image_section(name: str = "image", *, zero_default: str | None = "mean",
 def firing_order(inputs, field: str = "engine.firing_order") -> list[int] | None:
     """The cylinder numbers of a firing order written as text ("1-3-4-2", "1, 3, 4, 2"), or
     None where the file gives none; the order itself is checked where it is used
-    (:func:`processing.dynamics.firing_phases`)."""
+    (:func:`processing.crank.dynamics.firing_phases`)."""
     section, key = field.split(".")
     text = inputs.sections.get(section, {}).get(key)
     if text is None:

@@ -4,7 +4,7 @@ import re
 import tomllib
 from pathlib import Path
 
-from labs.cli import main
+from labs.cli.main import main
 
 ROOT = Path(__file__).resolve().parents[1]
 LAB1 = ROOT / "sample_data" / "lab1" / "flywheel.toml"

@@ -1,4 +1,4 @@
-"""processing.angular_speed: ω(α) over working cycles and the speed irregularity δ.
+"""processing.speed.angular_speed: ω(α) over working cycles and the speed irregularity δ.
 
 Three levels of truth: closed forms (δ, δ′, an order spectrum of known harmonics); ideal edge
 times built by hand from a known ω(θ) (t = ∫dθ/ω by Gauss–Legendre, exact to rounding), where
@@ -12,7 +12,7 @@ import pytest
 from conftest import HARMONICS, OMEGA0, omega, times_at  # the shared ideal engine
 from numpy.testing import assert_allclose
 
-from processing.angular_speed import (
+from processing.speed.angular_speed import (
     fit_cycles,
     irregularity,
     jackknife,
@@ -21,7 +21,7 @@ from processing.angular_speed import (
     tooth_cycles,
 )
 from processing.diagnostics import InputError
-from processing.edges import detect_edges
+from processing.speed.edges import detect_edges
 from processing.synth.engine import (
     Engine,
     Sensor,
@@ -31,7 +31,7 @@ from processing.synth.engine import (
     run_engine,
     samples_per_tooth,
 )
-from processing.toothwheel import calibrate_pitch, track_teeth
+from processing.speed.toothwheel import calibrate_pitch, track_teeth
 
 PHI = 4 * np.pi           # four-stroke cycle
 def wheel_angles(teeth, missing, revolutions, *, first=0):

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from processing import balance as bal
-from processing import kinematics as kin
+from processing.crank import balance as bal
+from processing.crank import kinematics as kin
 from processing.diagnostics import InputError
 
 M_J, M_R, R, W, LAM, A = 2.806, 4.4, 0.06, 209.4395, 0.279, 0.14

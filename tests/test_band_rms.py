@@ -4,8 +4,9 @@ signals' peaks."""
 import numpy as np
 import pytest
 
-from processing.band_rms import (BANDS, QUANTITIES, REFERENCES, Band, band_rms, band_signals,
-                                 level_db, meter_gain, peaks, sine_band_rms, window_spread)
+from processing.vibration.band_rms import (BANDS, QUANTITIES, REFERENCES, Band, band_rms,
+                                           band_signals, level_db, meter_gain, peaks, sine_band_rms,
+                                           window_spread)
 
 RATE = 25600.0
 T = np.arange(int(2.4 * RATE)) / RATE   # 2.4 s: the issue's record length

@@ -28,9 +28,9 @@ from processing.bench.harness import (
     write_rows,
     write_targets,
 )
-from processing.edges import detect_edges
+from processing.speed.edges import detect_edges
 from processing.synth.engine import ToothWheel, record
-from processing.toothwheel import track_teeth
+from processing.speed.toothwheel import track_teeth
 
 PNG = b"\x89PNG\r\n\x1a\n"
 

@@ -1,10 +1,10 @@
-"""The running valve drive's benchmark (labs.valve_dynamics_bench) on a handful of
+"""The running valve drive's benchmark (labs.bench.valve_dynamics) on a handful of
 cases: rows, the damped sine within its target and its stated interval, the separation
 sweep against the scene, targets and charts. Timings are never asserted here
 (ARCHITECTURE.md, Benchmarks)."""
 import pandas as pd
 
-from labs import valve_dynamics_bench as bench
+from labs.bench import valve_dynamics as bench
 from processing.bench.harness import run_family
 
 PNG = b"\x89PNG\r\n\x1a\n"

@@ -1,16 +1,16 @@
 """Hangs and runaway memory, as a user meets them: the boundary bench's cases about them
-(:mod:`labs.boundary_bench`, ``limits=True``: a FIFO or a ``/dev/zero`` link as a measurement
+(:mod:`labs.bench.boundary`, ``limits=True``: a FIFO or a ``/dev/zero`` link as a measurement
 file, a class's submission or a roster; images whose header claims 400 Mpx; 3 GB files), each
 run as ``dynlab`` in a child process whose address space is capped.
 
 A case passes when it is handled as it must be (refused with its cause and a fix, or a class
 summarised around a bad submission) before :data:`HANG` seconds, with the child's peak
-resident memory (``wait4``) under :data:`labs.boundary_bench.MEMORY_LIMIT`. No timing is
+resident memory (``wait4``) under :data:`labs.bench.boundary.MEMORY_LIMIT`. No timing is
 asserted: how fast a refusal answers is the bench's target, not a test's.
 """
 import pytest
 
-from labs.boundary_bench import corpus, run_case
+from labs.bench.boundary import corpus, run_case
 
 HANG = 60.0
 """Seconds after which a case counts as hung (the child is killed)."""

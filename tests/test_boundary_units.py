@@ -19,12 +19,12 @@ import numpy as np
 import pytest
 
 from cli_contract import ROOT, assert_one_clear_error, run
-from labs.check import _quantity
+from labs.teachers.check import _quantity
 from labs.registry import LABS, evaluate
 from processing.decimal_comma import PAIRS_SPREAD, REPEATS_SPREAD, split_reading
 from processing.diagnostics import ImplausibleValueWarning, InputError
 from processing.measurement import load, plausible_range, read_toml
-from processing.toml_writer import dumps
+from processing.inputs.toml_writer import dumps
 from processing.uncertainty import Measured
 from processing.units import (QuantityError, parse_quantity, si_factor, unit_text)
 

@@ -12,11 +12,11 @@ from pathlib import Path
 
 import pytest
 
-from labs.check import check, read_policy
-from labs.cli import main
+from labs.teachers.check import check, read_policy
+from labs.cli.main import main
 from labs.registry import evaluate
 from processing.diagnostics import InputError
-from processing.grading import STUDENT_U_MAX, Policy, Reported, judge, written_digits
+from processing.checking.grading import STUDENT_U_MAX, Policy, Reported, judge, written_digits
 
 ROOT = Path(__file__).resolve().parents[1]
 LAB1 = ROOT / "sample_data" / "lab1" / "flywheel.toml"
@@ -106,7 +106,7 @@ def test_a_policy_allows_a_students_u_by_student_u(tmp_path):
 
 
 def test_a_policy_marks_by_points_and_partial(tmp_path):
-    from labs.check import Check, mark
+    from labs.teachers.check import Check, mark
 
     policy = tmp_path / "policy.toml"
     policy.write_text("points = 2\npartial = 0.25\n[lab5]\npoints = 3\n", encoding="utf-8")
@@ -244,7 +244,7 @@ def test_a_seeded_class_with_injected_slips(tmp_path):
     right value called wrong. The labs reading recordings (3, 4, 6, 7) are checked against
     their slips by :mod:`test_check_slips`; the whole class and its timing target live in
     ``python -m processing.bench --topic check``."""
-    from labs import check_bench
+    from labs.bench import check as check_bench
 
     frame, targets = check_bench.run(tmp_path, quick=True, log=lambda _: None,
                                      labs=("lab1", "lab2", "lab5", "lab8", "lab9", "dyncalc"))
@@ -292,7 +292,7 @@ def _calculation(sample):
     from processing.measurement import load, read_toml
 
     from labs import dyncalc as dc
-    from labs.dyncalc_check import arguments
+    from labs.teachers.dyncalc_check import arguments
 
     return dc.dynamic_calculation(**arguments(load(sample, dc.SPEC, read_toml(sample))))
 

@@ -11,9 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from labs.check import Check, asked, check, copies, read_variants
-from labs.check_bench import copy_of
-from labs.cli import main
+from labs.teachers.check import Check, asked, check, copies, read_variants
+from labs.bench.check import copy_of
+from labs.cli.main import main
 from labs.registry import evaluate
 from tests.cli_contract import assert_one_clear_error, run
 
@@ -27,7 +27,7 @@ def variants(tmp_path_factory):
     roster = out.parent / "roster.csv"
     roster.write_text("id,name\n" + "".join(f"{s},Student {s}\n" for s in STUDENTS),
                       encoding="utf-8")
-    from labs.cli import main
+    from labs.cli.main import main
 
     assert main(["synth", "lab5", "--students", str(roster), "--seed", "3",
                  "--out", str(out)]) == 0
@@ -109,8 +109,8 @@ def test_a_submission_bound_by_its_meta_id_when_its_folder_is_no_id(tmp_path, ca
     rows = list(csv.DictReader((out / "summary.csv").open(encoding="utf-8")))
     assert code == 0 and {r["id"] for r in rows if r["status"] == "checked"} == {"s02"}
     assert {r["status"] for r in rows if r["id"] != "s02"} == {"absent"}
-    from labs.check import read_class
-    from labs.check_report import summary_csv
+    from labs.teachers.check import read_class
+    from labs.teachers.check_report import summary_csv
 
     with (out / "summary.csv").open(encoding="utf-8", newline="") as written:
         assert summary_csv(read_class(tmp_path / "class", keys=variants)) == written.read()
@@ -126,7 +126,7 @@ def test_roster_without_keys_is_refused(tmp_path, capsys, variants):
 
 
 def _texts(path: Path) -> tuple[str, ...]:
-    from labs.check import _readings
+    from labs.teachers.check import _readings
     from processing.measurement import read_toml
 
     return _readings(read_toml(path))

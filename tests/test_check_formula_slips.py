@@ -1,5 +1,5 @@
-"""Slips inside a lab's formulas (:mod:`processing.input_slips`, the constants of
-:data:`processing.grading.CONSTANT_SLIPS`) named through ``dynlab check``, and a student's
+"""Slips inside a lab's formulas (:mod:`processing.checking.input_slips`, the constants of
+:data:`processing.checking.grading.CONSTANT_SLIPS`) named through ``dynlab check``, and a student's
 Russian and min⁻¹ read in ``[reported]``.
 
 Each slip is reproduced as the student makes it — the inputs changed as the slip changes them
@@ -12,9 +12,9 @@ from pathlib import Path
 
 import pytest
 
-from labs.check import check
+from labs.teachers.check import check
 from labs.registry import lab_module
-from processing.input_slips import slipped_inputs
+from processing.checking.input_slips import slipped_inputs
 from processing.measurement import load, read_toml
 
 ROOT = Path(__file__).resolve().parents[1]

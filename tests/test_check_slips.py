@@ -12,7 +12,7 @@ import pytest
 
 from labs import (lab3_speed_irregularity as lab3, lab4_vibration as lab4, lab5_valve_stiffness as lab5, lab6_valve_dynamics as lab6,
                   lab7_torsiograph as lab7, lab8_balancing as lab8, lab9_damper as lab9)
-from labs.check import check
+from labs.teachers.check import check
 from labs.registry import evaluate
 
 SEED = 1

@@ -1,6 +1,6 @@
 """The ``dynlab`` command: bad input, templates, output formats, the installed script.
 
-Every run is in-process (``labs.cli.main``) except one smoke test of the console script.
+Every run is in-process (``labs.cli.main.main``) except one smoke test of the console script.
 A bad measurement file must give one line on stderr naming the file, the field and the fix,
 exit with 2, and leave no report behind.
 """
@@ -16,9 +16,9 @@ from pathlib import Path
 import pytest
 
 from cli_contract import LAB1, LAB2, assert_one_clear_error, run, sample
-from labs.cli import main
+from labs.cli.main import main
 from labs.registry import LABS
-from processing.toml_writer import dumps
+from processing.inputs.toml_writer import dumps
 
 
 # ----------------------------------------------------------------------- bad measurement files
@@ -400,7 +400,7 @@ def test_list_and_help_import_no_lab_and_no_numerics(argv):
     """``dynlab list`` and ``--help`` answer at once: no lab, numpy or report engine is loaded
     (importing them is what took a second before)."""
     code = "\n".join([
-        "import sys", "from labs.cli import main", "try:", f"    main({argv!r})",
+        "import sys", "from labs.cli.main import main", "try:", f"    main({argv!r})",
         "except SystemExit:", "    pass",
         "heavy = ('numpy', 'pandas', 'matplotlib', 'pint', 'labs.lab1_inertia')",
         "print('loaded:', [m for m in heavy if m in sys.modules])"])

@@ -1,8 +1,8 @@
-"""The swing of a periodic trace (processing.cycle_range): restoring what a blur flattened."""
+"""The swing of a periodic trace (processing.speed.cycle_range): restoring what a blur flattened."""
 import numpy as np
 import pytest
 
-from processing.cycle_range import cycle_range
+from processing.speed.cycle_range import cycle_range
 
 
 def test_deblurred_restores_the_ripple_a_gaussian_blur_flattened():

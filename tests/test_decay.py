@@ -1,4 +1,5 @@
-"""processing.decay: peaks, logarithmic decrement and damped-sinusoid fits of free decays.
+"""processing.oscillations.decay: peaks, logarithmic decrement and damped-sinusoid fits of free
+decays.
 
 Closed forms (a geometric series of amplitudes, an exponential decay on a drift), the noise
 structure the half ranges are fitted with, and over seeded records of the damper's scene
@@ -9,7 +10,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from processing.decay import (HALF_RANGE_CORRELATION, analyse_decay, decrement_trend,
+from processing.oscillations.decay import (HALF_RANGE_CORRELATION, analyse_decay, decrement_trend,
                               find_peaks, fit_damped_sine, log_decrement, noise_sd)
 from processing.synth.damper import Ring, StrainGauge, free_decay
 
@@ -206,7 +207,7 @@ def test_variable_projection_jacobian_is_the_residuals_derivative():
     # from its fit (where Kaufman's shortcut, without the second term, would be off)
     from scipy.optimize._numdiff import approx_derivative
 
-    from processing.decay import _baseline_columns, _Projection
+    from processing.oscillations.decay import _baseline_columns, _Projection
 
     rng = np.random.default_rng(3)
     tau = np.linspace(0, 0.05, 300)

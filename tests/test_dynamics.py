@@ -13,8 +13,8 @@ import pytest
 from numpy.testing import assert_allclose
 from scipy.integrate import solve_ivp
 
-from processing import dynamics as dyn
-from processing import kinematics as kin
+from processing.crank import dynamics as dyn
+from processing.crank import kinematics as kin
 
 DEG = np.pi / 180
 STEP = 0.5 * DEG

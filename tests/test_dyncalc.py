@@ -7,7 +7,7 @@ import pytest
 
 from labs import dyncalc as dc
 from processing.diagnostics import InputError
-from processing.kinematics import relative_velocity
+from processing.crank.kinematics import relative_velocity
 from processing.measurement import load
 from processing.reporting.render import write_reports
 
@@ -115,7 +115,7 @@ def test_force_table_factor_column_is_the_kinematic_one(make_inputs):
     alpha = np.radians(df.alpha_deg.to_numpy())
     np.testing.assert_allclose(df.alpha_deg, np.arange(0, 720, 15), err_msg="every 15°")
     np.testing.assert_allclose(df.sin_ab, relative_velocity(alpha, 0.25), rtol=1e-12,
-                               err_msg="sin(α+β)/cos β = v/(Rω) of processing.kinematics")
+                               err_msg="sin(α+β)/cos β = v/(Rω) of processing.crank.kinematics")
     np.testing.assert_allclose(df["T"], df.P * df.sin_ab, rtol=1e-9, atol=1e-9, err_msg="T")
     np.testing.assert_allclose(df.K, df.P * df.cos_ab, rtol=1e-9, atol=1e-9, err_msg="K")
     np.testing.assert_allclose(df.N, df.P * df.tan_beta, rtol=1e-9, atol=1e-9, err_msg="N")

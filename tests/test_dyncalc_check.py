@@ -1,4 +1,5 @@
-"""The coursework's tables checked row by row (``[reported.tables]``, :mod:`labs.dyncalc_check`).
+"""The coursework's tables checked row by row (``[reported.tables]``,
+:mod:`labs.teachers.dyncalc_check`).
 
 Every student's table here is made as a student makes it — from the task's data with the
 textbook's formulas (Kolchin: the two-harmonic piston displacement and acceleration, the exact
@@ -15,9 +16,9 @@ import numpy as np
 import pytest
 
 from labs import dyncalc as dc
-from labs.check import check
-from labs.dyncalc_check import FLOOR_SHARE
-from labs.dyncalc_tables import read_table
+from labs.teachers.check import check
+from labs.teachers.dyncalc_check import FLOOR_SHARE
+from labs.teachers.dyncalc_tables import read_table
 from processing.diagnostics import InputError
 from processing.units import parse_quantity
 
@@ -353,8 +354,8 @@ def test_a_slip_that_blows_up_does_not_take_every_table_for_its_own(tmp_path):
     of the student's column and the model's, and each slip is named as itself."""
     from dataclasses import replace
 
-    from labs import check_bench as cb
-    from labs import dyncalc_check as ck
+    from labs.bench import check as cb
+    from labs.teachers import dyncalc_check as ck
     from labs.registry import LABS
     from processing.measurement import load, read_toml
 

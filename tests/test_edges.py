@@ -1,4 +1,4 @@
-"""processing.edges: tooth-edge times from a sampled inductive-sensor signal.
+"""processing.speed.edges: tooth-edge times from a sampled inductive-sensor signal.
 
 Synthetic records (processing.synth.engine) carry the true edge times — the falling zeros
 of u = Φ'(α)ω — so each placement method is measured against them, clean and noisy, with a
@@ -13,7 +13,7 @@ from numpy.testing import assert_allclose, assert_array_equal
 
 from processing.bench.speed import timing_bound
 from processing.diagnostics import InputError
-from processing.edges import (
+from processing.speed.edges import (
     METHODS,
     EdgeDetector,
     detect_edges,
@@ -29,7 +29,7 @@ from processing.synth.engine import (
     run_engine,
     samples_per_tooth,
 )
-from processing.toothwheel import track_teeth
+from processing.speed.toothwheel import track_teeth
 
 WHEEL = ToothWheel(missing=2, reference_angle=np.radians(3.0))
 

@@ -13,11 +13,11 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from processing.anharmonic import fit_anharmonic_decay
-from processing.decay import fit_damped_sine
+from processing.oscillations.anharmonic import fit_anharmonic_decay
+from processing.oscillations.decay import fit_damped_sine
 from processing.diagnostics import (DroppedFramesWarning, IrregularFrameRateWarning,
                                     NominalFrameRateWarning)
-from processing.oscillation import pendulum_period_factor
+from processing.oscillations.oscillation import pendulum_period_factor
 from processing.synth.phone_film import Phone, Swinger, render
 from processing.uncertainty import Measured, propagate
 from processing.vision.frames import Film, frame_clock

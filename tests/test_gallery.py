@@ -6,7 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from labs.gallery import index, picture_name
+from labs.cli.gallery import index, picture_name
 from processing.diagnostics import InputError
 from processing.reporting.i18n import LANGS
 from processing.reporting.screenshot import BROWSERS, find_browser, screenshot
@@ -22,7 +22,7 @@ def test_the_gallery_shows_every_sample_in_every_language():
     for sample in SAMPLES:
         for lang in LANGS:
             name = picture_name(sample, lang)
-            assert name in shown, f"{name} is not in the gallery: run python -m labs.gallery"
+            assert name in shown, f"{name} is not in the gallery: run python -m labs.cli.gallery"
             assert (GALLERY / name).stat().st_size > 10_000
 
 

@@ -25,7 +25,7 @@ import pytest
 from cli_contract import ROOT, assert_one_clear_error, run
 from processing import files
 from processing.diagnostics import InputError
-from processing.toml_writer import dumps
+from processing.inputs.toml_writer import dumps
 
 pytestmark = pytest.mark.usefixtures("no_hang")
 
@@ -279,9 +279,9 @@ def _bad_submission(folder: Path, kind: str) -> Path:
 def test_one_bad_submission_never_stops_a_class(tmp_path, capsys, monkeypatch, kind):
     """The good submissions are checked and summarised, the bad one is listed as refused
     with its reason, and the exit code says something was refused."""
-    import labs.check
+    import labs.teachers.check
 
-    real = labs.check.evaluate
+    real = labs.teachers.check.evaluate
 
     def failing(path, **kw):
         if Path(path).parent.name == "bad":
@@ -289,7 +289,7 @@ def test_one_bad_submission_never_stops_a_class(tmp_path, capsys, monkeypatch, k
         return real(path, **kw)
 
     if kind == "internal-error":
-        monkeypatch.setattr(labs.check, "evaluate", failing)
+        monkeypatch.setattr(labs.teachers.check, "evaluate", failing)
     for who in ("ann", "bob"):
         _submission(tmp_path / "class" / who)
     bad = _bad_submission(tmp_path / "class" / "bad", kind)
@@ -625,8 +625,9 @@ def test_a_reader_that_stops_reading_is_no_internal_error():
 
     read, write = os.pipe()
     os.close(read)
-    child = subprocess.run([sys.executable, "-m", "labs.cli", "kinematics", "--lambda", "0.25"],
-                           stdout=write, stderr=subprocess.PIPE, text=True, timeout=60)
+    child = subprocess.run([sys.executable, "-m", "labs.cli.main", "kinematics",
+                            "--lambda", "0.25"], stdout=write, stderr=subprocess.PIPE, text=True,
+                           timeout=60)
     os.close(write)
     assert child.returncode == 0 and child.stderr == "", child.stderr
 

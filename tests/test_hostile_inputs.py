@@ -20,8 +20,8 @@ import pytest
 
 from cli_contract import ROOT, assert_one_clear_error, run
 from labs.registry import LABS
-from processing.signals import write_hdf5, write_wav
-from processing.toml_writer import dumps
+from processing.inputs.signals import write_hdf5, write_wav
+from processing.inputs.toml_writer import dumps
 
 SAMPLES = {
     "lab1": ROOT / "sample_data" / "lab1" / "flywheel.toml",

@@ -23,13 +23,13 @@ from scipy.io import wavfile
 
 from cli_contract import ROOT, assert_one_clear_error, run
 from labs.registry import evaluate
-from processing.decay import analyse_decay
+from processing.oscillations.decay import analyse_decay
 from processing.diagnostics import InputError
-from processing.record_quality import (check_frequency, check_pulse_channel, check_pulses,
+from processing.inputs.record_quality import (check_frequency, check_pulse_channel, check_pulses,
                                        check_record, clipped_mask, periodicity)
-from processing.signals import open_channel, write_hdf5
+from processing.inputs.signals import open_channel, write_hdf5
 from processing.synth.damper import Ring, StrainGauge, free_decay
-from processing.toml_writer import dumps
+from processing.inputs.toml_writer import dumps
 
 SAMPLES = ROOT / "sample_data"
 

@@ -20,8 +20,8 @@ import pytest
 from cli_contract import ROOT, assert_one_clear_error, run
 from labs import lab4_vibration as lab4
 from labs.registry import evaluate
-from processing.band_rms import QUANTITIES, band_rms
-from processing.signals import write_csv, write_hdf5
+from processing.vibration.band_rms import QUANTITIES, band_rms
+from processing.inputs.signals import write_csv, write_hdf5
 from processing.synth.engine import Engine
 from processing.synth.engine_mount import POINTS, Accelerometer, Block, record
 
@@ -462,7 +462,7 @@ def test_lab7_refuses_records_without_their_calibration(capsys, tmp_path):
 @pytest.mark.parametrize("rate", [0.0, float("nan"), 1e3])
 def test_lab7_scene_refuses_a_sample_rate_below_its_orders(tmp_path, rate):
     """The scene's own guard (the command line refuses such rates before it, by
-    labs.synth_options): a rate that does not hold the orders writes nothing."""
+    labs.cli.synth_options): a rate that does not hold the orders writes nothing."""
     from labs.lab7_torsiograph import write_synthetic
     from processing.diagnostics import InputError
 

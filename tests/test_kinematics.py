@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose, assert_array_less
 
-from processing import kinematics as kin
+from processing.crank import kinematics as kin
 
 DEG = np.pi / 180
 LAMBDAS = np.array([0.2, 0.25, 0.32])[:, None]  # broadcast against crank angles (columns)

@@ -4,7 +4,7 @@ import io
 import pandas as pd
 import pytest
 
-from labs.cli import main
+from labs.cli.main import main
 
 
 def _csv(capsys, *args):

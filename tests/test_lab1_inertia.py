@@ -127,13 +127,13 @@ def test_large_amplitude_is_corrected_and_warned(make_inputs):
 
 
 def pendulum_bias(deg):
-    from processing.oscillation import pendulum_period_factor
+    from processing.oscillations.oscillation import pendulum_period_factor
 
     return float(pendulum_period_factor(np.radians(deg))) ** 2 - 1
 
 
 def test_small_amplitude_does_not_warn():
-    from processing.oscillation import check_amplitude
+    from processing.oscillations.oscillation import check_amplitude
 
     with warnings.catch_warnings():
         warnings.simplefilter("error", AmplitudeTooLargeWarning)

@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 from labs import lab3_speed_irregularity as lab3
-from labs.cli import main
+from labs.cli.main import main
 from labs.registry import evaluate
 from processing.diagnostics import InputError
-from processing.signals import write_csv, write_wav
+from processing.inputs.signals import write_csv, write_wav
 from processing.synth.engine import Engine, Sensor, ToothWheel, record, run_engine
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 from labs import lab4_vibration as lab4
-from labs.cli import main
+from labs.cli.main import main
 from labs.registry import evaluate
-from processing.band_rms import REFERENCES
+from processing.vibration.band_rms import REFERENCES
 from processing.diagnostics import InputError
-from processing.signals import write_csv
+from processing.inputs.signals import write_csv
 from processing.synth.engine import Engine
 from processing.synth.engine_mount import POINTS, Accelerometer, Block, record
 
@@ -156,7 +156,7 @@ def test_no_cylinder_is_reported_cut_in_a_healthy_record(bench, tmp_path):
     # the "cut" record replaced by a second healthy record at 2000 min⁻¹ (another seed)
     rec = record(ENGINE, BLOCK, POINTS, Accelerometer(lab4.sensitivity(CHART).value),
                  2000 * np.pi / 30, 2.4, seed=77, firing_order=(1, 3, 4, 2))
-    from processing.signals import write_hdf5
+    from processing.inputs.signals import write_hdf5
     write_hdf5(tmp_path / "healthy.h5", {**rec.volts, "tdc": rec.tdc}, rec.sample_rate)
     for f in written.values():
         if f.suffix == ".h5" and f.name != cut_file:

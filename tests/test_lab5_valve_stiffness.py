@@ -15,15 +15,15 @@ import numpy as np
 import pytest
 
 from labs import lab5_valve_stiffness as lab5
-from labs.cli import main
+from labs.cli.main import main
 from labs.registry import evaluate
 from processing.diagnostics import InputError, collect_notices
 from processing.measurement import load, template
 from processing.reporting.render import render
 from processing.synth.valve_table import ValveTrain, load_steps
-from processing.toml_writer import dumps
+from processing.inputs.toml_writer import dumps
 from processing.units import dimension
-from processing.valve_train import (at_valve, cam_order, natural_frequency, reduced_mass,
+from processing.valvetrain.valve_train import (at_valve, cam_order, natural_frequency, reduced_mass,
                                     span_mass, stiffnesses, total_stiffness)
 
 ROOT = Path(__file__).resolve().parents[1]

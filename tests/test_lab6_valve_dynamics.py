@@ -250,7 +250,7 @@ def test_too_short_a_record_is_refused(tmp_path):
 def test_the_trace_zero_and_events_of_a_plain_hump():
     """A half-sine force pulse on a known zero: the events' crossings of a level are where
     the sine passes it, and the extremes are the sine's."""
-    from processing.valve_force import trace_zero, valve_events
+    from processing.valvetrain.valve_force import trace_zero, valve_events
 
     rate, T = 10e3, 0.05
     t = np.arange(int(0.2 * rate)) / rate
@@ -290,7 +290,7 @@ def test_photographs_under_a_camera_of_their_own_hold_their_truth(tmp_path):
     95 % interval holds its truth. (Benchmark ``photographed``, 12 sweeps of both valves:
     ν's interval had held it in about 70 % of the records that lose contact while ν was fitted
     on a cubic baseline alone.)"""
-    from labs.valve_dynamics_bench import drawn_shot
+    from labs.bench.valve_dynamics import drawn_shot
 
     written = lab6.write_synthetic(tmp_path, seed=2, image=True, shot=drawn_shot(2),
                                    **{**SMALL, "part": 2})

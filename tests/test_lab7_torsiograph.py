@@ -19,7 +19,7 @@ from labs.registry import evaluate
 from processing.diagnostics import InputError
 from processing.measurement import load, template
 from processing.reporting.render import render
-from processing.signals import write_csv
+from processing.inputs.signals import write_csv
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "sample_data" / "lab7" / "lab7_seed7.toml"

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from labs import lab8_balancing as lab
-from processing import balance as bal
+from processing.crank import balance as bal
 from processing.measurement import load, template
 from processing.reporting.content import fmt_pm
 from processing.reporting.render import to_json

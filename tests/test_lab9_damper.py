@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 
 from labs import lab9_damper as lab9
-from labs.cli import main
+from labs.cli.main import main
 from labs.registry import evaluate
 from processing.diagnostics import InputError
-from processing.loops import loop_area
+from processing.oscillations.loops import loop_area
 from processing.reporting.render import render
 from processing.synth.damper import RubberLayer
 

@@ -1,12 +1,12 @@
-"""A static load–unload cycle (processing.load_cycle) in closed form: a linear chain with
-Coulomb friction (the play operator of processing.synth.valve_table) read exactly, its
+"""A static load–unload cycle (processing.oscillations.load_cycle) in closed form: a linear chain
+with Coulomb friction (the play operator of processing.synth.valve_table) read exactly, its
 branches, the line midway between them, the manual's pointwise mean and the loop."""
 import math
 
 import numpy as np
 import pytest
 
-from processing.load_cycle import LoadCycle, fit_branches, hysteresis, midway
+from processing.oscillations.load_cycle import LoadCycle, fit_branches, hysteresis, midway
 from processing.regression import fit_line
 from processing.synth.valve_table import load_steps, play
 

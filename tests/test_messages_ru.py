@@ -16,7 +16,7 @@ import pytest
 import test_hostile_cli
 import test_hostile_inputs
 from cli_contract import assert_one_clear_error, run
-from labs.cli import main
+from labs.cli.main import main
 from processing.diagnostics import InputError
 
 CORPORA = (test_hostile_inputs, test_hostile_cli)

@@ -4,15 +4,15 @@ healthy pairs."""
 import numpy as np
 import pytest
 
-from processing.band_rms import QUANTITIES, band_rms
-from processing.dynamics import firing_phases
-from processing.edges import detect_edges
-from processing.misfire import find_cut_cylinder
-from processing.orders import order_fit
+from processing.vibration.band_rms import QUANTITIES, band_rms
+from processing.crank.dynamics import firing_phases
+from processing.speed.edges import detect_edges
+from processing.vibration.misfire import find_cut_cylinder
+from processing.torsional.orders import order_fit
 from processing.synth.engine import Engine
 from processing.synth.engine_mount import (POINTS, Accelerometer, Block, cylinder_factors,
                                            point_orders, record)
-from processing.torsiogram import revolutions, steady_crank_angle
+from processing.torsional.torsiogram import revolutions, steady_crank_angle
 
 FIRING = (1, 3, 4, 2)
 ENGINE, BLOCK = Engine(), Block()

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from processing.oscillation import pendulum_period_factor, period_factor
+from processing.oscillations.oscillation import pendulum_period_factor, period_factor
 from processing.synth.pendulum import physical_pendulum_period
 
 

@@ -13,7 +13,7 @@ import pytest
 
 from cli_contract import assert_one_clear_error, run
 from labs import lab3_speed_irregularity as lab3
-from labs.foreign_records import lab3_scene
+from labs.bench.foreign_records import lab3_scene
 from processing.diagnostics import InputError
 from processing.measurement import load
 from processing.synth.paper_strip import Grid, Marks, Photo, Scan, Strip, Trace, expose
@@ -214,7 +214,7 @@ def test_lab9_decay_on_a_foreign_strip(tmp_path):
     """Lab 9's free decay on a scanned strip: δ within the issue's 1 %, its 95 % interval
     holding the truth; the photograph's time base carried in T's u."""
     from labs import lab9_damper as lab9
-    from labs.foreign_records import lab9_scene
+    from labs.bench.foreign_records import lab9_scene
 
     case = lab9_scene(3, tmp_path, capture="scan", dpi=150)
     result = lab9.reduce(load(case.toml, lab9.SPEC), n_samples=2000)

@@ -50,8 +50,8 @@ def test_readme_lab3_example_reduces_with_the_sample_recordings(tmp_path):
     import numpy as np
 
     from labs.registry import evaluate
-    from processing.edges import detect_edges
-    from processing.signals import open_channel
+    from processing.speed.edges import detect_edges
+    from processing.inputs.signals import open_channel
 
     sample = ROOT / "sample_data" / "lab3"
     for name in ("regime1.wav", "coast.wav"):
@@ -68,7 +68,7 @@ def test_readme_lab3_example_reduces_with_the_sample_recordings(tmp_path):
 
 
 def test_kinematics_example_is_what_the_command_prints(capsys):
-    from labs.cli import main
+    from labs.cli.main import main
 
     block = next(b for b in _blocks("text") if b.startswith("$ dynlab kinematics"))
     command, *expected = block.strip().splitlines()

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from labs.cli import main
+from labs.cli.main import main
 
 pypdf = pytest.importorskip("pypdf")
 

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 from scipy.signal import savgol_filter
 
-from processing.savgol import savgol
+from processing.oscillations.savgol import savgol
 
 
 @pytest.mark.parametrize("size, window, order", [(100, 11, 2), (37, 21, 2), (2000, 11, 2),

@@ -9,7 +9,7 @@ import pytest
 from scipy.io import wavfile
 
 from processing.diagnostics import InputError
-from processing.signals import (
+from processing.inputs.signals import (
     open_channel,
     open_channels,
     read_edge_times,

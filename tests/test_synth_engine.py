@@ -1,6 +1,6 @@
 """Lab 3's synthetic scene: engine → flywheel → toothed wheel → inductive sensor → ADC.
 
-The run is checked against :func:`processing.dynamics.crank_speed_cycle` (the steady periodic
+The run is checked against :func:`processing.crank.dynamics.crank_speed_cycle` (the steady periodic
 solution it must reproduce), the recording against its own true edge times (a noise-free
 record crosses zero at them), and the generator against itself (seeds, chunking).
 Tolerances: δ and speeds relative; edge times in tooth periods (STYLE.md 9).
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
-from processing import dynamics as dyn
+from processing.crank import dynamics as dyn
 from processing.diagnostics import InputError
 from processing.synth.engine import (
     Engine,
@@ -31,7 +31,7 @@ WHEEL = ToothWheel(missing=2, pitch_error=np.radians(0.05), seed=3,
 
 
 def _steady_torque(engine, alpha):
-    """M(α) of the whole engine built straight from processing.dynamics (FORMULAS.md B)."""
+    """M(α) of the whole engine built straight from processing.crank.dynamics (FORMULAS.md B)."""
     pressure = dyn.indicator_pressure(
         alpha, p_a=engine.p_a, p_z=engine.p_z, compression_ratio=engine.compression_ratio,
         n1=engine.n1, n2=engine.n2, lambda_=engine.lambda_, p_r=engine.p_r)

@@ -1,5 +1,5 @@
-"""Typed tables (processing.text_table) and the TOML writer (processing.toml_writer): what a
-student may type, each refusal naming the file, the field, the row and the fix, and the
+"""Typed tables (processing.inputs.text_table) and the TOML writer (processing.inputs.toml_writer):
+what a student may type, each refusal naming the file, the field, the row and the fix, and the
 writer's output read back to the same document."""
 import tomllib
 
@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from processing.diagnostics import InputError
-from processing.text_table import format_table, read_table
-from processing.toml_writer import dumps
+from processing.inputs.text_table import format_table, read_table
+from processing.inputs.toml_writer import dumps
 
 NAMES = ("Q", "P", "dl1", "dl2")
 WHERE = {"file": "m.toml", "field": "run[1].table"}

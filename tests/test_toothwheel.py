@@ -1,4 +1,4 @@
-"""processing.toothwheel: numbering tooth edges, finding revolutions, calibrating the pitch.
+"""processing.speed.toothwheel: numbering tooth edges, finding revolutions, calibrating the pitch.
 
 Ideal edge lists are built by hand from a known speed ω(θ): the edge of the tooth at angle θ
 comes at t(θ) = ∫dθ/ω, integrated by 8-point Gauss–Legendre over each pitch (exact to
@@ -14,9 +14,9 @@ from conftest import OMEGA0, times_at  # the shared ideal engine
 from numpy.testing import assert_allclose, assert_array_equal
 
 from processing.diagnostics import InputError
-from processing.edges import detect_edges
+from processing.speed.edges import detect_edges
 from processing.synth.engine import Sensor, ToothWheel, coast_run, record
-from processing.toothwheel import calibrate_pitch, track_teeth
+from processing.speed.toothwheel import calibrate_pitch, track_teeth
 
 
 def wheel_angles(teeth, missing, revolutions, *, first=0, reference=0.0):

@@ -13,18 +13,19 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from processing.dynamics import firing_phases
-from processing.edges import detect_edges
-from processing.orders import noise_ratio, order_fit
-from processing.resonance import (EDGE_SLOPE, campbell_lines, locate_resonances,
+from processing.crank.dynamics import firing_phases
+from processing.speed.edges import detect_edges
+from processing.torsional.orders import noise_ratio, order_fit
+from processing.torsional.resonance import (EDGE_SLOPE, campbell_lines, locate_resonances,
                                   major_orders, phase_sum, resonance_speed)
-from processing.seismic import amplitude_ratio, correct_trace, torsiograph_response
+from processing.torsional.seismic import amplitude_ratio, correct_trace, torsiograph_response
 from processing.synth.torsiograph import (RPM, Crankshaft, Torsiograph, nose_motion, record,
                                           resonances, ringing_record, sweep)
-from processing.torsiogram import (crank_angle, cycle_peaks, extrema, frequency_from_counts,
-                                   oscillation_frequency, peak_amplitudes, revolutions,
-                                   speed_from_counts, steady_crank_angle)
-from processing.torsiogram_analysis import analyse_trace, read_oscillations
+from processing.torsional.torsiogram import (crank_angle, cycle_peaks, extrema,
+                                             frequency_from_counts, oscillation_frequency,
+                                             peak_amplitudes, revolutions, speed_from_counts,
+                                             steady_crank_angle)
+from processing.torsional.torsiogram_analysis import analyse_trace, read_oscillations
 
 SHAFT = Crankshaft()
 

@@ -12,7 +12,7 @@ import scipy.linalg
 from numpy.testing import assert_allclose
 
 from processing.synth.torsiograph import Crankshaft
-from processing.torsion import chain_matrices, forced_response, natural_modes
+from processing.torsional.chain import chain_matrices, forced_response, natural_modes
 
 CRANKSHAFT = Crankshaft()
 

@@ -6,9 +6,9 @@ import pytest
 
 from labs import lab1_inertia as lab1
 from labs import lab2_conrod as lab2
-from labs.cli import main
+from labs.cli.main import main
 from labs.registry import LABS, evaluate
-from labs.variants import read_roster, student_seed
+from labs.teachers.variants import read_roster, student_seed
 from processing.diagnostics import InputError
 
 

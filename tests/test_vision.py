@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure as MplFigure
 
-from processing.decay import analyse_decay
+from processing.oscillations.decay import analyse_decay
 from processing.diagnostics import InputError, LowConfidenceTraceWarning, collect_notices
 from processing.synth.paper_record import Beam, Layout, Shot, render
 from processing.vision import PaperRecord, read_paper_record, read_paper_records
@@ -74,7 +74,7 @@ def test_decay_trace_round_trip(decay_scene, decay_record):
 
 def test_decay_decrement_within_two_percent(decay_record):
     """Lab 9 from the photograph: the decrement fitted to the trace read (the lab's
-    processing.decay chain) within 2 % of the true δ = σT = 0.25, and the period within
+    processing.oscillations.decay chain) within 2 % of the true δ = σT = 0.25, and the period within
     0.2 %."""
     rec, _ = decay_record
     assert np.isfinite(rec.value).all()
@@ -207,7 +207,7 @@ def test_paper_speed_alone_sets_the_time_base(decay_scene, decay_record):
 # ----------------------------------------------------------------------------- the channel
 
 def test_channel_interface(decay_record):
-    """A record behaves as processing.signals.Channel: uniform time from 0, chunks that
+    """A record behaves as processing.inputs.signals.Channel: uniform time from 0, chunks that
     concatenate to read(), marks inside the record."""
     rec, _ = decay_record
     assert rec.time[0] == 0.0

@@ -27,7 +27,7 @@ from labs.web.classroom import Classroom  # noqa: E402
 from labs.web.sessions import Store, safe_name  # noqa: E402
 from labs.web.worker import Limits, Pool  # noqa: E402
 from processing.reporting.render import to_json  # noqa: E402
-from processing.toml_writer import value_text  # noqa: E402
+from processing.inputs.toml_writer import value_text  # noqa: E402
 
 SAMPLES = Path(__file__).resolve().parent.parent / "sample_data"
 FAST = ["lab1/flywheel.toml", "lab2/conrod.toml", "lab5/valve_train.toml", "lab8/d120.toml",

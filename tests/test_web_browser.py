@@ -36,7 +36,7 @@ def server(tmp_path_factory):
     roster = tmp / "roster.csv"
     roster.write_text("id,name\ns01,Ivanov\ns02,Petrova\n", encoding="utf-8")
     port = _free_port()
-    proc = subprocess.Popen([sys.executable, "-m", "labs.cli", "serve", "--port", str(port),
+    proc = subprocess.Popen([sys.executable, "-m", "labs.cli.main", "serve", "--port", str(port),
                              "--class", str(tmp / "class"), "--roster", str(roster)],
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     lines = []

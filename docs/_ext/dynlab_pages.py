@@ -288,6 +288,37 @@ def warnings_page(labs: list[Lab], lang: str, remedies: dict) -> str:
     return "\n".join(lines + _table([w["code"], w["meaning"], w["remedy"], w["labs"]], rows))
 
 
+def _summary(path: Path) -> str:
+    """The first line of a module's docstring, read without importing it."""
+    import ast
+
+    doc = ast.get_docstring(ast.parse(path.read_text(encoding="utf-8"))) or ""
+    first = doc.strip().split("\n\n")[0].replace("\n", " ")
+    first = re.sub(r":\w+:`~?([^`]+)`", r"`\1`", first)         # reST roles as Markdown code
+    return first.replace("``", "`")
+
+
+def layout_page(repo: Path) -> str:
+    """Where the code is: each package of ``labs/`` and ``processing/`` with what it owns, and
+    each module with the first line of its docstring (read off the tree, so it cannot drift)."""
+    lines = ["# Where the code is", "",
+             "`labs/` holds one module per lab (and its report), the coursework and the "
+             "registry that finds them; `processing/` the shared primitives, which know no lab: "
+             "a small core at its top and one subpackage per topic. `tests/test_layout.py` "
+             "keeps it so: no import cycle, and a lab uses only its report, the core of "
+             "`labs/` and the primitives.", ""]
+    for top in ("labs", "processing"):
+        packages = [repo / top] + sorted(p for p in (repo / top).iterdir()
+                                         if (p / "__init__.py").exists())
+        for package in packages:
+            name = str(package.relative_to(repo)).replace("/", ".")
+            lines += [f"## `{name}`", "", _summary(package / "__init__.py"), ""]
+            rows = [[f"`{m.stem}`", _summary(m)] for m in sorted(package.glob("*.py"))
+                    if m.stem not in ("__init__", "__main__")]
+            lines += _table(["module", "what it does"], rows) if rows else []
+    return "\n".join(lines)
+
+
 def generate(root: Path) -> None:
     """Write every generated page under ``root`` (``generated/`` of the docs' source)."""
     remedies = _remedies()
@@ -304,6 +335,7 @@ def generate(root: Path) -> None:
         (folder / "symbols.md").write_text(symbols_page(labs, lang), encoding="utf-8")
         (folder / "warnings.md").write_text(warnings_page(labs, lang, remedies),
                                             encoding="utf-8")
+    (root / "layout.md").write_text(layout_page(HERE.parents[1]), encoding="utf-8")
 
 
 class PlainBars(Transform):

@@ -41,7 +41,7 @@ from processing.diagnostics import InputError
 from processing.files import MEASUREMENT as MEASUREMENT_KIND
 from processing.measurement import TomlDocument
 from processing.reporting.i18n import LANGS
-from processing.toml_writer import dumps
+from processing.inputs.toml_writer import dumps
 
 from ..catalogue import CATALOGUE
 from . import forms

@@ -12,7 +12,7 @@ import tomllib
 from pathlib import Path
 
 from processing.diagnostics import InputError
-from processing.toml_writer import dumps
+from processing.inputs.toml_writer import dumps
 
 from .worker import MEASUREMENT, check_child
 
@@ -51,7 +51,7 @@ class Classroom:
 
     def __init__(self, folder: str | Path, roster: str | Path, keys: str | Path | None = None,
                  out: str | Path | None = None):
-        from ..variants import read_roster
+        from labs.teachers.variants import read_roster
 
         self.roster_file = Path(roster)
         self.roster = read_roster(roster)
@@ -102,7 +102,8 @@ class Classroom:
             while True:
                 self.dirty = False
                 seen = self.version
-                outcome = await pool.run(check_child, self.argv(lang))
+                outcome = await pool.run(check_child, self.folder, self.out, lang, self.keys,
+                                         self.roster_file if self.keys is not None else None)
                 self.log = (outcome.error or {}).get("en", "")
                 self.checked = seen
                 if not self.dirty:

@@ -24,7 +24,7 @@ from functools import cache
 
 from processing.diagnostics import InputError
 from processing.measurement import META_KEYS, Field, LabSpec
-from processing.toml_writer import value_text
+from processing.inputs.toml_writer import value_text
 from processing.units import SLIP_UNITS, dimension, unit_text
 
 FILE_ACCEPT = "image/*,video/*,.csv,.tsv,.txt,.wav,.h5,.hdf5"

@@ -11,19 +11,19 @@ number of periods after the release. Truth: the ring's δ.
 Families
 --------
 ``decrement``
-    δ from a record by ``trace fit`` (:func:`~processing.decay.analyse_decay`: the damped
-    sinusoid over the whole record, what lab 9 reports), ``peaks GLS`` (the line through
-    the half ranges by generalised least squares, lab 9's check), ``peaks OLS`` (the same
-    line by ordinary least squares, which ignores that neighbouring half ranges share
-    extrema) and ``two maxima`` (the manual's δ = ln(φ_n/φ_{n+1}) from the first two
-    maxima). Error δ/δ_true − 1; ``covered``: the truth inside the method's stated 95 %
-    interval (Student t with its degrees of freedom).
+    δ from a record by ``trace fit`` (:func:`~processing.oscillations.decay.analyse_decay`: the
+    damped sinusoid over the whole record, what lab 9 reports), ``peaks GLS`` (the line through the
+    half ranges by generalised least squares, lab 9's check), ``peaks OLS`` (the same line by
+    ordinary least squares, which ignores that neighbouring half ranges share extrema) and ``two
+    maxima`` (the manual's δ = ln(φ_n/φ_{n+1}) from the first two maxima). Error δ/δ_true − 1;
+    ``covered``: the truth inside the method's stated 95 % interval (Student t with its degrees of
+    freedom).
 ``δ stability``
     ``trace fit`` and ``peaks GLS`` over SNR × periods × δ, a few seeds a cell: the map of
     where they break, and ``short``: whether the record is short by
-    :data:`processing.decay.FEW_PERIODS` (lab 9 warns there).
+    :data:`processing.oscillations.decay.FEW_PERIODS` (lab 9 warns there).
 ``amplitude trend``
-    :func:`~processing.decay.decrement_trend` (inside ``analyse_decay``) on rings whose
+    :func:`~processing.oscillations.decay.decrement_trend` (inside ``analyse_decay``) on rings whose
     decrement falls with the amplitude as (A/φ₀)^p, p ∈ {0, 0.1, 0.3}: error 1 where it
     answers wrongly (a trend seen at p = 0, or missed at p > 0).
 ``baseline drift``
@@ -32,7 +32,7 @@ Families
     release twist, a settling step of 3–20 % with τ of 0.5–6 periods, a slow wander of three
     sines of 1–5 %), a damper drawn per seed as lab 9's variants (δ 0.71–0.90, 150–260 Hz),
     30–50 dB, 5–10 periods: δ and T against the truth, and whether the 95 % intervals of
-    :meth:`~processing.decay.RecordedDecay.measured_delta` and ``measured_period`` (the
+    :meth:`~processing.oscillations.decay.RecordedDecay.measured_delta` and ``measured_period`` (the
     baseline model's spread included) hold them; ``U_ratio``: U/|error|.
 ``table 1``
     The manual's worked table (lab 9, Table 1): the secant M_max/φ_max of run 1 and the
@@ -50,7 +50,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from ..decay import analyse_decay, find_peaks, log_decrement
+from processing.oscillations.decay import analyse_decay, find_peaks, log_decrement
 from ..regression import fit_line
 from ..synth.damper import DRIFT_KINDS, BridgeDrift, Ring, StrainGauge, free_decay
 from .harness import (Case, Family, MapAxes, Method, Target, abs_error, coverage_targets,

@@ -41,7 +41,7 @@ import numpy as np
 from scipy import stats
 
 from ..diagnostics import DroppedFramesWarning, InputError, NominalFrameRateWarning
-from ..oscillation import pendulum_period_factor
+from processing.oscillations.oscillation import pendulum_period_factor
 from ..synth.phone_film import Phone, Swinger, render
 from ..uncertainty import Measured, propagate
 from ..vision.video import Filmed, swing_of, track_marker

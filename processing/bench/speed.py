@@ -10,16 +10,16 @@ recording's: its tooth-edge times and the run's δ of the mean cycle (:attr:`Eng
 Families
 --------
 ``edge timing``
-    :func:`processing.edges.detect_edges` with ``linear``, ``cubic``, ``fit`` (window 2,
-    4 and :func:`~processing.edges.fit_window`, the default) and ``matched`` on a 60−2 wheel
+    :func:`processing.speed.edges.detect_edges` with ``linear``, ``cubic``, ``fit`` (window 2,
+    4 and :func:`~processing.speed.edges.fit_window`, the default) and ``matched`` on a 60−2 wheel
     at about 20, 35, 50 and 111 samples per tooth (the last is a 200 kHz ADC) and SNR 20,
     30, 40 dB and no noise. Error: RMS of detected − true edge time [samples], each true
     edge matched to the nearest detected one (:func:`edge_errors`).
 ``speed irregularity``
-    δ from the signal: :func:`~processing.edges.detect_edges` (``fit``) / f_s →
-    :func:`~processing.toothwheel.track_teeth` (60, 2) → ``fourier``
-    (:func:`~processing.angular_speed.fit_cycles`), ``tooth``
-    (:func:`~processing.angular_speed.tooth_cycles`), and the common baseline
+    δ from the signal: :func:`~processing.speed.edges.detect_edges` (``fit``) / f_s →
+    :func:`~processing.speed.toothwheel.track_teeth` (60, 2) → ``fourier``
+    (:func:`~processing.speed.angular_speed.fit_cycles`), ``tooth``
+    (:func:`~processing.speed.angular_speed.tooth_cycles`), and the common baseline
     :func:`spline_delta` with the default smoothing (``spline``) and none (``interp``);
     ``fourier-matched`` is ``fourier`` on ``matched`` edges. Same cases, recorded for
     :data:`CYCLES` and, in the full plan, 3 × and 72 × as many working cycles (10 s, and the
@@ -39,9 +39,9 @@ Families
     ``in-memory`` edges and edges → δ (detect, track, fit; on fit and on matched edges) on
     int16 signals of 10⁶…10⁸ samples at 1 MS/s (a ``--large`` file above 10⁸ samples:
     N/100 s), and ``streaming`` edges: the signal written to HDF5 chunk by chunk
-    (:func:`~processing.synth.engine.iter_signal` → :func:`~processing.signals.write_hdf5`),
-    read back by :meth:`~processing.signals.Channel.chunks` (default block) into an
-    :class:`~processing.edges.EdgeDetector`; its edges must equal the in-memory ones and its
+    (:func:`~processing.synth.engine.iter_signal` → :func:`~processing.inputs.signals.write_hdf5`),
+    read back by :meth:`~processing.inputs.signals.Channel.chunks` (default block) into an
+    :class:`~processing.speed.edges.EdgeDetector`; its edges must equal the in-memory ones and its
     peak memory must not grow with the length.
 
 Sample rates are chosen so that a working cycle holds a whole number of samples plus the
@@ -63,10 +63,10 @@ import numpy as np
 import pandas as pd
 from scipy.interpolate import UnivariateSpline
 
-from ..angular_speed import fit_cycles, tooth_cycles
+from processing.speed.angular_speed import fit_cycles, tooth_cycles
 from ..diagnostics import InputError
-from ..edges import detect_edges, stream_edges
-from ..signals import CHUNK, open_channel, write_hdf5
+from processing.speed.edges import detect_edges, stream_edges
+from processing.inputs.signals import CHUNK, open_channel, write_hdf5
 from ..synth.engine import (
     STEP,
     Engine,
@@ -78,7 +78,7 @@ from ..synth.engine import (
     record,
     run_engine,
 )
-from ..toothwheel import ToothTrack, track_teeth
+from processing.speed.toothwheel import ToothTrack, track_teeth
 from .harness import (
     Case,
     Family,
@@ -127,7 +127,7 @@ STREAM_RATIO = 2.0
 
 MEMORY_GROWTH = 1.5
 """Streaming peak memory at the longest signal over that at the shortest one of at least one
-read block (:data:`processing.signals.CHUNK` samples): at most this (flat)."""
+read block (:data:`processing.inputs.signals.CHUNK` samples): at most this (flat)."""
 
 EDGE_FAILURES = (InputError, RuntimeError)
 """What a method raises when a case is beyond it (too few edges, no complete cycle)."""
@@ -292,7 +292,7 @@ def _detect(rec: Recording, method: str, window: int | None = None) -> np.ndarra
 
 
 def edge_family() -> Family:
-    """Edge placement methods (:data:`processing.edges.METHODS`) on the raw int16 samples."""
+    """Edge placement methods (:data:`processing.speed.edges.METHODS`) on the raw int16 samples."""
     methods = [Method("linear", functools.partial(_detect, method="linear")),
                Method("cubic", functools.partial(_detect, method="cubic"))]
     methods += [Method("fit", functools.partial(_detect, method="fit", window=w), f"window={w}")
@@ -368,13 +368,14 @@ def _track(rec: Recording, method: str = "fit") -> ToothTrack:
 
 
 def fourier_delta(rec: Recording, edges: str = "fit") -> float:
-    """δ of the mean cycle by :func:`~processing.angular_speed.fit_cycles` from the samples
-    (edges placed by the ``edges`` method of :func:`~processing.edges.detect_edges`)."""
+    """δ of the mean cycle by :func:`~processing.speed.angular_speed.fit_cycles` from the samples
+    (edges placed by the ``edges`` method of :func:`~processing.speed.edges.detect_edges`)."""
     return float(fit_cycles(_track(rec, edges)).mean_cycle.delta)
 
 
 def tooth_delta(rec: Recording) -> float:
-    """δ of the mean cycle by :func:`~processing.angular_speed.tooth_cycles` from the samples."""
+    """δ of the mean cycle by :func:`~processing.speed.angular_speed.tooth_cycles` from the
+    samples."""
     return float(tooth_cycles(_track(rec)).mean_cycle.delta)
 
 

@@ -15,8 +15,8 @@ Families
     φ_max of one record by ``single oscillations`` (the largest half range read on the
     record itself, its white noise taken out, the manual's way: what lab 7 reports; records
     of three revolutions, too short for the orders, by
-    :func:`~processing.torsiogram_analysis.read_oscillations`) and by ``mean cycle``
-    (:func:`~processing.torsiogram_analysis.analyse_trace`'s mean working cycle of the
+    :func:`~processing.torsional.torsiogram_analysis.read_oscillations`) and by ``mean cycle``
+    (:func:`~processing.torsional.torsiogram_analysis.analyse_trace`'s mean working cycle of the
     corrected orders). Error φ/φ_true − 1; ``covered``: the truth inside the method's stated
     95 % interval.
 ``ringing``
@@ -34,13 +34,13 @@ Families
     correction (lab 7 warns below 5).
 ``resonances``
     A whole sweep (every 200 min⁻¹, finer near the resonances) reduced record by record and
-    located by :func:`~processing.resonance.locate_resonances` (a parabola in 1/A²): the
+    located by :func:`~processing.torsional.resonance.locate_resonances` (a parabola in 1/A²): the
     largest relative error of the resonance speeds, whether every clear resonance is found
     with its order and nothing else (``orders_right``) and whether the sweep is flagged
     unresolved; over the fine step (50, 100 or 200 min⁻¹: none).
 ``chain``
     Natural frequencies of random chains (2–12 discs, inertias and stiffnesses spread over a
-    decade) by :func:`~processing.torsion.natural_modes` and by
+    decade) by :func:`~processing.torsional.chain.natural_modes` and by
     :func:`scipy.linalg.eigh`, against OpenTorsion's finite-element assembly (``pip install
     opentorsion``; without it scipy is the reference). Error: the largest relative
     difference.
@@ -58,12 +58,12 @@ import pandas as pd
 import scipy.linalg
 
 from ..diagnostics import InputError
-from ..edges import detect_edges
-from ..resonance import locate_resonances
+from processing.speed.edges import detect_edges
+from processing.torsional.resonance import locate_resonances
 from ..synth.torsiograph import (RPM, Crankshaft, Torsiograph, record, resonances,
                                  ringing_record, sweep)
-from ..torsion import chain_matrices, natural_modes
-from ..torsiogram_analysis import analyse_trace, read_oscillations
+from processing.torsional.chain import chain_matrices, natural_modes
+from processing.torsional.torsiogram_analysis import analyse_trace, read_oscillations
 from .harness import (Case, Family, MapAxes, Method, Target, abs_error, coverage_targets,
                       environment, plot_error_time, plot_map, run_family, summary,
                       write_rows, write_targets)

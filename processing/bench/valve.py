@@ -13,16 +13,15 @@ give through the exact table (the links' own without contact stiffening).
 Families
 --------
 ``stiffness``
-    c (the drive at the valve) and c_rod (the link read as the difference of two small
-    gauges) by ``midway lines`` (:func:`processing.load_cycle.fit_branches`: a line through
-    each branch without its turning point, the line midway between them; what lab 5
-    reports), ``pointwise mean`` (the manual's Δl = (Δl_load + Δl_unload)/2 at each load,
-    one line through it), ``loading branch`` (a line through the loading readings alone)
-    and ``top secant`` (c = P/Δl at the largest load, the manual's formula on one row).
-    Error c/c_true − 1; ``covered``: the truth inside the method's Monte Carlo 95 %
-    interval (:func:`processing.uncertainty.propagate` over the slopes, the gauges' and the
-    lever's scale errors; the lab's method states its slopes' type A topped up to the
-    gauges' resolution, the others their type A alone).
+    c (the drive at the valve) and c_rod (the link read as the difference of two small gauges) by
+    ``midway lines`` (:func:`processing.oscillations.load_cycle.fit_branches`: a line through each
+    branch without its turning point, the line midway between them; what lab 5 reports), ``pointwise
+    mean`` (the manual's Δl = (Δl_load + Δl_unload)/2 at each load, one line through it), ``loading
+    branch`` (a line through the loading readings alone) and ``top secant`` (c = P/Δl at the largest
+    load, the manual's formula on one row). Error c/c_true − 1; ``covered``: the truth inside the
+    method's Monte Carlo 95 % interval (:func:`processing.uncertainty.propagate` over the slopes,
+    the gauges' and the lever's scale errors; the lab's method states its slopes' type A topped up
+    to the gauges' resolution, the others their type A alone).
 ``stability``
     ``midway lines`` and ``pointwise mean`` over load steps × friction × lash: where the
     fit is refused (fewer than three steps beyond a turning point) and where it drifts.
@@ -40,11 +39,11 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..load_cycle import LoadCycle, fit_branches
+from processing.oscillations.load_cycle import LoadCycle, fit_branches
 from ..regression import fit_line
 from ..synth.valve_table import DialGauges, ValveTrain, stiffness_run
 from ..uncertainty import Measured, propagate
-from ..valve_train import stiffnesses
+from processing.valvetrain.valve_train import stiffnesses
 from .harness import (Case, Family, MapAxes, Method, Target, abs_error, coverage_targets,
                       environment, plot_error_time, plot_map, run_family, summary,
                       write_rows, write_targets)

@@ -11,7 +11,7 @@ worst of the three bands. Truth: the band readings of the scene's orders in clos
 Families
 --------
 ``band rms``
-    Each channel's a, v and x by ``ours`` (:func:`processing.band_rms.band_rms`: one
+    Each channel's a, v and x by ``ours`` (:func:`processing.vibration.band_rms.band_rms`: one
     Hann-windowed periodogram, the meter's weight deconvolved for the window), ``plain FFT``
     (the same weight on the unwindowed record's spectrum), ``scipy filters`` (Butterworth
     band filters of the meter's orders by :func:`scipy.signal.sosfiltfilt`, integrated by the
@@ -28,8 +28,8 @@ Families
     ``ours`` on white noise of 2¹⁴…2²² samples (``cold``: its per-length weights computed in
     the call; ``warm``: cached, as for a sweep of records of one length).
 ``cut cylinder``
-    :func:`processing.misfire.find_cut_cylinder` on the transverse channel, each cylinder cut
-    in turn and no cylinder cut, against a healthy record at the same speed: error 0 when the
+    :func:`processing.vibration.misfire.find_cut_cylinder` on the transverse channel, each cylinder
+    cut in turn and no cylinder cut, against a healthy record at the same speed: error 0 when the
     finding is right (the cut cylinder, or none), 1 when not.
 """
 from __future__ import annotations
@@ -42,14 +42,15 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..band_rms import BANDS, QUANTITIES, band_rms, clear_weights, meter_gain, white_noise_rms
-from ..dynamics import firing_phases
-from ..edges import detect_edges
-from ..misfire import find_cut_cylinder
-from ..orders import order_fit
+from processing.vibration.band_rms import (BANDS, QUANTITIES, band_rms, clear_weights, meter_gain,
+                                           white_noise_rms)
+from processing.crank.dynamics import firing_phases
+from processing.speed.edges import detect_edges
+from processing.vibration.misfire import find_cut_cylinder
+from processing.torsional.orders import order_fit
 from ..synth.engine import Engine
 from ..synth.engine_mount import POINTS, Accelerometer, Block, cylinder_factors, record
-from ..torsiogram import revolutions, steady_crank_angle
+from processing.torsional.torsiogram import revolutions, steady_crank_angle
 from .harness import (Case, Family, Method, Target, abs_error, environment, plot_error_time,
                       plot_time_size, run_family, summary, write_rows, write_targets)
 

@@ -1,0 +1,1 @@
+"""Reports: a result laid out as HTML and an A4 PDF, in English or Russian, with figures."""

@@ -1,7 +1,7 @@
 """An engine on a test bed, seen through a toothed wheel and an inductive sensor (lab 3).
 
 The scene behind the speed-irregularity lab, modelled just enough: the gas and
-reciprocating-inertia torque of the cylinders (:mod:`processing.dynamics`) drives the
+reciprocating-inertia torque of the cylinders (:mod:`processing.crank.dynamics`) drives the
 flywheel against a dynamometer; a toothed wheel on the crankshaft (pitch errors, an optional
 missing-tooth gap) passes a variable-reluctance sensor whose voltage is sampled by an ADC.
 The true speed ω(α), time table t(α), tooth-edge times and δ come with the signal, so a
@@ -9,7 +9,7 @@ reduction that recovers δ from the samples has proven itself.
 
 Crank angle α is cumulative from 0 at the start of the run; α = 0 (mod the cycle) is the TDC
 of cylinder 1 at the start of its intake stroke (four-stroke; the firing TDC of cylinder 1 is
-at 360°) or its firing TDC (two-stroke), as in :mod:`processing.dynamics`. Cycle k spans
+at 360°) or its firing TDC (two-stroke), as in :mod:`processing.crank.dynamics`. Cycle k spans
 α ∈ [kΦ, (k + 1)Φ), Φ = 4π or 2π. SI throughout.
 
 References
@@ -30,18 +30,9 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from ..diagnostics import InputError, check_positive
-from ..dynamics import (
-    compression_pressure,
-    crank_speed_cycle,
-    crank_train_forces,
-    cycle_period,
-    firing_phases,
-    gas_force,
-    indicator_pressure,
-    mean_torque,
-    reciprocating_inertia_force,
-    sum_cylinders,
-)
+from processing.crank.dynamics import (compression_pressure, crank_speed_cycle, crank_train_forces,
+                                       cycle_period, firing_phases, gas_force, indicator_pressure,
+                                       mean_torque, reciprocating_inertia_force, sum_cylinders)
 from ..result import Record
 
 STEP = np.radians(0.1)
@@ -60,8 +51,8 @@ size. (No entropy list ends in 0: SeedSequence ignores trailing zeros.)"""
 class Engine:
     """An engine on a test bed: crank train, indicator diagram, inertia, regime.
 
-    The defaults are a 1.5 l four-cylinder four-stroke petrol car engine at full load and
-    1800 min⁻¹: M_mean ≈ 86 N·m and δ ≈ 0.0185 (by :func:`~processing.dynamics.crank_speed_cycle`).
+    The defaults are a 1.5 l four-cylinder four-stroke petrol car engine at full load and 1800
+    min⁻¹: M_mean ≈ 86 N·m and δ ≈ 0.0185 (by :func:`~processing.crank.dynamics.crank_speed_cycle`).
     """
 
     cylinders: int = 4
@@ -269,7 +260,7 @@ def run_engine(engine: Engine, n_cycles: int, *, seed=0, step=STEP) -> EngineRun
               \\qquad t(\\alpha) = \\int_0^{\\alpha}\\frac{d\\alpha}{\\omega}
 
     M_motored, M_comb,c (gas torque above the motored one, on the expansion stroke) and M_j
-    (reciprocating inertia at ω_mean) come from :mod:`processing.dynamics` (indicator
+    (reciprocating inertia at ω_mean) come from :mod:`processing.crank.dynamics` (indicator
     diagram → gas force → T → M = TR), shifted by the firing phases. Each firing f is scaled
     by s_f = max(1 + v z_f, 0), z_f ~ N(0, 1); M_j by r_k = (ω(kΦ)/ω_0)². The dynamometer is
     speed-holding: its controller samples the speed at each cycle start and holds
@@ -279,7 +270,7 @@ def run_engine(engine: Engine, n_cycles: int, *, seed=0, step=STEP) -> EngineRun
 
     for the cycle (a speed error halves every cycle), M_mean the engine's mean torque, d the
     speed drift, T = n_cycles Φ/ω_mean. The run starts on the steady periodic solution of
-    :func:`~processing.dynamics.crank_speed_cycle` (ω_0 = ω(0)): with no scatter and no drift
+    :func:`~processing.crank.dynamics.crank_speed_cycle` (ω_0 = ω(0)): with no scatter and no drift
     every cycle repeats it and δ equals its δ.
 
     References

@@ -6,12 +6,12 @@ with four degrees of freedom, each a damped spring of its own natural frequency 
 lateral y, roll θ_x about the crankshaft's axis, pitch θ_y), excited by
 
 - the reciprocating inertia forces of the cylinders, P_j = −m_j j(α) (exact kinematics,
-  :func:`processing.dynamics.reciprocating_inertia_force`), along the vertical cylinder axes;
+  :func:`processing.crank.dynamics.reciprocating_inertia_force`), along the vertical cylinder axes;
 - the rotating masses' centrifugal forces m_r R ω² along each crank and a residual unbalance
   U ω² (kg·m times ω²) at 1×;
 - the torque reaction: minus the cylinders' gas and inertia torque
-  (:func:`processing.dynamics.crank_train_forces` of the indicator diagram of
-  :func:`processing.dynamics.indicator_pressure`), with a small cylinder-to-cylinder spread of
+  (:func:`processing.crank.dynamics.crank_train_forces` of the indicator diagram of
+  :func:`processing.crank.dynamics.indicator_pressure`), with a small cylinder-to-cylinder spread of
   combustion and, optionally, one cylinder without combustion (ignition cut: the motored
   cycle, compression and expansion on the n₁ polytrope);
 - the pitch moments of the cylinders' vertical forces and of the unbalance about the centre
@@ -19,14 +19,14 @@ lateral y, roll θ_x about the crankshaft's axis, pitch θ_y), excited by
 
 Over a working cycle everything is periodic in the crank angle, so each excitation is a sum of
 orders (half orders for a four-stroke engine) and the block's response to each is exact in the
-frequency domain. A point's acceleration follows from the rigid body's motion; an
-accelerometer (its own resonance, a sensitivity in V per m/s², white electrical noise, a
-converter's full scale that clips) records it beside cylinder 1's ignition pickup (a falling
-edge at each firing TDC of cylinder 1). The true band readings come from the true orders in closed
-form (:func:`processing.band_rms.meter_gain`): neither noise nor the sensor's resonance is in
+frequency domain. A point's acceleration follows from the rigid body's motion; an accelerometer (its
+own resonance, a sensitivity in V per m/s², white electrical noise, a converter's full scale that
+clips) records it beside cylinder 1's ignition pickup (a falling edge at each firing TDC of cylinder
+1). The true band readings come from the true orders in closed form
+(:func:`processing.vibration.band_rms.meter_gain`): neither noise nor the sensor's resonance is in
 them; the noise is set by its signal-to-noise ratio in the worst band.
 
-Crank angle α is measured from cylinder 1's firing TDC (where :mod:`processing.dynamics`
+Crank angle α is measured from cylinder 1's firing TDC (where :mod:`processing.crank.dynamics`
 counts from its intake TDC, 360° earlier). SI throughout.
 
 References
@@ -43,9 +43,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..band_rms import QUANTITIES, meter_gain, white_noise_rms
-from ..dynamics import (crank_train_forces, firing_phases, gas_force, indicator_pressure,
-                        reciprocating_inertia_force)
+from processing.vibration.band_rms import QUANTITIES, meter_gain, white_noise_rms
+from processing.crank.dynamics import (crank_train_forces, firing_phases, gas_force,
+                                       indicator_pressure, reciprocating_inertia_force)
 from .engine import Engine
 
 GRID = 2048
@@ -122,8 +122,8 @@ class Accelerometer:
     damping_ratio: float = 0.02
     snr_db: float = 30.0
     """The vibration's band reading over the white noise's, in the worst of the three bands
-    (:func:`processing.band_rms.white_noise_rms`): the displacement's, as a rule, since the
-    noise integrated twice piles up near the 1.4 Hz edge. [dB]"""
+    (:func:`processing.vibration.band_rms.white_noise_rms`): the displacement's, as a rule, since
+    the noise integrated twice piles up near the 1.4 Hz edge. [dB]"""
     full_scale: float = 5.0
     """The converter's range ±; beyond it the record clips. [V]"""
     sample_rate: float = 25600.0
@@ -221,7 +221,7 @@ def excitation(engine: Engine, block: Block, angular_speed: float, *, factors=No
     pitch = -block.unbalance_position * heave
     for c in range(i):
         theta = alpha - phases[c]                       # from cylinder c's firing TDC
-        at_intake = theta + 2 * np.pi                   # processing.dynamics counts from here
+        at_intake = theta + 2 * np.pi                   # processing.crank.dynamics counts from here
         motored = indicator_pressure(at_intake, p_z=p_c, n2=engine.n1, **diagram)
         fired = indicator_pressure(at_intake, p_z=engine.p_z, n2=engine.n2, **diagram)
         share = 0.0 if cut == c + 1 else factors[c]

@@ -1,19 +1,19 @@
 """A crankshaft in torsional vibration, seen by a seismic torsiograph on its nose (lab 7).
 
 The scene behind the torsiograph lab, modelled just enough: a four-cylinder four-stroke
-diesel's crankshaft as an equivalent chain of discs (:mod:`processing.torsion`: the damper
+diesel's crankshaft as an equivalent chain of discs (:mod:`processing.torsional.chain`: the damper
 hub on the nose, four cranks, the flywheel) with viscous damping, driven at each crank by its
-cylinder's torque — gas and reciprocating inertia (:mod:`processing.dynamics`), expanded in
+cylinder's torque — gas and reciprocating inertia (:mod:`processing.crank.dynamics`), expanded in
 half orders and shifted by the firing phases — at a steady speed. The nose's steady forced
 motion is the sum of the orders' responses (rigid-body speed fluctuation and elastic twist
 together). The torsiograph sees it through its own transfer function
-(:func:`~processing.seismic.torsiograph_response`); the recorder adds a slow baseline
+(:func:`~processing.torsional.seismic.torsiograph_response`); the recorder adds a slow baseline
 drift and white noise; a TDC mark once per revolution and time marks run beside it.
 
-The truths come with the scene: per speed, the nose's orders and its largest peak amplitude
-(by the same definition the lab uses, :func:`~processing.torsiogram.peak_amplitudes`); over
-the speed range, every resonance (the peak of an order's amplitude at the nose where that
-order dominates) with its speed and order; the chain's natural frequencies.
+The truths come with the scene: per speed, the nose's orders and its largest peak amplitude (by the
+same definition the lab uses, :func:`~processing.torsional.torsiogram.peak_amplitudes`); over the
+speed range, every resonance (the peak of an order's amplitude at the nose where that order
+dominates) with its speed and order; the chain's natural frequencies.
 
 References
 ----------
@@ -29,13 +29,14 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.signal import find_peaks, peak_prominences
 
-from ..dynamics import (crank_train_forces, firing_phases, gas_force, indicator_pressure,
-                        reciprocating_inertia_force)
-from ..resonance import PROMINENCE, locate_resonances
+from processing.crank.dynamics import (crank_train_forces, firing_phases, gas_force,
+                                       indicator_pressure, reciprocating_inertia_force)
+from processing.torsional.resonance import PROMINENCE, locate_resonances
 from ..result import Record
-from ..seismic import torsiograph_response
-from ..torsion import forced_response, natural_modes
-from ..torsiogram import EXTREMUM_THRESHOLD, oscillation_frequency, peak_amplitudes
+from processing.torsional.seismic import torsiograph_response
+from processing.torsional.chain import forced_response, natural_modes
+from processing.torsional.torsiogram import (EXTREMUM_THRESHOLD, oscillation_frequency,
+                                             peak_amplitudes)
 
 RPM = np.pi / 30
 """One min⁻¹ in rad/s."""
@@ -235,8 +236,8 @@ def resonances(shaft: Crankshaft, low: float, high: float, *, load: float = 1.0,
     """Every resonance of the scene between two speeds (dominance ≥ 1/:data:`CLEAR`).
 
     The orders' nose amplitudes on a grid of ``step``; peaks standing
-    :data:`~processing.resonance.PROMINENCE` of their height above their lower flank, refined
-    by a parabola through 1/A² of the three grid points around them.
+    :data:`~processing.torsional.resonance.PROMINENCE` of their height above their lower flank,
+    refined by a parabola through 1/A² of the three grid points around them.
 
     Parameters
     ----------
@@ -292,7 +293,7 @@ def sweep(shaft: Crankshaft, low: float, high: float, *, step: float = 200 * RPM
 
 def sweep_resonances(shaft: Crankshaft, speeds, *, load: float = 1.0,
                      prominence: float = PROMINENCE):
-    """What the lab's search (:func:`processing.resonance.locate_resonances`) finds in a
+    """What the lab's search (:func:`processing.torsional.resonance.locate_resonances`) finds in a
     sweep of noise-free records: the nose's true order amplitudes at ``speeds`` [rad/s], each
     record's dominant order their largest. Returns ``(resonances, edges)`` as that function
     does: whether a sweep resolves the scene's resonances, and whether an order still rises

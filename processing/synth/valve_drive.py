@@ -18,7 +18,7 @@ The scene, modelled just enough for the valve-drive oscillation lab:
 
 The event is integrated with :func:`scipy.integrate.solve_ivp` (the force is a kink where
 the lash opens, which its step control passes; the seat is an event). The lowest natural
-frequency is :func:`processing.valve_train.natural_frequency`; its damped value is what a
+frequency is :func:`processing.valvetrain.valve_train.natural_frequency`; its damped value is what a
 record's free oscillations show.
 
 Nothing here knows a measurement-file format: the lab's ``write_synthetic`` writes files.
@@ -33,7 +33,7 @@ import numpy as np
 from scipy import integrate, optimize
 
 from ..result import Record
-from ..valve_train import natural_frequency
+from processing.valvetrain.valve_train import natural_frequency
 
 RPM = math.pi / 30
 """rad/s per min⁻¹."""

@@ -39,7 +39,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..result import Record
-from ..valve_train import ChainStiffness, stiffnesses, total_stiffness
+from processing.valvetrain.valve_train import ChainStiffness, stiffnesses, total_stiffness
 
 
 def play(load, friction: float):
@@ -111,7 +111,7 @@ class ValveTrain(Record):
     @property
     def c_total(self) -> float:
         """Stiffness of the whole chain at the valve, 1/c = Σ of the reduced compliances
-        (:func:`processing.valve_train.total_stiffness`). [N/m]"""
+        (:func:`processing.valvetrain.valve_train.total_stiffness`). [N/m]"""
         return total_stiffness(self.c_rocker, self.c_shaft, self.c_rod, self.c_cam, self.i)
 
     def deflections(self, load):
@@ -143,8 +143,8 @@ class ValveTrain(Record):
     def line_stiffness(self, loads) -> ChainStiffness:
         """The stiffnesses that straight lines give on a perfect rig: least squares through
         the exact deflections (no friction, no lash, no reading error) at ``loads``, reduced
-        by :func:`processing.valve_train.stiffnesses`. Without contact they are the links'
-        own; with it, the push rod's (and the drive's) stiffness over the load programme.
+        by :func:`processing.valvetrain.valve_train.stiffnesses`. Without contact they are the
+        links' own; with it, the push rod's (and the drive's) stiffness over the load programme.
 
         Parameters
         ----------

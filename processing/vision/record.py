@@ -215,7 +215,7 @@ class PaperRecord:
         stroke (:attr:`spread`)."""
         return self.spread * self.time_scale.value
 
-    # --- the channel's interface (processing.signals.Channel) ---
+    # --- the channel's interface (processing.inputs.signals.Channel) ---
 
     @property
     def sample_rate(self) -> float:
@@ -253,7 +253,7 @@ class PaperRecord:
 
     def chunks(self, size: int = 2 ** 22, start: int = 0,
                stop: int | None = None) -> Iterator[np.ndarray]:
-        """Consecutive blocks of the record, as :meth:`processing.signals.Channel.chunks`.
+        """Consecutive blocks of the record, as :meth:`processing.inputs.signals.Channel.chunks`.
 
         Raises
         ------

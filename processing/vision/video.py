@@ -19,8 +19,8 @@ float32).
 
 :func:`swing_of` turns the track into the marker's way along its arc (:meth:`Track.
 displacement`) and fits a damped sinusoid on a line over every frame kept
-(:func:`processing.decay.fit_damped_sine`): the period with its u (:func:`period_of`), the
-amplitude and its decay.
+(:func:`processing.oscillations.decay.fit_damped_sine`): the period with its u (:func:`period_of`),
+the amplitude and its decay.
 """
 from __future__ import annotations
 
@@ -33,11 +33,11 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from ..anharmonic import AnharmonicFit, fit_anharmonic_decay
-from ..decay import fit_damped_sine
+from processing.oscillations.anharmonic import AnharmonicFit, fit_anharmonic_decay
+from processing.oscillations.decay import fit_damped_sine
 from ..diagnostics import (DroppedFramesWarning, FilmAmplitudeWarning,
                            InconsistentInputWarning, InputError)
-from ..savgol import savgol
+from processing.oscillations.savgol import savgol
 from ..uncertainty import Measured
 from .frames import (DROPPED, IRREGULAR, frame_clock, frames, interval_spread, open_film,
                      typical_interval)
@@ -288,7 +288,7 @@ class Swing:
     ----------
     fit : AnharmonicFit
         The decaying oscillation on the track's displacement (px), its frequency a function
-        of its amplitude (:func:`processing.anharmonic.fit_anharmonic_decay`).
+        of its amplitude (:func:`processing.oscillations.anharmonic.fit_anharmonic_decay`).
     period : Measured
         T = 2π/ω̄, the mean period over the frames kept, with its u (:func:`period_of`). [s]
     oscillations : float

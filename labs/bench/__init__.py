@@ -1,0 +1,1 @@
+"""Benchmarks that reduce whole labs (topics of ``python -m processing.bench``)."""

@@ -1,0 +1,1 @@
+"""The ``dynlab`` command line: its parser, the synth options, the docs' gallery."""

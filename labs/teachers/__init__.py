@@ -1,0 +1,1 @@
+"""The teachers' tools: per-student variants, ``dynlab check``, coursework tables."""

@@ -1,0 +1,1 @@
+"""Judging a student's reported values, and naming the slip behind a wrong one."""

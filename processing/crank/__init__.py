@@ -1,0 +1,1 @@
+"""The crank mechanism: kinematics, forces, torque and flywheel, and balance."""

@@ -1,0 +1,1 @@
+"""Free oscillations and loops: periods, free decay, smoothing, load–deflection loops."""

@@ -1,0 +1,1 @@
+"""Torsional vibration: the equivalent chain, torsiograph records, orders, resonances."""

@@ -1,0 +1,1 @@
+"""Engine vibration: a meter's band RMS, steady records by crank angle, misfire."""
