@@ -9,7 +9,7 @@ import pandas as pd
 import pytest
 from numpy.testing import assert_allclose
 
-from processing.bench import speed
+from processing.bench import docs, speed
 from processing.bench.__main__ import parse_args
 from processing.bench.harness import (
     Case,
@@ -92,6 +92,24 @@ def test_charts_are_written(toy_rows, tmp_path):
              MapAxes(x="length", y="noise", column="family"), threshold=0.01)
     for name in ("error.png", "size.png", "map.png"):
         assert (tmp_path / name).read_bytes().startswith(PNG), name
+
+
+def test_docs_pages_show_targets_and_charts_and_replace_a_rerun(toy_rows, tmp_path):
+    out, docs_dir = tmp_path / "out", tmp_path / "docs"
+    out.mkdir()
+    plot_error_time(pd.DataFrame(toy_rows), out / "error_vs_time.png", {"toy": "relative error"})
+    targets = [Target("toy error", 0.002, 0.01, unit="rel"), Target("speed", 1.0, 5.0, "min")]
+    page = docs.topic_page(docs_dir, "toy", ["toy: 1 case"], targets, out, quick=True)
+    text = page.read_text(encoding="utf-8")
+    assert "| toy error | 0.002 rel | ≤ 0.01 rel | PASS |" in text
+    assert "| speed | 1  | ≥ 5  | FAIL |" in text and "--quick" in text
+    assert "![toy: error vs time](toy__error_vs_time.png)" in text
+    assert (docs_dir / "toy__error_vs_time.png").read_bytes().startswith(PNG)
+    (out / "error_vs_time.png").rename(out / "renamed.png")
+    docs.topic_page(docs_dir, "toy", [], [], out, quick=False)
+    assert sorted(p.name for p in docs_dir.glob("*.png")) == ["toy__renamed.png"]
+    index = docs.index_page(docs_dir, ["other", "toy"]).read_text(encoding="utf-8")
+    assert "\ntoy\n" in index and "other" not in index
 
 
 def test_time_call_stops_at_its_budget():

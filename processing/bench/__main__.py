@@ -20,7 +20,7 @@ import importlib  # noqa: E402
 import sys  # noqa: E402
 from pathlib import Path  # noqa: E402
 
-from . import damper, film, speed, torsion, valve  # noqa: E402
+from . import damper, docs, film, speed, torsion, valve  # noqa: E402
 
 TOPICS = {"speed": speed, "torsion": torsion, "damper": damper, "valve": valve, "film": film,
           "vibration": "processing.bench.vibration", "paper": "labs.bench.paper",
@@ -53,6 +53,9 @@ def parse_args(argv=None) -> argparse.Namespace:
                         help="run only this topic (repeat for several; default: all)")
     parser.add_argument("--out", type=Path, default=Path("bench-results"),
                         help="output folder (default: bench-results)")
+    parser.add_argument("--docs", type=Path, metavar="DIR",
+                        help="also write each topic's page of the documentation (summary, "
+                             "targets, charts) to DIR, e.g. docs/bench")
     parser.add_argument("--large", type=_count, metavar="N",
                         help="speed: also stream an N-sample HDF5 file (e.g. 1e9: 2 GB in "
                              "the temporary folder, deleted afterwards)")
@@ -69,8 +72,12 @@ def main(argv=None) -> int:
             module = importlib.import_module(module)
         options = {"large": args.large} if name == "speed" else {}
         frame, targets = module.run(out, quick=args.quick, **options)
-        print(f"\n=== {name} ===", *module.summary_lines(frame), "",
-              *(t.line() for t in targets), f"\nwritten to {out}/", sep="\n")
+        summary = module.summary_lines(frame)
+        print(f"\n=== {name} ===", *summary, "", *(t.line() for t in targets),
+              f"\nwritten to {out}/", sep="\n")
+        if args.docs is not None:
+            docs.topic_page(args.docs, name, summary, targets, out, quick=args.quick)
+            docs.index_page(args.docs, list(TOPICS))
         passed &= all(t.passed for t in targets)
     return 0 if passed else 1
 
