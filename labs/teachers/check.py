@@ -42,7 +42,7 @@ from processing.checking.grading import (CONSTANT_SLIPS, FACTOR_SLIPS, TRANSCEND
                                          Z_LIMIT, Policy, Reported, Slip, Verdict, judge,
                                          written_digits)
 
-from labs.registry import LABS, evaluate, lab_module
+from labs.registry import LABS, lab_module, read_inputs, reduce_loaded
 
 CHECK_SAMPLES = 0
 """Monte Carlo draws of a checking reduction: none, the verdicts use the value and the linear
@@ -520,8 +520,8 @@ def _lab_slips(module, results, inputs, options, wrong=None) -> list[Slip]:
         The lab's.
     results : dict
         Our reduction's results (:class:`processing.result.Result` by name).
-    inputs : callable
-        Returns the submission's inputs (called only for a slip that needs them).
+    inputs : Inputs
+        The submission's (those our reduction read).
     options : dict
         For the lab's ``reduce``.
     wrong : set of str, optional
@@ -533,7 +533,7 @@ def _lab_slips(module, results, inputs, options, wrong=None) -> list[Slip]:
         names = _slip_names(changes, results)
         if wrong is not None and not wrong.intersection(names):
             continue
-        slipped = change(inputs()) if callable(change) else change
+        slipped = change(inputs) if callable(change) else change
         if slipped is None:
             continue
         if isinstance(slipped, (int, float)):
@@ -796,13 +796,14 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
         Bad measurements (as ``dynlab run``), no ``[reported]`` table, an unknown name, a
         value without the unit its result needs, a bad reported table.
     """
-    from processing.measurement import load, read_toml
+    from processing.measurement import read_toml
 
     options = {"n_samples": CHECK_SAMPLES, **options}
     data = read_toml(path)
     table = data.pop("reported", None)
     tables = table.pop("tables", None) if isinstance(table, dict) else None
-    result = evaluate(path, data=data, confine=confine, **options)
+    module, loaded, notices = read_inputs(path, data=data, confine=confine)
+    result = reduce_loaded(module, loaded, notices, **options)
     reported = _reported(str(path), table, result.results) if table or tables is None else {}
     policy = policy if isinstance(policy, PolicyFile) else read_policy(policy)
     knows = lab_knows(result.lab, result.results)
@@ -830,24 +831,16 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
         return judge(name, reported.get(name), value, u, unit, rules, slips, k=k)
 
     verdicts = [judged(n, own_slips + list(FACTOR_SLIPS)) for n in names]
-    module = lab_module(result.lab)
-    loaded = []
-
-    def inputs():                       # loaded once, and only when needed
-        if not loaded:
-            loaded.append(load(path, module.SPEC, data, confine=confine))
-        return loaded[0]
-
     wrong = {v.name for v in verdicts if v.verdict == "wrong"}
     if getattr(module, "SLIPS", ()) and wrong:
         # the lab's own slips are reductions of slipped inputs: made only for a wrong value
         # the lab's first: where a generic factor gives the same value, the lab's cause is
         # the likelier
-        slips = own_slips + _lab_slips(module, result.results, inputs, options, wrong) \
+        slips = own_slips + _lab_slips(module, result.results, loaded, options, wrong) \
             + list(FACTOR_SLIPS)
         verdicts = [judged(v.name, slips) if v.verdict == "wrong" else v for v in verdicts]
     for stage in (lambda names: list(TRANSCENDENTAL_SLIPS),
-                  lambda names: _input_slips(module, inputs(), options, names)
+                  lambda names: _input_slips(module, loaded, options, names)
                   + list(CONSTANT_SLIPS)):
         # slips inside the formula, for a wrong value nothing else explains: the constants
         # no input makes (cheap), then the inputs, each reduced again
@@ -865,7 +858,7 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
                              ru=(f"в {result.lab} нет таблиц для проверки", "укажите её "
                                  "значения в [reported] и удалите [reported.tables]"))
         checker = importlib.import_module(TABLE_CHECKS[result.lab])
-        judged_tables = checker.check_tables(path, tables, inputs(), rules, confine=confine)
+        judged_tables = checker.check_tables(path, tables, loaded, rules, confine=confine)
     student = result.meta.get("student", Path(path).stem)
     if variants is not None and sid:    # the roster's name; the file's, if the file is theirs
         student = variants.names.get(sid) or (
@@ -874,7 +867,7 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
              for n, r in result.results.items()}
     return Check(str(path), result.lab, student, verdicts, _readings(data), judged_tables,
                  tuple(result.results), sid, readings_of, values_of, shown,
-                 _recordings(inputs()), rules.expected)
+                 _recordings(loaded), rules.expected)
 
 
 _NUMBER_TEXT = re.compile(r"(?<![\w^.*/])[-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?(?![\w.])")
