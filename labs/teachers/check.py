@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import difflib
 import importlib
+import inspect
 import math
 import re
 import tomllib
@@ -81,8 +82,8 @@ class Check:
     """Each result's display unit, symbol and SI unit, ``name → (unit, symbol, si)``: how the
     lab's report prints it (kN/mm, not N/m)."""
     recordings: tuple[tuple[str, str], ...] = ()
-    """(name, SHA-256 of the content) of every file the measurements name (recordings,
-    photographs): a copied recording is the same bytes (:func:`copies`)."""
+    """(name, digest) of every file the measurements name (:func:`_recordings`): a copied
+    recording has the same samples, however it was saved again (:func:`copies`)."""
     expected: tuple[str, ...] = ()
     """What the submission had to report (the policy's ``expected``, or what the lab asks
     where the submission has a key): what its mark counts; every value judged where empty."""
@@ -798,11 +799,11 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
     """
     from processing.measurement import read_toml
 
-    options = {"n_samples": CHECK_SAMPLES, **options}
     data = read_toml(path)
     table = data.pop("reported", None)
     tables = table.pop("tables", None) if isinstance(table, dict) else None
     module, loaded, notices = read_inputs(path, data=data, confine=confine)
+    options = {"n_samples": CHECK_SAMPLES, **_results_only(module), **options}
     result = reduce_loaded(module, loaded, notices, **options)
     reported = _reported(str(path), table, result.results) if table or tables is None else {}
     policy = policy if isinstance(policy, PolicyFile) else read_policy(policy)
@@ -870,6 +871,12 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
                  _recordings(loaded), rules.expected)
 
 
+def _results_only(module) -> dict:
+    """``report=False`` for a lab whose ``reduce`` can leave its report's tables and figures
+    out: a check and its slips read the results alone."""
+    return {"report": False} if "report" in inspect.signature(module.reduce).parameters else {}
+
+
 _NUMBER_TEXT = re.compile(r"(?<![\w^.*/])[-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?(?![\w.])")
 """A number as written in a measurement file's text (a table's cell, a value before its
 unit); not a digit of a unit (``mm^2``) or of a name (``dl1``)."""
@@ -902,8 +909,12 @@ def _readings(data: dict) -> tuple[str, ...]:
 
 
 def _recordings(inputs) -> tuple[tuple[str, str], ...]:
-    """(name, SHA-256) of each file the inputs name, in order, each once."""
+    """(name, digest) of each file the inputs name, in order, each once: a recording's
+    samples (:func:`processing.inputs.signals.sample_digest`: the same recording saved again
+    in another format or layout has the same), another file's bytes (a photograph)."""
     import hashlib
+
+    from processing.inputs.signals import sample_digest
 
     paths = []
 
@@ -920,8 +931,10 @@ def _recordings(inputs) -> tuple[tuple[str, str], ...]:
     walk(inputs.sections)
     out = {}
     for p in paths:
+        if p.name in out:
+            continue
         try:
-            out.setdefault(p.name, hashlib.sha256(p.read_bytes()).hexdigest())
+            out[p.name] = sample_digest(p) or hashlib.sha256(p.read_bytes()).hexdigest()
         except OSError:                 # the reduction read it; a file gone since is no copy
             continue
     return tuple(out.items())
@@ -958,7 +971,7 @@ class Copy:
         The shared readings that are not the class's common ones, as written (the first few
         are shown).
     recordings : tuple of str
-        The files (recordings, photographs) of the same bytes, by name.
+        The files (recordings, photographs) of the same content (:func:`_recordings`), by name.
     """
 
     a: Check
@@ -977,11 +990,12 @@ class Copy:
         if lang == "ru":
             return (f"{self.same + self.rounded} из {n} замеров совпадают в том же порядке "
                     f"({self.rounded} с точностью до округления), {self.differing} отличаются; "
-                    f"общие: {shown}" + (f"; те же файлы записей (байт в байт): {files}"
-                                         if files else ""))
+                    f"общие: {shown}" + (f"; те же записи (те же отсчёты, как бы файл ни "
+                                         f"был пересохранён): {files}" if files else ""))
         return (f"{self.same + self.rounded} of {n} readings the same in the same order "
                 f"({self.rounded} up to rounding), {self.differing} differ; shared: {shown}"
-                + (f"; the same recordings (byte for byte): {files}" if files else ""))
+                + (f"; the same recordings (the same samples, however the file was saved "
+                   f"again): {files}" if files else ""))
 
 
 def _decimals(text: str) -> int:
@@ -1043,8 +1057,8 @@ def _copy(a: Check, b: Check, va: list[str], vb: list[str], rarity: dict[str, fl
     (:func:`_aligned`); a copy differs in at most :data:`COPY_DIFFERING` readings (or a
     tenth) and the readings it shares are rarer than ``surprise`` decades (:func:`_rarity`:
     the class's common ones count nothing) — or it shares ``recordings``, files of the same
-    bytes that no other submissions share (a recording copied); ``va``, ``vb`` their
-    :func:`_values`."""
+    samples that no other submissions share (a recording copied, saved again or not); ``va``,
+    ``vb`` their :func:`_values`."""
     n = max(len(va), len(vb))
     allowed = max(COPY_DIFFERING, n // 10)
     if not recordings and (not n or abs(len(va) - len(vb)) > allowed):
