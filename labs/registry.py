@@ -12,6 +12,7 @@ from processing.diagnostics import InputError, collect_notices
 from .catalogue import CATALOGUE
 
 if TYPE_CHECKING:
+    from processing.measurement import Inputs
     from processing.result import LabResult
 
 
@@ -50,6 +51,14 @@ def evaluate(path: str | Path, *, data: dict | None = None, confine: bool = Fals
     ``data`` is the file already parsed (a submission with its ``[reported]`` table taken
     out); ``confine`` keeps every file the measurement names inside its folder (see
     :func:`processing.measurement.load`)."""
+    return reduce_loaded(*read_inputs(path, data=data, confine=confine), **options)
+
+
+def read_inputs(path: str | Path, *, data: dict | None = None,
+                confine: bool = False) -> tuple[ModuleType, Inputs, list]:
+    """The lab's module, the validated inputs of one measurement file and the warnings their
+    reading raised (the first step of :func:`evaluate`, for a caller that uses the inputs
+    again: a check's slips)."""
     from processing.measurement import load, read_toml  # pint and numpy: only when reducing
 
     data = read_toml(path) if data is None else data
@@ -63,7 +72,14 @@ def evaluate(path: str | Path, *, data: dict | None = None, confine: bool = Fals
     module = lab_module(str(lab_id), str(path))
     with collect_notices() as notices:
         inputs = load(path, module.SPEC, data, confine=confine)
+    return module, inputs, notices
+
+
+def reduce_loaded(module: ModuleType, inputs: Inputs, notices: list = (),
+                  **options) -> LabResult:
+    """Reduce inputs read by :func:`read_inputs` (the second step of :func:`evaluate`): the
+    result checked for sense, the reading's warnings ``notices`` first among its own."""
     result = module.reduce(inputs, **options)
     result.check_sense()
-    result.warnings = notices + [w for w in result.warnings if w not in notices]
+    result.warnings = list(notices) + [w for w in result.warnings if w not in notices]
     return result

@@ -420,6 +420,8 @@ def check_positive(name: str, value, unit: str) -> None:
     """Raise :class:`InputError` unless every element of ``value`` is > 0."""
     import numpy as np
 
+    if isinstance(value, (int, float)) and value > 0:   # one plain number: no array made
+        return
     bad = ~(np.asarray(value, dtype=float) > 0)
     if np.any(bad):
         raise InputError(f"{name} must be > 0 {unit}, got {first(np.asarray(value)[bad]):g}",

@@ -246,7 +246,7 @@ def test_a_seeded_class_with_injected_slips(tmp_path):
     ``python -m processing.bench --topic check``."""
     from labs.bench import check as check_bench
 
-    frame, targets = check_bench.run(tmp_path, quick=True, log=lambda _: None,
+    frame, targets = check_bench.run(tmp_path, quick=True, log=lambda _: None, seeds=1,
                                      labs=("lab1", "lab2", "lab5", "lab8", "lab9", "dyncalc"))
     found, alarms = targets[:2]
     assert found.passed and alarms.passed, (found.line(), alarms.line())
@@ -369,3 +369,18 @@ def test_coursework_tables_through_the_command(tmp_path, capsys):
     assert main(["check", str(path)]) == 2
     err = capsys.readouterr().err
     assert "row 3" in err and "Fix:" in err
+
+
+@pytest.mark.parametrize("sample", ["car_petrol.toml", "marine_diesel.toml"])
+def test_a_checks_reduction_without_the_report_gives_the_full_ones_results(sample):
+    """The coursework reduced for a check (``report=False``: no tables, figures or
+    conclusion) gives every result, value and u, and every warning of the full reduction."""
+    from labs.registry import read_inputs, reduce_loaded
+
+    path = Path(__file__).resolve().parents[1] / "sample_data" / "dyncalc" / sample
+    module, inputs, notices = read_inputs(path)
+    full = reduce_loaded(module, inputs, notices, n_samples=0)
+    lean = reduce_loaded(module, inputs, notices, n_samples=0, report=False)
+    assert {n: (r.value, r.u) for n, r in lean.results.items()} == \
+        {n: (r.value, r.u) for n, r in full.results.items()}
+    assert lean.warnings == full.warnings and not lean.tables and full.tables

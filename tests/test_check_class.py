@@ -168,15 +168,20 @@ def test_copies_of_recordings_are_found_by_their_bytes_and_a_file_everyone_has_i
 
 
 def test_a_recording_handed_in_twice_is_a_copy_whatever_the_files_readings(tmp_path):
-    """Lab 9's decay recording, the same bytes in two submissions whose tables of readings
-    differ: a copy, named by the file; its hash is taken as the check reads the file."""
+    """Lab 9's decay recording in two submissions whose tables of readings differ, the
+    second saved again as a spreadsheet in Russian writes it (';' between the columns,
+    decimal commas, another header): a copy, named by the file; its digest is of the samples
+    the check reads, not of the file's bytes."""
     sample = Path(__file__).resolve().parents[1] / "sample_data" / "lab9"
     text = (sample / "synthetic_damper.toml").read_text(encoding="utf-8")
+    recording = (sample / "decay.csv").read_text(encoding="utf-8").splitlines()
+    resaved = ["t, s;u, V"] + [row.replace(",", ";").replace(".", ",") for row in recording[1:]]
     checked = []
     for who, scale in (("ann", 1.0), ("bob", 1.07)):
         folder = tmp_path / who
         folder.mkdir()
-        (folder / "decay.csv").write_bytes((sample / "decay.csv").read_bytes())
+        (folder / "decay.csv").write_text("\n".join(recording if scale == 1.0 else resaved)
+                                          + "\n", encoding="utf-8")
         edited = text if scale == 1.0 else "\n".join(
             line if not line.startswith(("phi = ", "M = ")) else line.split("=")[0] + "= [" +
             ", ".join(f"{float(x) * scale:.2f}" for x in line.split("[")[1].rstrip("]")

@@ -149,6 +149,25 @@ def test_lab6_valves_swapped(variants, ours):
         assert_named(variants, ours, "lab6", name, student[name].value, "valves_swapped")
 
 
+def test_a_stretch_fitted_again_is_the_fit_made_before():
+    """The valves-swapped slip reduces every trace again: a free oscillation over the same
+    stretch (another preload moves the closing, not the stretch fitted) is the fit made
+    before, the same as a fresh one; another trace is fitted anew."""
+    from processing.valvetrain import valve_force as vf
+
+    t = np.arange(0, 0.04, 1e-4)
+    x = 50 + 300 * t + 20 * np.exp(-150 * t) * np.cos(2 * np.pi * 450 * t)
+    vf._FITTED.clear()
+    fresh = vf.free_oscillation(t, x, 0.0, 0.04)
+    again = vf.free_oscillation(t, x, 0.0, 0.0395)
+    assert again.fit is fresh.fit and len(vf._FITTED) == 1
+    vf._FITTED.clear()
+    anew = vf.free_oscillation(t, x, 0.0, 0.0395)
+    assert (anew.frequency, anew.u_frequency) == (again.frequency, again.u_frequency)
+    other = vf.free_oscillation(t, 1.01 * x, 0.0, 0.04)
+    assert other.fit is not anew.fit and len(vf._FITTED) == 2
+
+
 def test_lab6_camshaft_and_crank_angles(variants, ours):
     """φ = 360 T_open/T_cam with T_cam one crankshaft revolution, and the cam angle reported
     for the crank angle."""

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import difflib
 import importlib
+import inspect
 import math
 import re
 import tomllib
@@ -42,7 +43,7 @@ from processing.checking.grading import (CONSTANT_SLIPS, FACTOR_SLIPS, TRANSCEND
                                          Z_LIMIT, Policy, Reported, Slip, Verdict, judge,
                                          written_digits)
 
-from labs.registry import LABS, evaluate, lab_module
+from labs.registry import LABS, lab_module, read_inputs, reduce_loaded
 
 CHECK_SAMPLES = 0
 """Monte Carlo draws of a checking reduction: none, the verdicts use the value and the linear
@@ -81,8 +82,8 @@ class Check:
     """Each result's display unit, symbol and SI unit, ``name → (unit, symbol, si)``: how the
     lab's report prints it (kN/mm, not N/m)."""
     recordings: tuple[tuple[str, str], ...] = ()
-    """(name, SHA-256 of the content) of every file the measurements name (recordings,
-    photographs): a copied recording is the same bytes (:func:`copies`)."""
+    """(name, digest) of every file the measurements name (:func:`_recordings`): a copied
+    recording has the same samples, however it was saved again (:func:`copies`)."""
     expected: tuple[str, ...] = ()
     """What the submission had to report (the policy's ``expected``, or what the lab asks
     where the submission has a key): what its mark counts; every value judged where empty."""
@@ -520,8 +521,8 @@ def _lab_slips(module, results, inputs, options, wrong=None) -> list[Slip]:
         The lab's.
     results : dict
         Our reduction's results (:class:`processing.result.Result` by name).
-    inputs : callable
-        Returns the submission's inputs (called only for a slip that needs them).
+    inputs : Inputs
+        The submission's (those our reduction read).
     options : dict
         For the lab's ``reduce``.
     wrong : set of str, optional
@@ -533,7 +534,7 @@ def _lab_slips(module, results, inputs, options, wrong=None) -> list[Slip]:
         names = _slip_names(changes, results)
         if wrong is not None and not wrong.intersection(names):
             continue
-        slipped = change(inputs()) if callable(change) else change
+        slipped = change(inputs) if callable(change) else change
         if slipped is None:
             continue
         if isinstance(slipped, (int, float)):
@@ -796,13 +797,14 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
         Bad measurements (as ``dynlab run``), no ``[reported]`` table, an unknown name, a
         value without the unit its result needs, a bad reported table.
     """
-    from processing.measurement import load, read_toml
+    from processing.measurement import read_toml
 
-    options = {"n_samples": CHECK_SAMPLES, **options}
     data = read_toml(path)
     table = data.pop("reported", None)
     tables = table.pop("tables", None) if isinstance(table, dict) else None
-    result = evaluate(path, data=data, confine=confine, **options)
+    module, loaded, notices = read_inputs(path, data=data, confine=confine)
+    options = {"n_samples": CHECK_SAMPLES, **_results_only(module), **options}
+    result = reduce_loaded(module, loaded, notices, **options)
     reported = _reported(str(path), table, result.results) if table or tables is None else {}
     policy = policy if isinstance(policy, PolicyFile) else read_policy(policy)
     knows = lab_knows(result.lab, result.results)
@@ -830,24 +832,16 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
         return judge(name, reported.get(name), value, u, unit, rules, slips, k=k)
 
     verdicts = [judged(n, own_slips + list(FACTOR_SLIPS)) for n in names]
-    module = lab_module(result.lab)
-    loaded = []
-
-    def inputs():                       # loaded once, and only when needed
-        if not loaded:
-            loaded.append(load(path, module.SPEC, data, confine=confine))
-        return loaded[0]
-
     wrong = {v.name for v in verdicts if v.verdict == "wrong"}
     if getattr(module, "SLIPS", ()) and wrong:
         # the lab's own slips are reductions of slipped inputs: made only for a wrong value
         # the lab's first: where a generic factor gives the same value, the lab's cause is
         # the likelier
-        slips = own_slips + _lab_slips(module, result.results, inputs, options, wrong) \
+        slips = own_slips + _lab_slips(module, result.results, loaded, options, wrong) \
             + list(FACTOR_SLIPS)
         verdicts = [judged(v.name, slips) if v.verdict == "wrong" else v for v in verdicts]
     for stage in (lambda names: list(TRANSCENDENTAL_SLIPS),
-                  lambda names: _input_slips(module, inputs(), options, names)
+                  lambda names: _input_slips(module, loaded, options, names)
                   + list(CONSTANT_SLIPS)):
         # slips inside the formula, for a wrong value nothing else explains: the constants
         # no input makes (cheap), then the inputs, each reduced again
@@ -865,7 +859,7 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
                              ru=(f"в {result.lab} нет таблиц для проверки", "укажите её "
                                  "значения в [reported] и удалите [reported.tables]"))
         checker = importlib.import_module(TABLE_CHECKS[result.lab])
-        judged_tables = checker.check_tables(path, tables, inputs(), rules, confine=confine)
+        judged_tables = checker.check_tables(path, tables, loaded, rules, confine=confine)
     student = result.meta.get("student", Path(path).stem)
     if variants is not None and sid:    # the roster's name; the file's, if the file is theirs
         student = variants.names.get(sid) or (
@@ -874,7 +868,13 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
              for n, r in result.results.items()}
     return Check(str(path), result.lab, student, verdicts, _readings(data), judged_tables,
                  tuple(result.results), sid, readings_of, values_of, shown,
-                 _recordings(inputs()), rules.expected)
+                 _recordings(loaded), rules.expected)
+
+
+def _results_only(module) -> dict:
+    """``report=False`` for a lab whose ``reduce`` can leave its report's tables and figures
+    out: a check and its slips read the results alone."""
+    return {"report": False} if "report" in inspect.signature(module.reduce).parameters else {}
 
 
 _NUMBER_TEXT = re.compile(r"(?<![\w^.*/])[-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?(?![\w.])")
@@ -909,8 +909,12 @@ def _readings(data: dict) -> tuple[str, ...]:
 
 
 def _recordings(inputs) -> tuple[tuple[str, str], ...]:
-    """(name, SHA-256) of each file the inputs name, in order, each once."""
+    """(name, digest) of each file the inputs name, in order, each once: a recording's
+    samples (:func:`processing.inputs.signals.sample_digest`: the same recording saved again
+    in another format or layout has the same), another file's bytes (a photograph)."""
     import hashlib
+
+    from processing.inputs.signals import sample_digest
 
     paths = []
 
@@ -927,8 +931,10 @@ def _recordings(inputs) -> tuple[tuple[str, str], ...]:
     walk(inputs.sections)
     out = {}
     for p in paths:
+        if p.name in out:
+            continue
         try:
-            out.setdefault(p.name, hashlib.sha256(p.read_bytes()).hexdigest())
+            out[p.name] = sample_digest(p) or hashlib.sha256(p.read_bytes()).hexdigest()
         except OSError:                 # the reduction read it; a file gone since is no copy
             continue
     return tuple(out.items())
@@ -965,7 +971,7 @@ class Copy:
         The shared readings that are not the class's common ones, as written (the first few
         are shown).
     recordings : tuple of str
-        The files (recordings, photographs) of the same bytes, by name.
+        The files (recordings, photographs) of the same content (:func:`_recordings`), by name.
     """
 
     a: Check
@@ -984,11 +990,12 @@ class Copy:
         if lang == "ru":
             return (f"{self.same + self.rounded} из {n} замеров совпадают в том же порядке "
                     f"({self.rounded} с точностью до округления), {self.differing} отличаются; "
-                    f"общие: {shown}" + (f"; те же файлы записей (байт в байт): {files}"
-                                         if files else ""))
+                    f"общие: {shown}" + (f"; те же записи (те же отсчёты, как бы файл ни "
+                                         f"был пересохранён): {files}" if files else ""))
         return (f"{self.same + self.rounded} of {n} readings the same in the same order "
                 f"({self.rounded} up to rounding), {self.differing} differ; shared: {shown}"
-                + (f"; the same recordings (byte for byte): {files}" if files else ""))
+                + (f"; the same recordings (the same samples, however the file was saved "
+                   f"again): {files}" if files else ""))
 
 
 def _decimals(text: str) -> int:
@@ -1050,8 +1057,8 @@ def _copy(a: Check, b: Check, va: list[str], vb: list[str], rarity: dict[str, fl
     (:func:`_aligned`); a copy differs in at most :data:`COPY_DIFFERING` readings (or a
     tenth) and the readings it shares are rarer than ``surprise`` decades (:func:`_rarity`:
     the class's common ones count nothing) — or it shares ``recordings``, files of the same
-    bytes that no other submissions share (a recording copied); ``va``, ``vb`` their
-    :func:`_values`."""
+    samples that no other submissions share (a recording copied, saved again or not); ``va``,
+    ``vb`` their :func:`_values`."""
     n = max(len(va), len(vb))
     allowed = max(COPY_DIFFERING, n // 10)
     if not recordings and (not n or abs(len(va) - len(vb)) > allowed):

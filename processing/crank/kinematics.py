@@ -47,6 +47,9 @@ def check_mechanism(lambda_, offset_ratio=0.0) -> None:
     InputError
         (a ``ValueError``) naming the parameter, the bad value and the fix.
     """
+    if isinstance(lambda_, (int, float)) and isinstance(offset_ratio, (int, float)) \
+            and 0 < lambda_ < 1 and lambda_ * (1 + abs(offset_ratio)) < 1:
+        return                          # plain numbers that work: no arrays made
     lam = np.asarray(lambda_, dtype=float)
     bad = ~((lam > 0) & (lam < 1))
     if np.any(bad):

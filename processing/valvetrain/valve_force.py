@@ -42,7 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.signal import savgol_coeffs
 
-from processing.oscillations.decay import DampedSineFit, fit_baselines
+from processing.oscillations.decay import BaselineChoice, DampedSineFit, fit_baselines
 from processing.oscillations.savgol import savgol
 from processing.result import Record
 
@@ -368,6 +368,31 @@ def oscillation_period(time, force) -> float:
     return 1.0 / float(f[np.argmax(spectrum)])
 
 
+FITS_KEPT = 512
+"""Stretches whose fits :func:`_fitted` keeps: a trace reduced again with other inputs that
+leave its stretches where they were (a check trying a slip that reads each valve's trace with
+the other valve's calibration) finds them fitted, as long as they are among the last this
+many."""
+
+_FITTED: dict[tuple, BaselineChoice] = {}
+
+
+def _fitted(t: np.ndarray, y: np.ndarray, t0: float, T: float,
+            cut: np.ndarray) -> BaselineChoice:
+    """:func:`processing.oscillations.decay.fit_baselines` of a stretch (start ``t0``, period
+    ``T``, samples ``cut`` left out), each stretch fitted once: the fit is a function of the
+    samples alone, so the fit made before of the same samples (a few hundred; their bytes the
+    key) is the one a new fit would give."""
+    key = (t.tobytes(), y.tobytes(), t0, T, cut.tobytes())
+    if key not in _FITTED:
+        with np.errstate(over="ignore", invalid="ignore"):
+            models = fit_baselines(t, y, start=t0, period=T, exclude=cut)
+        if len(_FITTED) >= FITS_KEPT:
+            del _FITTED[next(iter(_FITTED))]        # the oldest
+        _FITTED[key] = models
+    return _FITTED[key]
+
+
 def free_oscillation(time, force, start: float, stop: float,
                      period: float | None = None, *, exclude=None) -> FreeOscillation:
     """The drive's free oscillation between ``start`` (the valve's opening) and ``stop``.
@@ -429,8 +454,7 @@ def free_oscillation(time, force, start: float, stop: float,
         raise RuntimeError(f"free_oscillation: {(t1 - t0) / T:.1f} periods to fit, at least "
                            f"{MIN_PERIODS:g} needed")
     part = (t >= t0) & (t <= t1)
-    with np.errstate(over="ignore", invalid="ignore"):
-        models = fit_baselines(t[part], y[part], start=t0, period=T, exclude=cut[part])
+    models = _fitted(t[part], y[part], t0, T, cut[part])
     fit = models.fit
     f = fit.omega_d / (2 * math.pi)
     if not (abs(f * T - 1) < FREQUENCY_SLACK and 0 <= fit.delta < 2 * math.pi
