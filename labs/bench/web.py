@@ -115,7 +115,8 @@ def _stats(xs: list[float]) -> str:
 
 
 def main(argv=None) -> int:
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p = argparse.ArgumentParser(prog="python -m labs.bench.web",
+                                description=__doc__.splitlines()[0])
     p.add_argument("--students", type=int, default=30)
     p.add_argument("--photos", type=int, default=5)
     p.add_argument("--within", type=float, default=60.0)
