@@ -280,3 +280,82 @@ def test_every_refusal_of_the_readers_carries_its_russian(path):
     source = (Path(__file__).parents[1] / path).read_text(encoding="utf-8")
     missing = _without_russian(ast.parse(source))
     assert not missing, f"{path}: refusals without Russian at lines {missing}"
+
+
+def _argparse_message_ids() -> set:
+    """The format strings the running Python's argparse passes through its gettext hook
+    (``_(...)``, ``ngettext(...)``): its message ids, read off its source."""
+    import argparse
+    import ast
+
+    ids = set()
+    for node in ast.walk(ast.parse(Path(inspect.getsourcefile(argparse)).read_text())):
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and \
+                node.func.id in ("_", "ngettext"):
+            texts = tuple(a.value for a in node.args[:2] if isinstance(a, ast.Constant))
+            if texts:
+                ids.add(texts[0] if node.func.id == "_" else texts)
+    return ids
+
+
+def test_the_parsers_russian_is_keyed_by_this_pythons_argparse_message_ids():
+    """The Russian of argparse's messages is looked up by the format strings argparse
+    itself passes to gettext, not by matching its finished English: each one translated is
+    one this Python's argparse uses (a Python that words one differently fails here, naming
+    it, instead of printing it in English unseen), and the command's own argument types
+    translate through the same hook."""
+    from labs.cli.parser import ARGPARSE_NGETTEXT_RU, ARGPARSE_RU, speaking, told
+
+    ids = _argparse_message_ids()
+    unknown = sorted(set(ARGPARSE_RU) - ids) + sorted(set(ARGPARSE_NGETTEXT_RU) - ids)
+    assert not unknown, f"argparse no longer says: {unknown}"
+    with speaking("ru"):
+        assert told("%(got)r is not a whole number", got="2.5") == "'2.5' — не целое число"
+    assert told("%(got)r is not a whole number", got="2.5") == "'2.5' is not a whole number"
+
+
+def _helps(p) -> list[tuple[str, str]]:
+    """(command, help) of every argument and subcommand of parser ``p`` and its
+    subcommands'."""
+    import argparse
+
+    out = [("dynlab", p.description)]
+    for action in p._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            out += [(name, c.help) for name, c in zip(action.choices, action._choices_actions)]
+            for name, sub in action.choices.items():
+                out += [(f"{name} {a.dest}", a.help) for a in sub._actions]
+        else:
+            out.append((f"dynlab {action.dest}", action.help))
+    return out
+
+
+def test_the_help_speaks_the_locale_or_lang(capsys, monkeypatch):
+    """``dynlab --help`` and every subcommand's help are Russian under a Russian locale or
+    ``--lang ru``: every argument's help (argparse's own -h included), the headings and the
+    usage line; English otherwise."""
+    from labs.cli.main import parser
+
+    def helped(*argv):
+        with pytest.raises(SystemExit) as exited:
+            main(list(argv))
+        assert exited.value.code == 0
+        return capsys.readouterr().out
+
+    latin = [(where, text) for where, text in _helps(parser("ru"))
+             if text and not re.search("[а-яё]", text, re.I)]
+    assert not latin, f"help left in English: {latin}"
+    english = {text for _, text in _helps(parser("en")) if text}
+    assert not english & {text for _, text in _helps(parser("ru"))}
+    monkeypatch.delenv("LC_ALL", raising=False)
+    monkeypatch.delenv("LC_MESSAGES", raising=False)
+    monkeypatch.setenv("LANG", "ru_RU.UTF-8")
+    shown = helped("--help")
+    assert shown.startswith("вызов: dynlab") and "позиционные аргументы:" in shown and \
+        "показать эту справку и выйти" in shown, shown
+    monkeypatch.setenv("LANG", "C")
+    shown = helped("run", "--help", "--lang", "ru")
+    assert shown.startswith("вызов: dynlab run") and "ключи:" in shown and \
+        _english_left(shown) is None, shown
+    shown = helped("run", "--help")
+    assert shown.startswith("usage: dynlab run") and "options:" in shown, shown

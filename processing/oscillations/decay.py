@@ -1096,9 +1096,14 @@ def _near_rails(x: np.ndarray, clipped, sigma: float):
     return out
 
 
-class NoDecayError(Reason, RuntimeError):
-    """The fitted oscillation does not decay measurably: why, in English and Russian (a
-    RuntimeError, as the fit's own failures are)."""
+class NoDecayError(RuntimeError):
+    """The fitted oscillation does not decay measurably: why, in English and Russian
+    (``ru``); a RuntimeError, as the fit's own failures are, not a :class:`Reason` (a
+    ValueError: too few extrema)."""
+
+    def __init__(self, reason: str, ru: str):
+        super().__init__(reason)
+        self.ru = ru
 
 
 def analyse_decay(time, x, *, clipped=None) -> RecordedDecay:
