@@ -1,11 +1,17 @@
 """The command line's messages in Russian: the hostile-input corpora run again under a Russian
 locale, and every refusal counted by the language it came out in.
 
-The cases are the corpora's own (:mod:`test_hostile_inputs`, :mod:`test_hostile_cli`): each of
-their tests that holds the bad-input contract (:func:`cli_contract.assert_one_clear_error`) is
-called here with ``LANG=ru_RU.UTF-8`` and that contract swapped for its Russian form. A message
-with Russian must be wholly Russian (``ошибка: <file>, поле '<field>': <problem>. Как
+The cases are the corpora's own (:mod:`test_hostile_inputs`, :mod:`test_hostile_cli`,
+:mod:`test_hostile_images`, :mod:`test_hostile_records`): each of their tests that holds the
+bad-input contract (:func:`cli_contract.assert_one_clear_error`) and needs no fixture of its
+own is called here with ``LANG=ru_RU.UTF-8`` and that contract swapped for its Russian form. A
+message with Russian must be wholly Russian (``ошибка: <file>, поле '<field>': <problem>. Как
 исправить: <fix>``); one without falls back to English whole, and keeps the English contract.
+
+The readers of photographs, films and traces are held closer: every refusal they build carries
+its Russian (read off their source), the details they embed (why no trace, the lines found,
+which way is up) are made in Russian where they are found; and the command's own parser and
+help speak the language asked.
 """
 import inspect
 import re
@@ -18,12 +24,15 @@ import pytest
 import test_hostile_cli
 import test_hostile_images
 import test_hostile_inputs
+import test_hostile_records
 from cli_contract import assert_one_clear_error, run
 from labs.cli.main import main
 from processing.diagnostics import InputError
 
-CORPORA = (test_hostile_inputs, test_hostile_cli, test_hostile_images)
+CORPORA = (test_hostile_inputs, test_hostile_cli, test_hostile_images, test_hostile_records)
 FIXTURES = ("tmp_path", "capsys", "monkeypatch")
+CONTRACT_CALLS = ("assert_one_clear_error(", "run_bad(", "refused(")
+"""The calls through which a corpus test holds the bad-input contract."""
 
 PARTLY_RUSSIAN: dict[str, int] = {}
 """The corpus tests whose refusals are not all in Russian yet, and how many of them are (a
@@ -54,7 +63,7 @@ def _corpus_tests():
             source = inspect.getsource(fn)
             marks = getattr(fn, "pytestmark", [])
             given = set(FIXTURES) | {n for g in _grid(fn) for n in g}
-            if ("assert_one_clear_error(" not in source and "run_bad(" not in source) or \
+            if not any(call in source for call in CONTRACT_CALLS) or \
                     any(m.name == "skipif" and m.args[0] for m in marks) or \
                     not set(inspect.signature(fn).parameters) <= given:
                 continue
