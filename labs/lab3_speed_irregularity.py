@@ -619,7 +619,7 @@ def _track(inputs: Inputs, times, field: str, path, tdc=None) -> ToothTrack:
     try:
         return track_teeth(times, wheel["z"], wheel["missing"], reference_times=tdc)
     except InputError as exc:
-        raise InputError(exc.problem, exc.fix, file=str(path), field=field) from None
+        raise InputError(exc.problem, exc.fix, file=str(path), field=field, ru=exc.ru) from None
 
 
 def _calibration(inputs: Inputs, method: str):
@@ -634,7 +634,8 @@ def _calibration(inputs: Inputs, method: str):
     try:
         return calibrate_pitch(track)
     except InputError as exc:
-        raise InputError(exc.problem, exc.fix, file=str(path), field="wheel.calibration") from None
+        raise InputError(exc.problem, exc.fix, file=str(path), field="wheel.calibration",
+                         ru=exc.ru) from None
 
 
 def _regime(inputs: Inputs, i: int, entry: dict, calibration) -> Regime:
@@ -669,7 +670,7 @@ def _recording(inputs: Inputs, i: int, entry: dict, calibration, revolutions: in
         fourier = fit_cycles(track, orders=analysis.get("orders"), pitch_error=pitch_u, **options)
         tooth = tooth_cycles(track, **options)
     except InputError as exc:
-        raise InputError(exc.problem, exc.fix, file=str(source), field=field) from None
+        raise InputError(exc.problem, exc.fix, file=str(source), field=field, ru=exc.ru) from None
     _check_cycles(fourier, label, field, source)
     bias = _pitch_bias(track, fourier, tooth, calibration, analysis.get("orders"), revolutions)
     return Recording(track, fourier, tooth, jackknife(fourier), jackknife(tooth), spt, bias)
@@ -816,7 +817,13 @@ def _check_inputs(inputs: Inputs) -> None:
                                "not be above zero", "h_max is the highest point of the speed "
                                "trace over a working cycle and h_min the lowest: check that "
                                "they are not swapped, and read the ripple with a magnifier if "
-                               "it is finer than the ruler", f"regime[{i}].h_max")
+                               "it is finer than the ruler", f"regime[{i}].h_max",
+                               (f"h_max = {1e3 * e['h_max'].value:g} мм не больше h_min = "
+                                f"{1e3 * e['h_min'].value:g} мм: δ = (h_max − h_min)/h_cp не "
+                                "получится больше нуля", "h_max — наивысшая точка линии "
+                                "скорости за рабочий цикл, h_min — низшая: проверьте, не "
+                                "перепутаны ли они, и снимите пульсацию через лупу, если она "
+                                "мельче деления линейки"))
     recorded = [i for i, e in enumerate(inputs["regime"]) if "signal" in e or "edges" in e]
     if wheel is None:
         if recorded:

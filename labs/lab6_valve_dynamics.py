@@ -383,11 +383,19 @@ def _few_marks(inputs: Inputs, entry: dict, found: int, duration: float,
                           f"shorter than the two camshaft revolutions its speed and a whole "
                           f"valve event need ({need:.3g} s at n = {n.value / report.RPM_SI:.0f} "
                           "min⁻¹)", "record at least two camshaft revolutions",
-                          file=str(entry["signal"]), field=f"{where}.signal")
+                          file=str(entry["signal"]), field=f"{where}.signal",
+                          ru=(f"отметок ВМТ в записи: {found}; она длится {duration:.3g} с, "
+                              "меньше двух оборотов распределительного вала, нужных для "
+                              "частоты вращения и целого события клапана "
+                              f"({need:.3g} с при n = {n.value / report.RPM_SI:.0f} мин⁻¹)",
+                              "запишите хотя бы два оборота распределительного вала"))
     return InputError(f"{found} TDC mark(s) on the record's {duration:.3g} s: its speed needs "
                       "a whole revolution", "name the TDC channel (tdc_channel = ...) and "
                       "record at least two camshaft revolutions", file=str(entry["signal"]),
-                      field=f"{where}.tdc_channel")
+                      field=f"{where}.tdc_channel",
+                      ru=(f"отметок ВМТ за {duration:.3g} с записи: {found}, а для частоты "
+                          "вращения нужен целый оборот", "укажите канал ВМТ (tdc_channel = ...) "
+                          "и запишите хотя бы два оборота распределительного вала"))
 
 
 def _check_speed(entry: dict, omega: float, where: str) -> None:
