@@ -245,8 +245,9 @@ def build(res, lang: str = "en") -> dict:
     t = text(lang)
     meta = dict(res.meta)
     results, names = [], _input_names(res.inputs, lang)
-    if lang == "ru":                 # a result that is another's input: by its symbol
-        names = {**{n: r.symbol for n, r in res.results.items() if r.symbol}, **names}
+    if lang == "ru":     # a result named by a word that is another's input: by its symbol
+        names = {**{n: r.symbol for n, r in res.results.items()
+                    if r.symbol and _WORD.fullmatch(n)}, **names}
     for name, r in res.results.items():
         e = r.estimate
         v, U = fmt_pm(r.shown(e.value), r.shown(e.value + e.U) - r.shown(e.value))
