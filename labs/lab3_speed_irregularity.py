@@ -86,6 +86,8 @@ speed lies well above it). Outside, the zero or the scale taken is not the trace
 
 ENGINE_KINDS = {"automotive": "an automotive engine", "tractor": "a tractor engine"}
 """The engine's kind in messages."""
+ENGINE_KINDS_RU = {"automotive": "автомобильного двигателя", "tractor": "тракторного двигателя"}
+"""The same in Russian (genitive: "для автомобильного двигателя")."""
 
 TACH_REFUSE = 0.15
 """Relative disagreement of the oscillogram's TDC marks' mean speed with the tachometer beyond
@@ -387,7 +389,10 @@ def _oscillogram(inputs: Inputs, i: int, entry: dict, revolutions: int) -> Oscil
     if "h_max" in entry or "h_min" in entry:
         raise inputs.error("both a photograph of the oscillogram and readings off it are given",
                            "give the photograph (oscillogram) or the readings (h_max, h_min), "
-                           "not both", field)
+                           "not both", field,
+                           ("даны и фотография осциллограммы, и отсчёты по ней",
+                            "дайте фотографию (oscillogram) или отсчёты (h_max, h_min), но не "
+                            "то и другое"))
     channel = _speed_trace(inputs, i, entry)
     check_record(channel.value[np.isfinite(channel.value)], channel.sample_rate, file=str(path),
                  field=field, channel=str(channel.name), purpose={"en": "δ", "ru": "δ"}, fix=PHOTO_FIX)
@@ -397,12 +402,17 @@ def _oscillogram(inputs: Inputs, i: int, entry: dict, revolutions: int) -> Oscil
         raise InputError(f"{tdc.size} TDC mark(s) found on the oscillogram: δ needs at least two "
                          "whole working cycles between them", "photograph the record with its "
                          "TDC mark line and at least two working cycles", file=str(path),
-                         field=field)
+                         field=field, ru=(f"на осциллограмме найдено отметок ВМТ: {tdc.size}, "
+                                          "а для δ между ними нужны хотя бы два целых рабочих "
+                                          "цикла", "сфотографируйте запись с линией отметок "
+                                          "ВМТ и хотя бы двумя рабочими циклами"))
     try:
         cycles = cycle_range(channel.time, channel.value, starts)
     except ValueError as exc:
         raise InputError(str(exc), "photograph the trace sharply, its whole length",
-                         file=str(path), field=field) from None
+                         file=str(path), field=field,
+                         ru=(getattr(exc, "ru", None) or f"'{exc}'",
+                             "сфотографируйте линию резко, по всей её длине")) from None
     inside = starts[(starts >= channel.time[0]) & (starts <= channel.time[-1])]
     omega = mean_speed(inside, 2 * np.pi * revolutions, channel.time_scale)
     _check_tdc_speed(omega, entry, tdc, channel, path, field)
@@ -439,7 +449,10 @@ def _speed_trace(inputs: Inputs, i: int, entry: dict):
     if zero == "mean" and not scaled:
         raise InputError("zero = \"mean\" measures the speed trace from its own mean level, "
                          "so nothing scales its swing to a speed", SCALE_FIX,
-                         file=inputs.file, field="image.zero")
+                         file=inputs.file, field="image.zero",
+                         ru=("при zero = \"mean\" линия скорости отсчитывается от своего "
+                             "среднего уровня, и её размах нечем перевести в скорость",
+                             SCALE_FIX_RU))
     if zero is None and "converter_scale" in entry:
         zero = "mean"                 # the calibration scales the trace; any line is not needed
     try:
@@ -450,12 +463,16 @@ def _speed_trace(inputs: Inputs, i: int, entry: dict):
             return open_channel(path, channel=entry.get("trace"), field=field,
                                 image={**options, "zero": "mean"})
         if (exc.field or "").endswith("zero"):
-            raise InputError(exc.problem, SCALE_FIX, file=exc.file, field=field) from None
+            raise InputError(exc.problem, SCALE_FIX, file=exc.file, field=field,
+                             ru=exc.ru and (exc.ru[0], SCALE_FIX_RU)) from None
         raise
     if channel.overlay.taken is None and channel.unit != "m":
         raise InputError("the converter's scale is in mm of paper, but the photograph has no "
                          "length scale", "give dpi (a scan), paper_width or grid in [image]",
-                         file=inputs.file, field="image")
+                         file=inputs.file, field="image",
+                         ru=("масштаб преобразователя задан в мм бумаги, а у снимка нет "
+                             "масштаба длины", "укажите в [image] dpi (для скана), paper_width "
+                             "или grid"))
     return channel
 
 
@@ -463,6 +480,10 @@ SCALE_FIX = ("give the frequency-to-voltage converter's scale from its calibrati
              "(converter_scale = \"… mm/rpm\" in the regime) or the trace's mean height above "
              "the converter's zero (h_mean), and zero = \"mean\" in [image]; or photograph the "
              "record with its zero line")
+SCALE_FIX_RU = ("укажите масштаб преобразователя частота–напряжение по его тарировке "
+                "(converter_scale = \"… mm/rpm\" в режиме) или высоту средней линии записи над "
+                "нулём преобразователя (h_mean) и zero = \"mean\" в [image]; либо "
+                "сфотографируйте запись с её нулевой линией")
 """What to do about a speed trace that nothing on the paper or in the file scales."""
 
 
@@ -488,7 +509,13 @@ def _check_tdc_speed(omega: Measured, entry: dict, tdc, channel, path, field: st
             f"time marks' period is wrong; {channel.lines}",
             "check mark_period in [image] and the tachometer reading, and photograph the record "
             "with its TDC mark line (a mark each revolution) whole and sharp",
-            file=str(path), field=field)
+            file=str(path), field=field,
+            ru=(f"по {tdc.size} отметкам ВМТ на осциллограмме средняя частота вращения "
+                f"{omega.value * 30 / np.pi:.0f} мин⁻¹, по тахометру {n_t.value * 30 / np.pi:.0f} "
+                f"мин⁻¹ ({100 * gap:+.0f} %): за отметки ВМТ принято не то, или неверен период "
+                f"отметок времени; {channel.lines_ru}", "проверьте mark_period в [image] и "
+                "показание тахометра и сфотографируйте запись с линией отметок ВМТ (отметка "
+                "на каждый оборот) целиком и резко"))
 
 
 def _check_plausible(inputs: Inputs, entry: dict, delta: float, channel, path,
@@ -500,14 +527,20 @@ def _check_plausible(inputs: Inputs, entry: dict, delta: float, channel, path,
     hi = max(PLAUSIBLE[k][1] for k in PLAUSIBLE if kind in (None, k))
     if lo <= delta <= hi:
         return
-    zero = ("its zero line" if channel.overlay.taken is not None
-            else "the converter's scale" if "converter_scale" in entry else "h_mean")
+    zero, zero_ru = (("its zero line", "её нулевой линии") if channel.overlay.taken is not None
+                     else ("the converter's scale", "масштабу преобразователя")
+                     if "converter_scale" in entry else ("h_mean", "h_mean"))
     raise InputError(
         f"δ = {delta:.4g} read off the oscillogram, measured from {zero}, is not plausible for "
         f"{ENGINE_KINDS.get(kind, 'an engine')} ({lo:g}…{hi:g}): the zero or "
         f"scale taken is not the trace's; {channel.lines}",
         "look at the overlay: if the zero line taken is the paper's edge, a grid line or "
-        "another beam's, " + SCALE_FIX[0].lower() + SCALE_FIX[1:], file=str(path), field=field)
+        "another beam's, " + SCALE_FIX[0].lower() + SCALE_FIX[1:], file=str(path), field=field,
+        ru=(f"δ = {delta:.4g}, прочитанное по осциллограмме от {zero_ru}, неправдоподобно для "
+            f"{ENGINE_KINDS_RU.get(kind, 'двигателя')} ({lo:g}…{hi:g}): взятые ноль или "
+            f"масштаб — не этой линии; {channel.lines_ru}",
+            "посмотрите на наложение: если за нулевую линию взят край бумаги, линия сетки или "
+            "линия другого луча, " + SCALE_FIX_RU))
 
 
 @dataclass
@@ -586,7 +619,7 @@ def _track(inputs: Inputs, times, field: str, path, tdc=None) -> ToothTrack:
     try:
         return track_teeth(times, wheel["z"], wheel["missing"], reference_times=tdc)
     except InputError as exc:
-        raise InputError(exc.problem, exc.fix, file=str(path), field=field) from None
+        raise InputError(exc.problem, exc.fix, file=str(path), field=field, ru=exc.ru) from None
 
 
 def _calibration(inputs: Inputs, method: str):
@@ -601,7 +634,8 @@ def _calibration(inputs: Inputs, method: str):
     try:
         return calibrate_pitch(track)
     except InputError as exc:
-        raise InputError(exc.problem, exc.fix, file=str(path), field="wheel.calibration") from None
+        raise InputError(exc.problem, exc.fix, file=str(path), field="wheel.calibration",
+                         ru=exc.ru) from None
 
 
 def _regime(inputs: Inputs, i: int, entry: dict, calibration) -> Regime:
@@ -636,7 +670,7 @@ def _recording(inputs: Inputs, i: int, entry: dict, calibration, revolutions: in
         fourier = fit_cycles(track, orders=analysis.get("orders"), pitch_error=pitch_u, **options)
         tooth = tooth_cycles(track, **options)
     except InputError as exc:
-        raise InputError(exc.problem, exc.fix, file=str(source), field=field) from None
+        raise InputError(exc.problem, exc.fix, file=str(source), field=field, ru=exc.ru) from None
     _check_cycles(fourier, label, field, source)
     bias = _pitch_bias(track, fourier, tooth, calibration, analysis.get("orders"), revolutions)
     return Recording(track, fourier, tooth, jackknife(fourier), jackknife(tooth), spt, bias)
@@ -783,7 +817,13 @@ def _check_inputs(inputs: Inputs) -> None:
                                "not be above zero", "h_max is the highest point of the speed "
                                "trace over a working cycle and h_min the lowest: check that "
                                "they are not swapped, and read the ripple with a magnifier if "
-                               "it is finer than the ruler", f"regime[{i}].h_max")
+                               "it is finer than the ruler", f"regime[{i}].h_max",
+                               (f"h_max = {1e3 * e['h_max'].value:g} мм не больше h_min = "
+                                f"{1e3 * e['h_min'].value:g} мм: δ = (h_max − h_min)/h_cp не "
+                                "получится больше нуля", "h_max — наивысшая точка линии "
+                                "скорости за рабочий цикл, h_min — низшая: проверьте, не "
+                                "перепутаны ли они, и снимите пульсацию через лупу, если она "
+                                "мельче деления линейки"))
     recorded = [i for i, e in enumerate(inputs["regime"]) if "signal" in e or "edges" in e]
     if wheel is None:
         if recorded:

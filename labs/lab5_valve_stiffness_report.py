@@ -73,7 +73,7 @@ def valve_results(at_valve: dict) -> dict:
                                        f"{_PART[p][1]},кл", "kN/mm")
         declared[f"share_{p}"] = (bi(f"{label['en']}: share of the drive's compliance",
                                      f"{label['ru']}: доля податливости привода"),
-                                  f"{_PART[p][1]}⁻¹ share", "%")
+                                  f"{_PART[p][1]}⁻¹/Σc⁻¹", "%")
     return computed(values, declared)
 
 

@@ -276,11 +276,14 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
         labels = {v: str(photos[v].name) for v in names}
     else:
         rate = entry["sample_rate"].value if "sample_rate" in entry else None
-        uses = [(f"the {report.VALVE_WORDS[v]['en']} valve's force", c,
+        uses = [({"en": f"the {report.VALVE_WORDS[v]['en']} valve's force",
+                  "ru": f"силы {report.VALVE_GENITIVE[v]} клапана"}, c,
                  f"valve[{list(names).index(v)}].channel") for v, c in names.items()]
-        uses.append(("the TDC marks", entry["tdc_channel"], f"{where}.tdc_channel"))
+        uses.append(({"en": "the TDC marks", "ru": "отметок ВМТ"}, entry["tdc_channel"],
+                     f"{where}.tdc_channel"))
         if "marks_channel" in entry:
-            uses.append(("the time marks", entry["marks_channel"], f"{where}.marks_channel"))
+            uses.append(({"en": "the time marks", "ru": "отметок времени"},
+                         entry["marks_channel"], f"{where}.marks_channel"))
         _distinct(inputs, uses)
         wanted = [c for _, c, _ in uses]
         channels = open_channels(path, wanted, sample_rate=rate, field=field)
@@ -306,15 +309,19 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
     return np.arange(size) / rate, traces, tdc, photos
 
 
-def _distinct(inputs: Inputs, uses: list[tuple[str, object, str]]) -> None:
+def _distinct(inputs: Inputs, uses: list[tuple[dict, object, str]]) -> None:
     """Refuse one channel named for two things (a valve's force and the TDC marks): each use
-    is (what it is for, the channel, the field that names it)."""
+    is (what it is for, in English and Russian, the channel, the field that names it)."""
     seen = {}
     for use, channel, field in uses:
         if str(channel) in seen:
-            raise inputs.error(f"channel '{channel}' is named both for {seen[str(channel)]} "
-                               f"and for {use}", "name each its own channel of the record: "
-                               "[[valve]] channel, tdc_channel and marks_channel", field)
+            first = seen[str(channel)]
+            raise inputs.error(f"channel '{channel}' is named both for {first['en']} "
+                               f"and for {use['en']}", "name each its own channel of the record: "
+                               "[[valve]] channel, tdc_channel and marks_channel", field,
+                               (f"канал '{channel}' назван и для {first['ru']}, и для "
+                                f"{use['ru']}", "назовите для каждого свой канал записи: "
+                                "channel = … в [[valve]], tdc_channel = … и marks_channel = …"))
         seen[str(channel)] = use
 
 
@@ -383,11 +390,19 @@ def _few_marks(inputs: Inputs, entry: dict, found: int, duration: float,
                           f"shorter than the two camshaft revolutions its speed and a whole "
                           f"valve event need ({need:.3g} s at n = {n.value / report.RPM_SI:.0f} "
                           "min⁻¹)", "record at least two camshaft revolutions",
-                          file=str(entry["signal"]), field=f"{where}.signal")
+                          file=str(entry["signal"]), field=f"{where}.signal",
+                          ru=(f"отметок ВМТ в записи: {found}; она длится {duration:.3g} с, "
+                              "меньше двух оборотов распределительного вала, нужных для "
+                              "частоты вращения и целого события клапана "
+                              f"({need:.3g} с при n = {n.value / report.RPM_SI:.0f} мин⁻¹)",
+                              "запишите хотя бы два оборота распределительного вала"))
     return InputError(f"{found} TDC mark(s) on the record's {duration:.3g} s: its speed needs "
                       "a whole revolution", "name the TDC channel (tdc_channel = ...) and "
                       "record at least two camshaft revolutions", file=str(entry["signal"]),
-                      field=f"{where}.tdc_channel")
+                      field=f"{where}.tdc_channel",
+                      ru=(f"отметок ВМТ за {duration:.3g} с записи: {found}, а для частоты "
+                          "вращения нужен целый оборот", "укажите канал ВМТ (tdc_channel = ...) "
+                          "и запишите хотя бы два оборота распределительного вала"))
 
 
 def _check_speed(entry: dict, omega: float, where: str) -> None:

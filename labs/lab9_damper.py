@@ -66,6 +66,10 @@ DRIFT_CORRELATION = 0.3
 
 DIRECTIONS = {"forward": 1.0, "reverse": -1.0}
 
+WHOLE_DECAY_RU = ("запишите затухание целиком: от момента до отпускания, пока колебания не "
+                  "утонут в шуме")
+"""The fix of a decay recorded too short, in Russian."""
+
 DECAY_CLIPPED = (
     "the fit leaves them out and reads the decrement from the rest of the record, with the "
     "uncertainty of what is left",
@@ -486,14 +490,15 @@ def _record_decay(inputs: Inputs, scale) -> Decay:
         x = x * 1e3                               # the calibration's readings are written
     t = np.arange(x.size) / channel.sample_rate
 
-    def refuse(problem: str, fix: str) -> InputError:
+    def refuse(problem: str, fix: str, ru: tuple[str, str]) -> InputError:
         return InputError(f"channel '{channel.name}': {problem}", fix, file=str(path),
-                          field="decay.signal")
+                          field="decay.signal", ru=(f"канал '{channel.name}': {ru[0]}", ru[1]))
 
     if x.size < 64:
         raise refuse(f"the record holds {x.size} samples, too short for a decay",
                      "record the whole decay, from before the release until the swing dies "
-                     "into the noise")
+                     "into the noise", (f"в записи отсчётов: {x.size}, для затухания это "
+                                        "слишком мало", WHOLE_DECAY_RU))
     quality = check_record(x, channel.sample_rate, file=str(path), field="decay.signal",
                            channel=str(channel.name), purpose={"en": "the decrement", "ru": "декремента"}, clip_refused=1.0,
                            fix=PHOTO_FIX if is_image(path) else SENSOR_FIX,
@@ -502,19 +507,32 @@ def _record_decay(inputs: Inputs, scale) -> Decay:
     try:
         record = analyse_decay(t, x, clipped=clipped)
     except ValueError as exc:
+        told = getattr(exc, "ru", None) or f"'{exc}'"
         if clipped is not None:
             raise refuse(f"clipped: {100 * quality.clipped:.1f} % of its samples sit at the "
                          f"recorder's limits, and {exc}", "lower the amplifier's gain or "
-                         "raise the recorder's range, and record the decay again") from None
+                         "raise the recorder's range, and record the decay again",
+                         (f"запись срезана: {100 * quality.clipped:.1f} % отсчётов на пределах "
+                          f"регистратора, и {told}", "уменьшите усиление усилителя или "
+                          "увеличьте диапазон регистратора и запишите затухание заново")) from None
         raise refuse(f"{exc}: the record lasts {quality.duration:.3g} s ({x.size} samples)",
                      "record the whole decay, from before the release until "
                      "the swing dies into the noise (five periods or more); a larger twist "
-                     "before the release lifts it out of the noise") from None
+                     "before the release lifts it out of the noise",
+                     (f"{told}: запись длится {quality.duration:.3g} с (отсчётов: {x.size})",
+                      WHOLE_DECAY_RU + " (пять периодов или больше); больший закрут перед "
+                      "отпусканием поднимет его над шумом")) from None
     except RuntimeError as exc:
+        told = getattr(exc, "ru", None) or f"затухание не удалось подобрать (подбор: '{exc}')"
         raise refuse(str(exc), "check that the record holds a free decay after a sudden "
                      "release" + ("; a mirror image of the paper (a front camera's mirror "
                                   "mode) reads backwards in time, the decay growing: flip it "
-                                  "left to right" if is_image(path) else "")) from None
+                                  "left to right" if is_image(path) else ""),
+                     (told, "проверьте, что в записи свободное затухание после резкого "
+                      "отпускания" + ("; зеркальный снимок ленты (зеркальный режим фронтальной "
+                                      "камеры) читается назад во времени, и затухание "
+                                      "нарастает: отразите его слева направо"
+                                      if is_image(path) else ""))) from None
     check_frequency(record.trace.omega_d / (2 * np.pi), channel.sample_rate, quality.duration,
                     file=str(path), field="decay.signal", what="the decay's frequency ω_d/2π")
     clock = getattr(channel, "time_scale", None)        # a paper record's time base

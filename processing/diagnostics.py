@@ -355,6 +355,21 @@ def collect_notices():
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
 
 
+class Reason(ValueError):
+    """A reason found deep down (a header that does not read, no trace on a sheet, too few
+    time marks), in English and in Russian (``ru``), for the :class:`InputError` its caller
+    raises with it: each language's text is made where the detail is known.
+
+    >>> r = Reason("3 time mark(s) found", "найдено отметок времени: 3")
+    >>> str(r), r.ru
+    ('3 time mark(s) found', 'найдено отметок времени: 3')
+    """
+
+    def __init__(self, reason: str, ru: str):
+        super().__init__(reason)
+        self.ru = ru
+
+
 class InputError(ValueError):
     """Bad input: names the file, the field, what is wrong and how to fix it.
 

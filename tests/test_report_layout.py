@@ -36,16 +36,13 @@ LATIN_WORD = re.compile(r"(?<![\w.\-/\\\[{'\"])[A-Za-z][a-z]{2,}(?![\w\-/\[(])")
 """A free word of three or more Latin letters, lower case after its first: not part of an
 identifier (``J_trifilar``), a path, a call, a key (``[meta]``) or an acronym (``GUM``)."""
 
+UNIT_OF_LABEL = re.compile(r"(?:,\s*|\[)([^,\[\]]+?)\]?\s*$")
+"""The unit an axis label ends with: after its last comma (``J, кг·м²``) or in brackets
+(``время [с]``)."""
+
+
 MATH_WORDS = {"sin", "cos", "tg", "ctg", "arctg", "ln", "lg", "exp", "max", "min", "const"}
 """Function names of a formula: a Russian formula writes them so too."""
-
-MODEL_NAMES_LEFT = {"mean", "share", "lever", "dynamometer", "load", "unload", "compliance",
-                    "model", "slope", "advance", "lag", "loss"}
-"""Inputs of a lab's measurement model that are no field of the file (lab 5's gauges, lever
-and branches, lab 2's statistical share, lab 6's phases, lab 7's model, lab 9's compliance)
-and are still named by their English key in the budget of u²: the models declare no symbol
-for them yet. Nothing else may be English."""
-
 
 def typed(res) -> list[str]:
     """What the student typed and a report shows as typed: the [meta] texts, and every input
@@ -64,7 +61,7 @@ def english_words(text: str, res, lang: str = "ru") -> set[str]:
                        reverse=True):
         for piece in {kept, " ".join(kept.split())}:
             text = text.replace(piece, " ")
-    return set(LATIN_WORD.findall(text)) - MATH_WORDS - MODEL_NAMES_LEFT
+    return set(LATIN_WORD.findall(text)) - MATH_WORDS
 
 
 @functools.cache
@@ -131,7 +128,9 @@ def test_russian_reports_write_decimal_commas_and_no_engine_english(path):
 def test_russian_reports_hold_no_english_word(path):
     """Every Latin word of a Russian report's PDF, HTML and figures is a symbol, an acronym,
     a formula's function, a reference's title or what the student typed: a new English word
-    anywhere in a Russian report fails here."""
+    anywhere in a Russian report fails here. A figure's axis writes its unit as ГОСТ 8.417 does
+    (``м``, ``Гц``), not in Latin letters (``m``, ``Hz``), which the word check, of three
+    letters or more, lets through."""
     import html as markup
 
     res = reduced(path)
@@ -145,8 +144,27 @@ def test_russian_reports_hold_no_english_word(path):
         make_legible(fig, "ru")
         shown = " ".join(t.get_text() for t in fig.findobj(lambda o: hasattr(o, "get_text")))
         found[spec.name] = english_words(shown, res)
+        found[spec.name] |= {label for ax in fig.axes
+                             for label in (ax.get_xlabel(), ax.get_ylabel())
+                             if (unit := UNIT_OF_LABEL.search(label))
+                             and re.search(r"[A-Za-z]", unit[1])}
     found = {k: sorted(v) for k, v in found.items() if v}
     assert not found, f"English in the Russian report: {found}"
+
+
+@pytest.mark.parametrize("path", SAMPLES, ids=ids(SAMPLES))
+def test_russian_budgets_name_their_inputs_in_russian(path):
+    """Each input a Russian budget of u² names is a symbol (``A_max``, ``δ_osc (s1)``) or a
+    Russian word (``индикатор 3``, ``разгрузка (s2)``): no model key left in English, glued
+    to a number (``gauge3``) or joined by underscores (``log_decrement_peaks``), which the
+    free-word check above does not see."""
+    left = set()
+    for r in build(reduced(path), "ru")["results"]:
+        for item in filter(None, r["budget"].split(", ")):
+            name = re.sub(r"\([^)]*\)|\s*\d+\s*%$", "", item).strip()
+            if re.search(r"[A-Za-z]{3,}", name.split("_")[0]):
+                left.add(name)
+    assert not left, f"budget inputs named in English: {sorted(left)}"
 
 
 @pytest.mark.parametrize("path", SAMPLES, ids=ids(SAMPLES))
@@ -306,3 +324,44 @@ def test_a_loading_programme_is_its_steps_and_a_reading_without_u_shows_none():
     lab4 = build(reduced(ROOT / "sample_data/lab4/lab4_seed4.toml"), "en")["inputs"]
     assert all(r["u"] != "0" for r in lab4)
     assert any(r["section"].startswith("reading") and r["value"] and r["u"] == "" for r in lab4)
+
+
+@pytest.fixture(scope="module")
+def window():
+    """A page of a real, headless Chromium at the window size the gallery's first screens are
+    taken at (:data:`processing.reporting.screenshot.WINDOW`); skipped where either is
+    missing."""
+    import os
+    import shutil
+
+    from processing.reporting.screenshot import WINDOW
+
+    sync = pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
+    chromium = os.environ.get("DYNLAB_CHROMIUM") or shutil.which("chromium")
+    if not chromium:
+        pytest.skip("no Chromium (apt-get install chromium)")
+    with sync.sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
+        yield browser.new_page(viewport={"width": WINDOW[0], "height": WINDOW[1]}), WINDOW
+        browser.close()
+
+
+@pytest.mark.parametrize("lang", LANGS)
+@pytest.mark.parametrize("path", SAMPLES, ids=ids(SAMPLES))
+def test_key_results_are_on_the_htmls_first_screen(window, path, lang):
+    """Drawn by a browser at a laptop's window size, the HTML shows every key result's
+    value ± U whole (no wrapped number or unit) before any scrolling."""
+    page, (_, height) = window
+    page.set_content(to_html(reduced(path), lang, pngs=[]))
+    rows = page.evaluate("""() => {
+        const lines = c => { const r = document.createRange(); r.selectNodeContents(c);
+            return new Set([...r.getClientRects()].map(x => Math.round(x.top))).size; };
+        return [...document.querySelectorAll('section.summary tr')].map(tr => [
+            tr.innerText, tr.getBoundingClientRect().bottom,
+            [...tr.querySelectorAll('td.num, td.unit')].map(c => lines(c) <= 1)]); }""")
+    for row in build(reduced(path), lang)["summary"]:
+        shown = [(bottom, whole) for text, bottom, whole in rows if row["pm"] in text]
+        assert shown, f"{row['name']}: {row['pm']} not in the summary"
+        bottom, whole = shown[0]
+        assert bottom <= height, f"{row['name']} below the first screen ({bottom:.0f} px)"
+        assert all(whole), f"{row['name']}: its value or unit wraps"

@@ -25,7 +25,7 @@ from processing.files import MEASUREMENT, regular, resolved
 from processing.reporting.i18n import LANGS
 
 from labs.catalogue import CATALOGUE
-from .parser import Parser
+from .parser import Parser, told
 from labs.registry import LABS, evaluate, lab_module
 
 # The report engine (matplotlib, pandas, pint) and the labs are imported where they are used,
@@ -59,8 +59,8 @@ MAX_SEED = 2**63 - 1
 def _seed(text: str) -> int:
     """A seed of the random generators: a whole number from 0 to :data:`MAX_SEED`."""
     if not (text.isascii() and text.isdigit()) or int(text) > MAX_SEED:
-        raise argparse.ArgumentTypeError(f"a seed is a whole number from 0 to {MAX_SEED}, "
-                                         f"got {text[:40]!r}")
+        raise argparse.ArgumentTypeError(told("a seed is a whole number from 0 to %(most)d, "
+                                              "got %(got)r", most=MAX_SEED, got=text[:40]))
     return int(text)
 
 
@@ -68,8 +68,9 @@ def _count(least: int, most: int):
     """An option's whole number from ``least`` to ``most``."""
     def parse(text: str) -> int:
         if not (text.isascii() and text.isdigit()) or not least <= int(text) <= most:
-            raise argparse.ArgumentTypeError(f"a whole number from {least} to {most}, got "
-                                             f"{text[:40]!r}")
+            raise argparse.ArgumentTypeError(told("a whole number from %(least)d to %(most)d, "
+                                                  "got %(got)r", least=least, most=most,
+                                                  got=text[:40]))
         return int(text)
     return parse
 
@@ -81,8 +82,26 @@ def _seconds(text: str) -> float:
     except ValueError:
         value = float("nan")
     if not 0 < value < 1e6:
-        raise argparse.ArgumentTypeError(f"a number of seconds above 0, got {text[:40]!r}")
+        raise argparse.ArgumentTypeError(told("a number of seconds above 0, got %(got)r",
+                                              got=text[:40]))
     return value
+
+
+def _number(text: str) -> float:
+    """An option's number (as ``float`` reads it)."""
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(told("%(got)r is not a number", got=text[:40])) from None
+
+
+def _whole(text: str) -> int:
+    """An option's whole number (as ``int`` reads it)."""
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(told("%(got)r is not a whole number",
+                                              got=text[:40])) from None
 
 
 def _formats(text: str) -> tuple[str, ...]:
@@ -91,8 +110,9 @@ def _formats(text: str) -> tuple[str, ...]:
     fmts = tuple(f.strip() for f in text.split(",") if f.strip())
     bad = [f for f in fmts if f not in FORMATS]
     if bad or not fmts:
-        raise argparse.ArgumentTypeError(
-            f"unknown format {', '.join(bad) or text!r}; use a comma list of {', '.join(FORMATS)}")
+        raise argparse.ArgumentTypeError(told("unknown format %(bad)s; use a comma list of "
+                                              "%(known)s", bad=repr(', '.join(bad) or text),
+                                              known=', '.join(FORMATS)))
     return fmts
 
 
@@ -509,125 +529,222 @@ def _check_format(module, lab: str, fmt: str | None, sample_rate: float | None) 
 
 
 LANG_HELP = ("language of the reports and the messages: en or ru (default: en; the messages "
-             "follow a Russian locale)")
+             "follow a Russian locale)",
+             "язык отчётов и сообщений: en или ru (по умолчанию en; сообщения следуют русской "
+             "локали)")
 
 
 def parser(says: str = "en") -> argparse.ArgumentParser:
-    """The command's arguments; ``says`` is the language of the parser's own messages."""
-    p = Parser(prog="dynlab", description="Reduce engine-dynamics lab measurements into "
-               "checked, standardised reports.", says=says)
-    p.add_argument("--debug", action="store_true", help="show tracebacks of internal errors")
-    p.add_argument("--version", action="version", version=f"dynlab {__version__}")
+    """The command's arguments; ``says`` is the language of the parser's own messages and
+    of its help."""
+    def t(en: str, ru: str) -> str:
+        return say(says, en, ru)
+
+    lang_help = t(*LANG_HELP)
+    p = Parser(prog="dynlab", description=t(
+        "Reduce engine-dynamics lab measurements into checked, standardised reports.",
+        "Обработка измерений лабораторных работ по динамике двигателей в проверенные отчёты "
+        "единого вида."), says=says)
+    p.add_argument("--debug", action="store_true",
+                   help=t("show tracebacks of internal errors",
+                          "показывать трассировку внутренних ошибок"))
+    p.add_argument("--version", action="version", version=f"dynlab {__version__}",
+                   help=t("show the version and exit", "показать версию и выйти"))
     sub = p.add_subparsers(dest="command", required=True)
-    run = sub.add_parser("run", help="reduce measurement files into reports")
-    run.add_argument("files", nargs="+", metavar="FILE")
-    run.add_argument("--out", help="folder for the reports (default: reports; with --json "
-                     "alone nothing is written)")
+    run = sub.add_parser("run", help=t("reduce measurement files into reports",
+                                       "обработать файлы измерений в отчёты"))
+    run.add_argument("files", nargs="+", metavar="FILE",
+                     help=t("measurement files (TOML)", "файлы измерений (TOML)"))
+    run.add_argument("--out", help=t("folder for the reports (default: reports; with --json "
+                                     "alone nothing is written)",
+                                     "папка для отчётов (по умолчанию reports; с одним --json "
+                                     "ничего не записывается)"))
     run.add_argument("--format", type=_formats,
-                     help="comma list of html,pdf,json (default: all)")
-    run.add_argument("--lang", choices=LANGS, help=LANG_HELP)
-    run.add_argument("--json", action="store_true", help="print the result JSON to stdout")
+                     help=t("comma list of html,pdf,json (default: all)",
+                            "список через запятую из html,pdf,json (по умолчанию все)"))
+    run.add_argument("--lang", choices=LANGS, help=lang_help)
+    run.add_argument("--json", action="store_true",
+                     help=t("print the result JSON to stdout",
+                            "вывести JSON результатов в stdout"))
     run.add_argument("--confine", action="store_true",
-                     help="read no file outside each measurement file's folder (for checking "
-                          "a class's submissions)")
+                     help=t("read no file outside each measurement file's folder (for "
+                            "checking a class's submissions)",
+                            "не читать файлов вне папки каждого файла измерений (для проверки "
+                            "работ группы)"))
     run.set_defaults(func=_run)
-    sub.add_parser("list", help="list the labs").set_defaults(func=_list)
-    tpl = sub.add_parser("template", help="write a blank measurement file for a lab")
-    tpl.add_argument("lab")
-    tpl.add_argument("--lang", choices=LANGS, help=LANG_HELP)
-    tpl.add_argument("-o", "--output", help="file to write (default: print)")
+    sub.add_parser("list", help=t("list the labs", "список лабораторных работ")
+                   ).set_defaults(func=_list)
+    tpl = sub.add_parser("template", help=t("write a blank measurement file for a lab",
+                                            "записать пустой файл измерений для работы"))
+    tpl.add_argument("lab", help=t("the lab (dynlab list)", "работа (dynlab list)"))
+    tpl.add_argument("--lang", choices=LANGS, help=lang_help)
+    tpl.add_argument("-o", "--output", help=t("file to write (default: print)",
+                                              "файл для записи (по умолчанию вывести)"))
     tpl.set_defaults(func=_template)
-    demo = sub.add_parser("demo", help="reduce the bundled sample data into reports")
-    demo.add_argument("--out", default="dynlab-reports")
-    demo.add_argument("--lang", choices=LANGS, help=LANG_HELP)
-    demo.add_argument("--data", help="the sample_data folder (default: found automatically)")
+    demo = sub.add_parser("demo", help=t("reduce the bundled sample data into reports",
+                                         "обработать прилагаемые примеры данных в отчёты"))
+    demo.add_argument("--out", default="dynlab-reports",
+                      help=t("folder for the reports (default: dynlab-reports)",
+                             "папка для отчётов (по умолчанию dynlab-reports)"))
+    demo.add_argument("--lang", choices=LANGS, help=lang_help)
+    demo.add_argument("--data", help=t("the sample_data folder (default: found automatically)",
+                                       "папка sample_data (по умолчанию находится сама)"))
     demo.set_defaults(func=_demo)
-    kin = sub.add_parser("kinematics", help="table of dimensionless piston motion s, v, j")
-    kin.add_argument("--lambda", dest="lambda_", type=float, required=True,
-                     help="λ = R/L, crank radius over rod length")
-    kin.add_argument("--offset", type=float, default=0.0, help="pin offset ratio z = k/R")
-    kin.add_argument("--step", type=float, default=5.0, help="crank-angle step, degrees")
-    kin.add_argument("--approx", action="store_true", help="the series to λ² instead of exact")
-    kin.add_argument("--format", choices=("table", "csv"), default="table")
+    kin = sub.add_parser("kinematics", help=t("table of dimensionless piston motion s, v, j",
+                                              "таблица безразмерных перемещения, скорости и "
+                                              "ускорения поршня s, v, j"))
+    kin.add_argument("--lambda", dest="lambda_", metavar="LAMBDA", type=_number, required=True,
+                     help=t("λ = R/L, crank radius over rod length",
+                            "λ = R/L, отношение радиуса кривошипа к длине шатуна"))
+    kin.add_argument("--offset", type=_number, default=0.0,
+                     help=t("pin offset ratio z = k/R", "относительное смещение оси z = k/R"))
+    kin.add_argument("--step", type=_number, default=5.0,
+                     help=t("crank-angle step, degrees", "шаг угла поворота кривошипа, градусы"))
+    kin.add_argument("--approx", action="store_true",
+                     help=t("the series to λ² instead of exact",
+                            "ряд до λ² вместо точных формул"))
+    kin.add_argument("--format", choices=("table", "csv"), default="table",
+                     help=t("table or csv (default: table)",
+                            "table (таблица) или csv (по умолчанию table)"))
     kin.set_defaults(func=_kinematics)
-    chk = sub.add_parser("check", help="judge the values a student reported ([reported]) "
-                         "against the reduction; a folder checks a class")
-    chk.add_argument("files", nargs="+", metavar="FILE_OR_FOLDER")
-    chk.add_argument("--policy", help="the teacher's tolerances: a TOML file with rel_tol, "
-                     "sig_figs, expected (per lab in [labN] tables)")
-    chk.add_argument("--out", default="check", help="folder for a class's summary.csv, "
-                     "summary.html and moodle.csv, the marks for Moodle's grade import "
-                     "(default: check)")
-    chk.add_argument("--keys", metavar="KEYDIR", help="the answer keys of the variants "
-                     "(KEYDIR/keys/<id>/answer_key.json as dynlab synth --students wrote them, "
-                     "or KEYDIR/<id>/answer_key.json): each submission, bound to its student "
-                     "by its folder FOLDER/<id>/ or its [meta] id, is judged against that "
-                     "student's key, and named where its readings or values are another "
-                     "student's")
-    chk.add_argument("--roster", metavar="ROSTER.csv", help="with --keys: the class's roster "
-                     "(columns id,name): the ids a submission may be bound to and the names "
-                     "shown (default: every id of KEYDIR)")
-    chk.add_argument("--lang", choices=LANGS, help=LANG_HELP)
-    chk.add_argument("--json", action="store_true", help="print the verdicts as JSON")
+    chk = sub.add_parser("check", help=t(
+        "judge the values a student reported ([reported]) against the reduction; a folder "
+        "checks a class",
+        "проверить значения, которые сообщил студент ([reported]), по обработке; папка — "
+        "проверка группы"))
+    chk.add_argument("files", nargs="+", metavar="FILE_OR_FOLDER",
+                     help=t("measurement files, or folders of a class's submissions",
+                            "файлы измерений или папки с работами группы"))
+    chk.add_argument("--policy", help=t(
+        "the teacher's tolerances: a TOML file with rel_tol, sig_figs, expected (per lab in "
+        "[labN] tables)",
+        "допуски преподавателя: файл TOML с rel_tol, sig_figs, expected (по работам в "
+        "таблицах [labN])"))
+    chk.add_argument("--out", default="check", help=t(
+        "folder for a class's summary.csv, summary.html and moodle.csv, the marks for "
+        "Moodle's grade import (default: check)",
+        "папка для summary.csv, summary.html и moodle.csv группы (оценки для импорта в "
+        "Moodle; по умолчанию check)"))
+    chk.add_argument("--keys", metavar="KEYDIR", help=t(
+        "the answer keys of the variants (KEYDIR/keys/<id>/answer_key.json as dynlab synth "
+        "--students wrote them, or KEYDIR/<id>/answer_key.json): each submission, bound to "
+        "its student by its folder FOLDER/<id>/ or its [meta] id, is judged against that "
+        "student's key, and named where its readings or values are another student's",
+        "ключи ответов вариантов (KEYDIR/keys/<id>/answer_key.json, как их записал dynlab "
+        "synth --students, или KEYDIR/<id>/answer_key.json): каждая работа, привязанная к "
+        "студенту папкой FOLDER/<id>/ или своим [meta] id, проверяется по ключу этого "
+        "студента, а если её отсчёты или значения — чужие, это называется"))
+    chk.add_argument("--roster", metavar="ROSTER.csv", help=t(
+        "with --keys: the class's roster (columns id,name): the ids a submission may be bound "
+        "to and the names shown (default: every id of KEYDIR)",
+        "с --keys: список группы (столбцы id,name): id, к которым можно привязать работу, и "
+        "показываемые имена (по умолчанию все id из KEYDIR)"))
+    chk.add_argument("--lang", choices=LANGS, help=lang_help)
+    chk.add_argument("--json", action="store_true",
+                     help=t("print the verdicts as JSON", "вывести вердикты в JSON"))
     chk.set_defaults(func=_check)
-    syn = sub.add_parser("synth", help="write a synthetic measurement with its answer key")
-    syn.add_argument("lab", choices=tuple(CATALOGUE))
-    syn.add_argument("--seed", type=_seed, default=0)
-    syn.add_argument("--out", default="synthetic", help="folder to write (default: synthetic)")
-    syn.add_argument("--format", help="labs 3, 4, 6, 7: recording format, wav, csv or h5 "
-                     "(lab 3's default wav, lab 4's h5, labs 6 and 7 csv)")
-    syn.add_argument("--snr", type=float, help="sensor SNR, dB (lab 4: in the worst band)")
-    syn.add_argument("--pitch-error", type=float,
-                     help="lab 3: σ of the wheel's tooth angles, degrees (default 0.03)")
-    syn.add_argument("--sample-rate", type=float, help="sample rate, kHz")
-    syn.add_argument("--runs", type=int, help="lab 5, lab 9: number of loading runs")
-    syn.add_argument("--friction", type=float, help="lab 5: friction in the joints, N")
-    syn.add_argument("--contact", type=float,
-                     help="lab 5: contact deformation at 1000 N, µm (stiffening table)")
-    syn.add_argument("--lash", type=float, help="lab 5: lash taken up first, µm")
-    syn.add_argument("--periods", type=float, help="lab 9: decay record length, periods")
-    syn.add_argument("--amplitude-exponent", type=float,
-                     help="lab 9: p in δ(A) = δ₀·(A/φ₀)^p (0: linear damping)")
-    syn.add_argument("--paper", action="store_true",
-                     help="lab 9: maxima read off a paper record instead of a recording")
-    syn.add_argument("--film", action="store_true",
-                     help="labs 1, 2: the swings filmed (MP4) instead of timed by hand")
-    syn.add_argument("--students", metavar="ROSTER.csv",
-                     help="one variant per student of a roster (columns id,name): the "
-                          "handouts in OUT/handouts/<id>/ (the measurement file, its "
-                          "recordings, readings.html to print) and the answer keys, which "
-                          "the teacher keeps, in OUT/keys/<id>/answer_key.json")
-    syn.add_argument("--image", action="store_true",
-                     help="labs 3, 6, 7, 9: the records as photographs of their paper (JPEG, "
-                          "read with OpenCV)")
-    syn.add_argument("--no-recording", action="store_true",
-                     help="lab 3 with --image: the photographed oscillograms alone, no "
-                          "sensor recording")
-    syn.add_argument("--part", type=_seed, metavar="SEED",
-                     help="labs 3–7: the rig of this seed (0: the scene's own) under --seed's "
-                          "readings and noise (default: --seed's own rig)")
+    syn = sub.add_parser("synth", help=t("write a synthetic measurement with its answer key",
+                                         "записать синтетическое измерение с ключом ответов"))
+    syn.add_argument("lab", choices=tuple(CATALOGUE),
+                     help=t("the lab", "работа"))
+    syn.add_argument("--seed", type=_seed, default=0,
+                     help=t("seed of the random generators (default 0)",
+                            "зерно генераторов случайных чисел (по умолчанию 0)"))
+    syn.add_argument("--out", default="synthetic",
+                     help=t("folder to write (default: synthetic)",
+                            "папка для записи (по умолчанию synthetic)"))
+    syn.add_argument("--format", help=t(
+        "labs 3, 4, 6, 7: recording format, wav, csv or h5 (lab 3's default wav, lab 4's h5, "
+        "labs 6 and 7 csv)",
+        "работы 3, 4, 6, 7: формат записи, wav, csv или h5 (по умолчанию у работы 3 wav, у "
+        "работы 4 h5, у работ 6 и 7 csv)"))
+    syn.add_argument("--snr", type=_number, help=t(
+        "sensor SNR, dB (lab 4: in the worst band)",
+        "отношение сигнал/шум датчика, дБ (работа 4: в худшей полосе)"))
+    syn.add_argument("--pitch-error", type=_number, help=t(
+        "lab 3: σ of the wheel's tooth angles, degrees (default 0.03)",
+        "работа 3: σ угловых положений зубьев колеса, градусы (по умолчанию 0,03)"))
+    syn.add_argument("--sample-rate", type=_number,
+                     help=t("sample rate, kHz", "частота дискретизации, кГц"))
+    syn.add_argument("--runs", type=_whole, help=t("lab 5, lab 9: number of loading runs",
+                                                   "работы 5 и 9: число нагружений"))
+    syn.add_argument("--friction", type=_number,
+                     help=t("lab 5: friction in the joints, N", "работа 5: трение в сочленениях, Н"))
+    syn.add_argument("--contact", type=_number, help=t(
+        "lab 5: contact deformation at 1000 N, µm (stiffening table)",
+        "работа 5: контактная деформация при 1000 Н, мкм (ужесточающаяся таблица)"))
+    syn.add_argument("--lash", type=_number, help=t("lab 5: lash taken up first, µm",
+                                                    "работа 5: выбираемый сначала зазор, мкм"))
+    syn.add_argument("--periods", type=_number, help=t(
+        "lab 9: decay record length, periods", "работа 9: длина записи затухания, периоды"))
+    syn.add_argument("--amplitude-exponent", type=_number, help=t(
+        "lab 9: p in δ(A) = δ₀·(A/φ₀)^p (0: linear damping)",
+        "работа 9: p в δ(A) = δ₀·(A/φ₀)^p (0 — линейное демпфирование)"))
+    syn.add_argument("--paper", action="store_true", help=t(
+        "lab 9: maxima read off a paper record instead of a recording",
+        "работа 9: максимумы, снятые с бумажной записи, вместо цифровой записи"))
+    syn.add_argument("--film", action="store_true", help=t(
+        "labs 1, 2: the swings filmed (MP4) instead of timed by hand",
+        "работы 1, 2: качания сняты на видео (MP4), а не засечены секундомером"))
+    syn.add_argument("--students", metavar="ROSTER.csv", help=t(
+        "one variant per student of a roster (columns id,name): the handouts in "
+        "OUT/handouts/<id>/ (the measurement file, its recordings, readings.html to print) "
+        "and the answer keys, which the teacher keeps, in OUT/keys/<id>/answer_key.json",
+        "по варианту на каждого студента из списка (столбцы id,name): задания в "
+        "OUT/handouts/<id>/ (файл измерений, его записи, readings.html для печати) и ключи "
+        "ответов, которые хранит преподаватель, в OUT/keys/<id>/answer_key.json"))
+    syn.add_argument("--image", action="store_true", help=t(
+        "labs 3, 6, 7, 9: the records as photographs of their paper (JPEG, read with OpenCV)",
+        "работы 3, 6, 7, 9: записи в виде фотографий их бумаги (JPEG, читаются OpenCV)"))
+    syn.add_argument("--no-recording", action="store_true", help=t(
+        "lab 3 with --image: the photographed oscillograms alone, no sensor recording",
+        "работа 3 с --image: только сфотографированные осциллограммы, без записи датчика"))
+    syn.add_argument("--part", type=_seed, metavar="SEED", help=t(
+        "labs 3–7: the rig of this seed (0: the scene's own) under --seed's readings and "
+        "noise (default: --seed's own rig)",
+        "работы 3–7: установка этого зерна (0 — собственная установка сцены) при отсчётах и "
+        "шуме зерна --seed (по умолчанию установка самого --seed)"))
     syn.set_defaults(func=_synth)
-    srv = sub.add_parser("serve", help="a local web page: each lab's form, its report; with "
-                         "--class, students hand in and the teacher watches the class")
-    srv.add_argument("--host", default="127.0.0.1", help="address to listen on (default "
-                     "127.0.0.1, this machine only; any other needs the printed link's token)")
-    srv.add_argument("--port", type=_count(1, 65535), default=8000)
-    srv.add_argument("--lang", choices=LANGS, help=LANG_HELP)
-    srv.add_argument("--class", dest="class_dir", metavar="DIR", help="the class folder: "
-                     "hand-ins go to DIR/<id>/ as dynlab check reads them")
-    srv.add_argument("--roster", metavar="ROSTER.csv", help="with --class: the class's roster "
-                     "(columns id,name)")
-    srv.add_argument("--keys", metavar="KEYDIR", help="with --class: the answer keys of the "
-                     "variants (as for dynlab check --keys)")
-    srv.add_argument("--workers", type=_count(1, 64), default=2, help="reductions at once (default 2)")
+    srv = sub.add_parser("serve", help=t(
+        "a local web page: each lab's form, its report; with --class, students hand in and "
+        "the teacher watches the class",
+        "локальная веб-страница: форма каждой работы и её отчёт; с --class студенты сдают "
+        "работы, а преподаватель следит за группой"))
+    srv.add_argument("--host", default="127.0.0.1", help=t(
+        "address to listen on (default 127.0.0.1, this machine only; any other needs the "
+        "printed link's token)",
+        "адрес для приёма (по умолчанию 127.0.0.1, только этот компьютер; для любого другого "
+        "нужен токен из напечатанной ссылки)"))
+    srv.add_argument("--port", type=_count(1, 65535), default=8000,
+                     help=t("port to listen on (default 8000)",
+                            "порт для приёма (по умолчанию 8000)"))
+    srv.add_argument("--lang", choices=LANGS, help=lang_help)
+    srv.add_argument("--class", dest="class_dir", metavar="DIR", help=t(
+        "the class folder: hand-ins go to DIR/<id>/ as dynlab check reads them",
+        "папка группы: сданные работы попадают в DIR/<id>/, как их читает dynlab check"))
+    srv.add_argument("--roster", metavar="ROSTER.csv", help=t(
+        "with --class: the class's roster (columns id,name)",
+        "с --class: список группы (столбцы id,name)"))
+    srv.add_argument("--keys", metavar="KEYDIR", help=t(
+        "with --class: the answer keys of the variants (as for dynlab check --keys)",
+        "с --class: ключи ответов вариантов (как для dynlab check --keys)"))
+    srv.add_argument("--workers", type=_count(1, 64), default=2,
+                     help=t("reductions at once (default 2)",
+                            "обработок одновременно (по умолчанию 2)"))
     srv.add_argument("--time-limit", type=_seconds, default=120.0,
-                     help="seconds one reduction may take (default 120)")
+                     help=t("seconds one reduction may take (default 120)",
+                            "секунд на одну обработку (по умолчанию 120)"))
     srv.add_argument("--memory-limit", type=_count(256, 1 << 20), default=3072,
-                     help="MiB of address space one reduction may take (default 3072)")
+                     help=t("MiB of address space one reduction may take (default 3072)",
+                            "МиБ адресного пространства на одну обработку (по умолчанию "
+                            "3072)"))
     srv.add_argument("--max-file", type=_count(1, 1 << 20), default=200,
-                     help="largest uploaded file, MiB (default 200)")
+                     help=t("largest uploaded file, MiB (default 200)",
+                            "наибольший загружаемый файл, МиБ (по умолчанию 200)"))
     srv.add_argument("--max-upload", type=_count(1, 1 << 20), default=400,
-                     help="largest submission (all its files), MiB (default 400)")
+                     help=t("largest submission (all its files), MiB (default 400)",
+                            "наибольшая сдаваемая работа (все её файлы), МиБ (по умолчанию "
+                            "400)"))
     srv.set_defaults(func=_serve)
     return p
 

@@ -42,6 +42,8 @@ from scipy import optimize, stats
 from scipy.ndimage import uniform_filter1d
 from scipy.signal import savgol_coeffs
 
+from processing.diagnostics import Reason
+
 from .half_range import neighbour_baseline
 from processing.regression import CurvatureTest, LineFit, curvature_test, fit_line
 from .savgol import savgol
@@ -1094,6 +1096,16 @@ def _near_rails(x: np.ndarray, clipped, sigma: float):
     return out
 
 
+class NoDecayError(RuntimeError):
+    """The fitted oscillation does not decay measurably: why, in English and Russian
+    (``ru``); a RuntimeError, as the fit's own failures are, not a :class:`Reason` (a
+    ValueError: too few extrema)."""
+
+    def __init__(self, reason: str, ru: str):
+        super().__init__(reason)
+        self.ru = ru
+
+
 def analyse_decay(time, x, *, clipped=None) -> RecordedDecay:
     """Reduce a free-decay record: its extrema, a damped sinusoid over the whole trace, a
     line through the peaks and the test of a changing decrement.
@@ -1114,11 +1126,12 @@ def analyse_decay(time, x, *, clipped=None) -> RecordedDecay:
 
     Raises
     ------
-    ValueError
+    Reason
         Fewer than three extrema stand out of the noise (no oscillation to fit), or fewer
-        than three are clear of the clipped samples.
+        than three are clear of the clipped samples (a ValueError, in English and Russian).
     RuntimeError
-        The fit failed, or the fitted oscillation does not decay measurably (δ ≤ 2u(δ)).
+        The fit failed, or the fitted oscillation does not decay measurably (δ ≤ 2u(δ):
+        :class:`NoDecayError`).
 
     Notes
     -----
@@ -1144,18 +1157,24 @@ def analyse_decay(time, x, *, clipped=None) -> RecordedDecay:
     clipped = None if clipped is None else np.asarray(clipped, bool)[:keep]
     found = find_peaks(t, x, clipped=clipped)
     if found.time.size < 3:
-        raise ValueError(f"{found.time.size} extrema of an oscillation stand out of the noise; "
-                         "a decay needs at least three")
+        raise Reason(f"{found.time.size} extrema of an oscillation stand out of the noise; "
+                     "a decay needs at least three", "из шума выделяются экстремумов колебаний: "
+                     f"{found.time.size}, а для затухания нужно хотя бы три")
     if found.clear < 3:
-        raise ValueError(f"{found.clear} of the {found.time.size} extrema after the release are "
-                         "clear of the clipped samples; a decay needs at least three")
+        raise Reason(f"{found.clear} of the {found.time.size} extrema after the release are "
+                     "clear of the clipped samples; a decay needs at least three",
+                     f"из {found.time.size} экстремумов после отпускания не задеты "
+                     f"срезанными отсчётами лишь {found.clear}, а для затухания нужно хотя бы "
+                     "три")
     start = float(found.time[0] - 0.45 * found.period)
     clipped = _near_rails(x, clipped, found.noise)
     models = fit_baselines(t, x, start=start, period=found.period, exclude=clipped)
     trace = models.fit
     if not trace.delta > 2.0 * trace.u("delta"):
-        raise RuntimeError(f"the oscillation does not decay measurably (δ = {trace.delta:.2g} "
-                           f"± {2 * trace.u('delta'):.2g}, k = 2): it is not a free decay")
+        raise NoDecayError(f"the oscillation does not decay measurably (δ = {trace.delta:.2g} "
+                           f"± {2 * trace.u('delta'):.2g}, k = 2): it is not a free decay",
+                           f"колебания заметно не затухают (δ = {trace.delta:.2g} ± "
+                           f"{2 * trace.u('delta'):.2g}, k = 2): это не свободное затухание")
     peaks = (log_decrement(found.amplitudes, step=0.5, half_ranges=True)
              if found.used.sum() >= 3 else None)
     return RecordedDecay(found, trace, peaks, decrement_trend(t, x, trace, noise=found.noise,

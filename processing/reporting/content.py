@@ -47,9 +47,22 @@ def _budget(r, lang: str, names: dict[str, str], top: int = 3) -> str:
     file → how the report names it) or, failing that, by its key."""
     items = sorted(r.estimate.contributions.items(), key=lambda kv: -kv[1])
     total = sum(c * c for _, c in items) or 1.0
-    return ", ".join(f"{names.get(k, _model_name(k) if names else k)} "
-                     f"{100 * c * c / total:.0f} %"
+    return ", ".join(f"{_named(k, names)} {100 * c * c / total:.0f} %"
                      for k, c in items[:top] if c * c / total >= 0.005)
+
+
+def _named(key: str, names: dict[str, str]) -> str:
+    """A budget's input as ``names`` names it: by its key, or, under a part that is a word
+    (``decay.log_decrement_peaks``), by its last part; else by :func:`_model_name` (no
+    ``names``: by its key).
+
+    >>> _named("decay.log_decrement_peaks", {"log_decrement_peaks": "δ_p"})
+    'δ_p'
+    """
+    head, _, last = key.rpartition(".")
+    if key in names or not names:
+        return names.get(key, key)
+    return names.get(last) if _WORD.fullmatch(head) and last in names else _model_name(key)
 
 
 GREEK = {"alpha": "α", "beta": "β", "gamma": "γ", "delta": "δ", "epsilon": "ε", "zeta": "ζ",
@@ -72,16 +85,48 @@ def _symbol(symbol: str, lang: str) -> str:
     return "" if lang == "ru" and _WORD.fullmatch(symbol) and symbol not in GREEK else symbol
 
 
+MODEL_WORDS_RU = {"advance": "опережение", "lag": "запаздывание", "loss": "потеря",
+                  "compliance": "податливость", "dynamometer": "динамометр",
+                  "gauge": "индикатор", "lift_gauge": "индикатор подъёма", "lever": "рычаг",
+                  "load": "нагрузка", "unload": "разгрузка", "mean": "среднее",
+                  "model": "модель", "order": "порядок", "share": "доля", "slope": "наклон",
+                  "half_period": "полупериод"}
+"""The inputs of the labs' measurement models that are no field of the file and are named
+by a word (lab 5's gauges, lever and branches, lab 2's statistical share, lab 6's phases,
+lab 7's model, slope and orders, lab 9's compliance), as a Russian budget names them."""
+
+_NUMBERED = re.compile(r"([a-z_]*[a-z])(\d*)")
+
+
+def _model_word(word: str) -> str:
+    """A model input's own name in Russian: a word of :data:`MODEL_WORDS_RU` (its number
+    kept), a Greek letter spelt out written as the letter, in a symbol's parts too.
+
+    >>> _model_word("gauge3"), _model_word("omega_max"), _model_word("phi4"), _model_word("A_min")
+    ('индикатор 3', 'ω_max', 'φ4', 'A_min')
+    """
+    numbered = _NUMBERED.fullmatch(word)
+    if numbered and numbered[1] in MODEL_WORDS_RU:
+        return " ".join(filter(None, (MODEL_WORDS_RU[numbered[1]], numbered[2])))
+
+    def part(p: str) -> str:
+        m = _NUMBERED.fullmatch(p)
+        return GREEK[m[1]] + m[2] if m and m[1] in GREEK else p
+    return "_".join(part(p) for p in word.split("_"))
+
+
 def _model_name(key: str) -> str:
     """A measurement model's input that is no field of the file, as a Russian budget names it:
-    its last part (a Greek letter spelt out written as the letter) and the part before it
-    where that is a symbol, not an English word (``r7.omega`` → ``ω (r7)``).
+    its last part in Russian (:func:`_model_word`) and the part before it where that is a
+    symbol, not an English word (``r7.omega`` → ``ω (r7)``).
 
     >>> _model_name("r7.omega"), _model_name("chain.c4"), _model_name("lever")
-    ('ω (r7)', 'c4', 'lever')
+    ('ω (r7)', 'c4', 'рычаг')
+    >>> _model_name("s3.unload"), _model_name("r11.order6")
+    ('разгрузка (s3)', 'порядок 6 (r11)')
     """
     head, _, last = key.rpartition(".")
-    last = GREEK.get(last, last)
+    last = _model_word(last)
     return f"{last} ({head})" if head and not _WORD.fullmatch(head) else last
 
 
@@ -200,6 +245,9 @@ def build(res, lang: str = "en") -> dict:
     t = text(lang)
     meta = dict(res.meta)
     results, names = [], _input_names(res.inputs, lang)
+    if lang == "ru":     # a result named by a word that is another's input: by its symbol
+        names = {**{n: r.symbol for n, r in res.results.items()
+                    if r.symbol and _WORD.fullmatch(n)}, **names}
     for name, r in res.results.items():
         e = r.estimate
         v, U = fmt_pm(r.shown(e.value), r.shown(e.value + e.U) - r.shown(e.value))

@@ -165,7 +165,12 @@ def _check_cycles(table, skipped):
                          + (f" ({skipped} cycles had teeth missing or miscounted)" if skipped
                             else ""),
                          "record at least two working cycles (720° of a four-stroke engine "
-                         "each) and check the wheel's z, its gap and the stroke number")
+                         "each) and check the wheel's z, its gap and the stroke number",
+                         ru=("в записи нет ни одного полного рабочего цикла"
+                             + (f" (в циклах с пропущенными или лишними зубьями: {skipped})"
+                                if skipped else ""),
+                             "запишите хотя бы два рабочих цикла (по 720° у четырёхтактного "
+                             "двигателя) и проверьте z колеса, его пропуск и тактность"))
 
 
 def fit_cycles(track: ToothTrack, *, revolutions: int = 2, orders: float | None = None,

@@ -22,6 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..diagnostics import Reason
+
 SIGNIFICANCE = 3.0
 """An order is kept when its mean amplitude exceeds this many standard errors of the mean over
 the cycles."""
@@ -160,14 +162,16 @@ def cycle_range(time, value, starts, *, orders: int | None = None,
 
     Raises
     ------
-    ValueError
-        No whole cycle within the trace, or a cycle with too few samples for one order.
+    Reason
+        No whole cycle within the trace, or a cycle with too few samples for one order (a
+        ValueError, its text in English and in Russian).
     """
     t, h = np.asarray(time, dtype=float), np.asarray(value, dtype=float)
     edges = np.asarray(starts, dtype=float)
     edges = edges[(edges >= t[0]) & (edges <= t[-1])]
     if edges.size < 2:
-        raise ValueError("no whole cycle between the marks within the trace")
+        raise Reason("no whole cycle between the marks within the trace",
+                     "между отметками в пределах записи нет ни одного целого цикла")
     pieces = []
     for a, b in zip(edges[:-1], edges[1:]):
         inside = (t >= a) & (t < b) & np.isfinite(h)
@@ -175,7 +179,8 @@ def cycle_range(time, value, starts, *, orders: int | None = None,
     fewest = min(p[0].size for p in pieces)
     most = min(MOST_ORDERS, fewest // 4) if orders is None else int(orders)
     if most < 1 or 2 * most + 1 > fewest:
-        raise ValueError(f"a cycle holds {fewest} samples read: too few for a Fourier fit")
+        raise Reason(f"a cycle holds {fewest} samples read: too few for a Fourier fit",
+                     f"в цикле прочитано отсчётов: {fewest}, для ряда Фурье этого мало")
     coefficients = np.array([_fit(theta, y, most) for theta, y in pieces])
     keep = most if orders is not None else _significant(coefficients, most)
     if keep < most:

@@ -85,8 +85,12 @@ class Film:
     tick: float = 0.0
 
 
-def _refuse(path, field_name, problem: str, fix: str) -> InputError:
-    return InputError(problem, fix, file=str(path), field=field_name)
+def _refuse(path, field_name, problem: str, fix: str, ru: tuple[str, str]) -> InputError:
+    return InputError(problem, fix, file=str(path), field=field_name, ru=ru)
+
+
+RECORDED_RU = "дайте файл MP4, MOV или AVI в том виде, как его записал телефон"
+"""The fix of a file that is not a film, in Russian."""
 
 
 def _is_film(head: bytes) -> bool:
@@ -110,11 +114,14 @@ def _container(path, field_name):
         box = av.open(str(Path(path).resolve()), "r")
     except (av.FFmpegError, UnicodeDecodeError, ValueError):
         raise _refuse(path, field_name, "not a film FFmpeg can read", "give an MP4, MOV or "
-                      "AVI file as the phone recorded it") from None
+                      "AVI file as the phone recorded it",
+                      ("это не видео, которое может прочитать FFmpeg", RECORDED_RU)) from None
     if not box.streams.video:
         box.close()
         raise _refuse(path, field_name, "not a film: the file holds no video stream",
-                      "give the film as the phone recorded it (MP4 or MOV)")
+                      "give the film as the phone recorded it (MP4 or MOV)",
+                      ("это не видео: в файле нет видеопотока", "дайте видео в том виде, как "
+                       "его записал телефон (MP4 или MOV)"))
     return box, box.streams.video[0]
 
 
@@ -132,7 +139,9 @@ def open_film(path, field_name: str | None = None) -> Film:
     if not _is_film(head):
         raise _refuse(path, field_name, "not a film: its first bytes are not those of an MP4, "
                       "MOV, AVI or MKV file", "give the film as the phone recorded it (MP4 or "
-                      "MOV)")
+                      "MOV)", ("это не видео: первые байты файла не такие, как у MP4, MOV, AVI "
+                               "или MKV", "дайте видео в том виде, как его записал телефон "
+                               "(MP4 или MOV)"))
     box, stream = _container(path, field_name)
     try:
         w, h = int(stream.codec_context.width), int(stream.codec_context.height)
@@ -146,10 +155,16 @@ def open_film(path, field_name: str | None = None) -> Film:
         raise _refuse(path, field_name, f"its video stream's header says {w} × {h} px a frame "
                       f"({w * h / 1e6:.3g} Mpx), more than the {MAX_FRAME_PIXELS / 1e6:.3g} "
                       "Mpx of a 4K frame a film is read at", "film at 1080p or 4K (the "
-                      "phone's camera settings), or export the film at that size")
+                      "phone's camera settings), or export the film at that size",
+                      (f"по заголовку видеопотока кадр {w} × {h} пикс ({w * h / 1e6:.3g} Мпикс), "
+                       f"больше {MAX_FRAME_PIXELS / 1e6:.3g} Мпикс кадра 4K, в котором "
+                       "читается видео", "снимайте в 1080p или 4K (настройки камеры телефона) "
+                       "или сохраните видео в этом размере"))
     if w * h == 0:
         raise _refuse(path, field_name, "not a film FFmpeg can read: its video stream has no "
-                      "frame size", "give an MP4, MOV or AVI file as the phone recorded it")
+                      "frame size", "give an MP4, MOV or AVI file as the phone recorded it",
+                      ("это не видео, которое может прочитать FFmpeg: у видеопотока нет "
+                       "размера кадра", RECORDED_RU))
     return Film(Path(path), (w, h), float(rate) if rate else math.nan,
                 min(1.0, WORK_SIDE / max(w, h)), timed, count, tick)
 
@@ -193,7 +208,9 @@ def frames(film: Film, field_name: str | None = None) -> Iterator[tuple[np.ndarr
     except av.FFmpegError as exc:
         if not decoded:
             raise _refuse(film.path, field_name, f"not a film FFmpeg can decode ({exc})",
-                          "give an MP4, MOV or AVI file as the phone recorded it") from None
+                          "give an MP4, MOV or AVI file as the phone recorded it",
+                          ("это не видео, которое может декодировать FFmpeg (его сообщение: "
+                           f"'{exc}')", RECORDED_RU)) from None
         # a film cut short (a truncated file): the frames decoded are kept
     finally:
         box.close()
@@ -259,7 +276,9 @@ def frame_clock(film: Film, times, field_name: str | None = None) -> tuple[np.nd
     steps = np.diff(times)
     if not np.all(steps > 0):
         raise _refuse(film.path, field_name, "the frames' timestamps do not rise",
-                      "export the film again from the phone without editing it")
+                      "export the film again from the phone without editing it",
+                      ("метки времени кадров не возрастают", "заново сохраните видео с "
+                       "телефона, не редактируя его"))
     if steps.size == 0:
         return times, 0
     typical = typical_interval(times)

@@ -32,6 +32,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO
 
+from ..diagnostics import Reason
+
 FORMATS = "PNG, JPEG, TIFF or BMP"
 """The formats :func:`image_header` reads (those a record is photographed or scanned in)."""
 
@@ -48,13 +50,9 @@ _TIFF_TYPES = {3: ("H", 2), 4: ("I", 4), 16: ("Q", 8)}
 """TIFF field types a size may be stored in: SHORT, LONG, LONG8 (format, bytes)."""
 
 
-class HeaderError(ValueError):
+class HeaderError(Reason):
     """The file is not an image of a known format, or its header is broken: the reason, and
     in Russian (``ru``)."""
-
-    def __init__(self, reason: str, ru: str):
-        super().__init__(reason)
-        self.ru = ru
 
 
 @dataclass(frozen=True)

@@ -30,6 +30,7 @@ import numpy as np
 from scipy import optimize
 from scipy.signal import find_peaks
 
+from ..diagnostics import Reason
 from ..regression import curvature_test, fit_line
 from ..result import Record
 from .lines import Line
@@ -444,8 +445,9 @@ class TimeBase(Record):
                      / self.spacing)
 
 
-class TimeMarkError(ValueError):
-    """The time marks do not make a time base (too few, or not on a regular grid)."""
+class TimeMarkError(Reason):
+    """The time marks do not make a time base (too few, or not on a regular grid): why, in
+    English and Russian."""
 
 
 def time_base(rising, period: float) -> TimeBase:
@@ -476,12 +478,15 @@ def time_base(rising, period: float) -> TimeBase:
     """
     x = np.asarray(rising, dtype=float)
     if x.size < MIN_TIME_MARKS:
-        raise TimeMarkError(f"{x.size} time mark(s) found, at least {MIN_TIME_MARKS} needed")
+        raise TimeMarkError(f"{x.size} time mark(s) found, at least {MIN_TIME_MARKS} needed",
+                            f"найдено отметок времени: {x.size}, а нужно не меньше "
+                            f"{MIN_TIME_MARKS}")
     gaps = np.diff(x)
     spacing = float(np.median(gaps))
     regular = np.flatnonzero(np.abs(gaps - spacing) < 0.1 * spacing)
     if regular.size == 0:
-        raise TimeMarkError("the time marks are not evenly spaced")
+        raise TimeMarkError("the time marks are not evenly spaced",
+                            "отметки времени стоят неравномерно")
     origin = x[regular[0]]
     keep = np.ones(x.size, bool)
     for _ in range(3):
@@ -490,12 +495,17 @@ def time_base(rising, period: float) -> TimeBase:
         keep = ~off & _first_of_each(k, np.abs(x - origin - spacing * k))
         if keep.sum() < MIN_TIME_MARKS:
             raise TimeMarkError(f"only {keep.sum()} time mark(s) lie on a regular grid, at "
-                                f"least {MIN_TIME_MARKS} needed")
+                                f"least {MIN_TIME_MARKS} needed",
+                                f"отметок времени на равномерной сетке лишь {keep.sum()}, а "
+                                f"нужно не меньше {MIN_TIME_MARKS}")
         fit = fit_line(k[keep], x[keep])
         origin, spacing = fit.intercept, fit.slope
     if fit.residual_sd > MAX_RESIDUAL * spacing:
         raise TimeMarkError(f"the time marks scatter by {fit.residual_sd:.2g} px about an even "
-                            f"spacing of {spacing:.4g} px: they cannot be timed")
+                            f"spacing of {spacing:.4g} px: they cannot be timed",
+                            f"отметки времени отклоняются на {fit.residual_sd:.2g} пикс от "
+                            f"равномерного шага {spacing:.4g} пикс: по ним не отсчитать "
+                            "время")
     k = np.round((x - origin) / spacing)
     k0 = k[keep].min()
     numbers, marks = (k[keep] - k0).astype(int), x[keep]

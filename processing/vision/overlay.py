@@ -9,6 +9,8 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
+from ..units import unit_text
+
 OVERLAY_WIDTH = 1600
 """Widest overlay image kept with a record. [px]"""
 
@@ -124,6 +126,6 @@ def plot_values(ax, time, value, confidence, *, lang: str = "en", unit: str = ""
             ax.axvspan(time[a], time[min(b, len(time) - 1)], color="red", alpha=0.15, lw=0)
         ax.axvspan(0, 0, color="red", alpha=0.15, lw=0, label=text["gap"])
     ax.set_xlabel(text["t"])
-    ax.set_ylabel(f"{text['value']}{', ' + unit if unit else ''}")
+    ax.set_ylabel(f"{text['value']}{', ' + unit_text(unit, lang) if unit else ''}")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, loc="upper right")

@@ -198,7 +198,12 @@ def darkness(image: np.ndarray, *, name: str = "<array>", field: str | None = No
         raise InputError(f"the image is {image.shape[1] if image.ndim > 1 else 0} × "
                          f"{image.shape[0]} px, too small to read a trace off",
                          f"photograph or scan the record at ≥ {MIN_SIDE} px on each side "
-                         "(a few thousand along the record)", file=name, field=field)
+                         "(a few thousand along the record)", file=name, field=field,
+                         ru=(f"снимок {image.shape[1] if image.ndim > 1 else 0} × "
+                             f"{image.shape[0]} пикс слишком мал, чтобы прочитать запись",
+                             f"сфотографируйте или отсканируйте запись с разрешением не меньше "
+                             f"{MIN_SIDE} пикс по каждой стороне (несколько тысяч вдоль "
+                             "записи)"))
     return np.ascontiguousarray(image)
 
 

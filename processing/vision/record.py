@@ -63,6 +63,7 @@ from scipy.interpolate import PchipInterpolator
 
 from ..diagnostics import (BlurredMarksWarning, InputError, LowConfidenceTraceWarning,
                            UnevenTimeBaseWarning)
+from ..numerals import plural
 from ..result import Figure
 from ..uncertainty import Measured
 from .lines import Line, grid_spacing, remove_lines
@@ -165,6 +166,8 @@ class PaperRecord:
     lines : str
         The straight lines found along the sheet and what each was taken for (the zero line
         measured from marked ``taken``), for messages.
+    lines_ru : str
+        The same in Russian.
     """
 
     path: str
@@ -186,6 +189,7 @@ class PaperRecord:
     overlay: Overlay = field(repr=False)
     turns: int = 0
     lines: str = ""
+    lines_ru: str = ""
 
     @property
     def clock(self) -> Measured:
@@ -278,7 +282,13 @@ class PaperRecord:
                 f"t = {t0 * 1e3:.4g} ms", "look at the overlay: retake the photograph flat, "
                 "sharp and evenly lit, or allow the gaps to be interpolated across with "
                 "bridge (the longest gap, e.g. \"2 ms\") where the trace is smooth",
-                file=self.path, field=self.field)
+                file=self.path, field=self.field,
+                ru=(f"линия записи не прочитана на участках снимка: {len(gaps)} "
+                    f"({_share(lost.size / max(stop - start, 1))} отсчётов), первый при "
+                    f"t = {t0 * 1e3:.4g} мс", "посмотрите на наложение: переснимите запись "
+                    "ровно, резко и при ровном освещении или разрешите интерполировать "
+                    "разрывы параметром bridge (наибольший разрыв, например \"2 ms\") там, "
+                    "где линия плавная"))
         return (self.value[a:min(a + size, stop)].copy() for a in range(start, stop, size))
 
     # --- the reading's quality ---
@@ -463,7 +473,11 @@ def read_paper_records(source, *, traces: int | None = None, mark_period=None,
     except NoTraceError as exc:
         raise where.error(f"{exc} (after the straight lines and marks were set aside)",
                           "photograph the record so that the traces fill the frame, sharp and "
-                          "evenly lit; check that the file is the oscillogram") from None
+                          "evenly lit; check that the file is the oscillogram",
+                          ru=(f"{exc.ru} (прямые линии и отметки отложены в сторону)",
+                              "сфотографируйте запись так, чтобы линии заполняли кадр, резко "
+                              "и при ровном освещении; проверьте, что это файл "
+                              "осциллограммы")) from None
     found_pips = {k: p for k, p in (("time", time_pips), ("tdc", tdc_pips)) if p is not None}
     judged = judge_lines(sheet.grey, lines, plain, found_pips)
     zero_lines = [line for line, kind in judged if kind == "zero line"]
@@ -627,17 +641,26 @@ def _upright(where: _Where, grey: np.ndarray) -> _Laid:
 
 
 def _orientation_unknown(where: _Where, laid: _Laid) -> InputError:
+    """The refusal of a sheet whose signs of which way is up disagree, naming them."""
     time, tdc = laid.time_pips, laid.tdc_pips
-    told = [f"the {kind} marks point {'up' if p.side < 0 else 'down'}"
-            for kind, p in (("time", time), ("TDC", tdc)) if p is not None]
+    told, told_ru = [], []
+    for kind, kind_ru, p in (("time", "времени", time), ("TDC", "ВМТ", tdc)):
+        if p is not None:
+            told.append(f"the {kind} marks point {'up' if p.side < 0 else 'down'}")
+            told_ru.append(f"отметки {kind_ru} направлены {'вверх' if p.side < 0 else 'вниз'}")
     if time is not None and tdc is not None:
         below = time.line.position > tdc.line.position
         told.append(f"the time-mark line runs {'below' if below else 'above'} the TDC line")
+        told_ru.append(f"линия отметок времени идёт {'ниже' if below else 'выше'} линии ВМТ")
     return where.error(
         f"which way is up cannot be told from the sheet: {', '.join(told)}",
         "rotate the photograph so that the time runs left to right along the sheet, with the "
         "time-mark line at the bottom below the TDC line and the marks pointing up (a marker "
-        "lifts its line)")
+        "lifts its line)",
+        ru=(f"по ленте не понять, где верх: {', '.join(told_ru)}",
+            "поверните снимок так, чтобы время шло вдоль ленты слева направо, линия отметок "
+            "времени была внизу, под линией ВМТ, а отметки смотрели вверх (отметчик "
+            "приподнимает свою линию)"))
 
 
 def _where(source, field, options) -> _Where:
@@ -790,14 +813,19 @@ def _time_scale(where: _Where, given: dict, metres: Measured | None,
         period = given["mark_period"]
         try:
             if pips is None:
-                raise TimeMarkError("no line with evenly spaced pips found")
+                raise TimeMarkError("no line with evenly spaced pips found",
+                                    "не найдено линии с равномерно расставленными отметками")
             tb = time_base(pips.rising, period.value)
         except TimeMarkError as exc:
             if speed is None or metres is None:
                 raise where.error(f"{exc}: too few time marks for a time base",
                                   "photograph the whole time-mark line sharply; or give "
                                   "paper_speed with paper_width, grid or dpi instead",
-                                  "mark_period") from None
+                                  "mark_period",
+                                  ru=(f"{exc.ru}: по таким отметкам времени не построить "
+                                      "шкалу времени", "сфотографируйте всю линию отметок "
+                                      "времени резко или вместо этого укажите paper_speed "
+                                      "вместе с paper_width, grid или dpi")) from None
         else:
             rel = math.hypot(tb.u_spacing / tb.spacing, period.u / period.value)
             per_px = Measured(period.value / tb.spacing, u_b=rel * period.value / tb.spacing)
@@ -854,20 +882,39 @@ def _value_scale(where: _Where, given: dict, metres: Measured | None,
     return Measured(1.0), "px"
 
 
+LINE_KINDS_RU = {"time marks": "отметки времени", "TDC marks": "отметки ВМТ",
+                 "beside marks": "вдоль отметок", "grid": "сетка", "edge": "край ленты",
+                 "faint": "бледная", "short": "короткая", "skewed": "косая",
+                 "zero line": "нулевая линия"}
+"""The kinds of :func:`judge_lines` in Russian."""
+
+
 def describe_lines(judged: list[tuple[Line, str]], rows: float,
-                   metres: Measured | None, taken: Line | None = None) -> str:
-    """The straight lines found, for messages: where each lies (mm below the sheet's top, or
-    px) and what it was taken for."""
+                   metres: Measured | None, taken: Line | None = None,
+                   lang: str = "en") -> str:
+    """The straight lines found, for messages in ``lang``: where each lies (mm below the
+    sheet's top, or px) and what it was taken for."""
+    ru = lang == "ru"
+
     def at(line):
-        return (f"{line.position * metres.value * 1e3:.1f} mm" if metres is not None
+        if metres is not None:
+            return f"{line.position * metres.value * 1e3:.1f} {'мм' if ru else 'mm'}"
+        return (f"строка {line.position:.0f} из {rows:.0f}" if ru
                 else f"row {line.position:.0f} of {rows:.0f}")
+
+    def told(kind, line):
+        name = LINE_KINDS_RU[kind] if ru else kind
+        return name + ((", взята" if ru else ", taken") if line is taken else "")
+
     grid = [line for line, kind in judged if kind == "grid"]
-    parts = [f"{at(line)} ({kind}{', taken' if line is taken else ''})"
-             for line, kind in judged if kind != "grid"]
+    parts = [f"{at(line)} ({told(kind, line)})" for line, kind in judged if kind != "grid"]
     if grid:
-        parts.append(f"{len(grid)} grid lines")
-    return ("straight lines found (from the sheet's top): " + "; ".join(parts)) if parts \
-        else "no straight line found"
+        parts.append(plural(len(grid), ("линия сетки", "линии сетки", "линий сетки"), "ru")
+                     if ru else f"{len(grid)} grid lines")
+    if not parts:
+        return "прямых линий не найдено" if ru else "no straight line found"
+    return (("найдены прямые линии (от верхнего края ленты): " if ru
+             else "straight lines found (from the sheet's top): ") + "; ".join(parts))
 
 
 def _record(where: _Where, found: Traces, j: int, seconds, value_scale: Measured, unit: str,
@@ -885,12 +932,19 @@ def _record(where: _Where, found: Traces, j: int, seconds, value_scale: Measured
     ref = None
     if zero == "line":
         if not zero_lines:
+            rows = sheet.grey.shape[0]
             raise where.error("zero = \"line\" but no zero line (a long straight line without "
                               "marks, parallel to the time base, inside the sheet, as dark as "
                               "a trace) is on the sheet; "
-                              + describe_lines(judged, sheet.grey.shape[0], metres),
+                              + describe_lines(judged, rows, metres),
                               "use zero = \"mean\", or photograph the record with its zero "
-                              "line", "zero")
+                              "line", "zero",
+                              ru=("zero = \"line\", но нулевой линии (длинной прямой без "
+                                  "отметок, параллельной оси времени, внутри ленты, тёмной как "
+                                  "запись) на ленте нет; "
+                                  + describe_lines(judged, rows, metres, lang="ru"),
+                                  "укажите zero = \"mean\" или сфотографируйте запись вместе "
+                                  "с её нулевой линией"))
         middle = np.nanmedian(row)
         ref = min(zero_lines, key=lambda line: abs(line.at(cols.mean()) - middle))
         pixels = ref.at(cols) - row
@@ -918,7 +972,8 @@ def _record(where: _Where, found: Traces, j: int, seconds, value_scale: Measured
     record = PaperRecord(where.path, name, where.field, time, value, conf, u_value, unit,
                          marks, marks_u, per_px, value_scale, tb, bridged,
                          float(found.width[j]), float(found.spread[j]), overlay, sheet.turns,
-                         describe_lines(judged, sheet.grey.shape[0], metres, ref))
+                         *(describe_lines(judged, sheet.grey.shape[0], metres, ref, lang)
+                           for lang in ("en", "ru")))
     _warn(record, tb, {k: p.edge_u for k, p in pips.items()})
     return record
 

@@ -41,6 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..diagnostics import Reason
 from ..result import Record
 
 THRESHOLD_SIGMA = 4.5
@@ -319,8 +320,8 @@ class Traces(Record):
         return int(self.run.shape[0])
 
 
-class NoTraceError(ValueError):
-    """No trace stands out of the paper."""
+class NoTraceError(Reason):
+    """No trace stands out of the paper: why, in English and Russian."""
 
 
 def follow(runs: Runs, columns: int, count: int | None = None) -> Traces:
@@ -349,12 +350,15 @@ def follow(runs: Runs, columns: int, count: int | None = None) -> Traces:
     strong = runs.peak >= 0.5 * runs.typical_peak
     per_column = np.bincount(runs.column[strong], minlength=columns)
     if runs.column.size == 0 or per_column.max() == 0:
-        raise NoTraceError("no trace stands out of the paper")
+        raise NoTraceError("no trace stands out of the paper",
+                           "ни одна линия записи не выделяется на бумаге")
     if count is None:
         count = int(np.argmax(np.bincount(per_column[per_column > 0])))
     seed = _seed_column(runs, strong, per_column, count)
     if seed is None:
-        raise NoTraceError(f"no column shows {count} separate traces")
+        raise NoTraceError(f"no column shows {count} separate traces",
+                           "ни в одном столбце снимка не видны раздельно все линии записи "
+                           f"(их должно быть {count})")
     sl = runs.of(seed)
     picked = np.flatnonzero(strong[sl]) + sl.start
     chosen = np.full((count, columns), -1, np.int64)
@@ -380,7 +384,8 @@ def follow(runs: Runs, columns: int, count: int | None = None) -> Traces:
                 and valid.size >= 0.05 * columns:
             keep.append(j)
     if not keep:
-        raise NoTraceError("no trace could be followed along the sheet")
+        raise NoTraceError("no trace could be followed along the sheet",
+                           "ни одну линию записи не удалось проследить вдоль ленты")
     order = sorted(keep, key=lambda j: np.nanmean(row[j]))
     chosen, row, u, cap, apex = chosen[order], row[order], u[order], cap[order], apex[order]
     conf, width = confidence(runs, chosen, row, apex)

@@ -483,7 +483,9 @@ def track_marker(path, *, roi=None, field: str | None = None, roi_field: str | N
     kept, stamps = _survey_frames(film, field)
     if len(kept) < 16:
         raise _refuse(path, field, f"the film holds {len(kept)} frames",
-                      "film the whole swing: 20 oscillations or more")
+                      "film the whole swing: 20 oscillations or more",
+                      (f"в видео всего кадров: {len(kept)}", "снимите качания целиком: 20 "
+                       "колебаний или больше"))
     if roi is not None:
         _check_roi(path, roi, film.size, roi_field)
     where = None if roi is None else tuple(scale * float(v) for v in roi)
@@ -511,7 +513,9 @@ def track_marker(path, *, roi=None, field: str | None = None, roi_field: str | N
     del kept
     if templates[UPRIGHT] is None:
         raise _refuse(path, field, "the marker is at the frame's edge",
-                      "frame the swing so that the marker stays inside the picture")
+                      "frame the swing so that the marker stays inside the picture",
+                      ("метка у края кадра", "снимайте качания так, чтобы метка не выходила "
+                       "из кадра"))
     side = marker.side
     near, far = side // 2 + 2, int(SEARCH * side)
     xs, ys, conf, times = [], [], [], []
@@ -629,18 +633,27 @@ def swing_of(track: Track, *, field: str | None = None) -> Swing:
             drifting = fit_anharmonic_decay(t, s, fit)
     except RuntimeError as exc:
         raise _refuse(track.path, field, f"no oscillation fits the track ({exc})",
-                      "film the part swinging freely, the marker in view") from None
+                      "film the part swinging freely, the marker in view",
+                      (f"траектория метки не описывается колебаниями (подбор: '{exc}')",
+                       "снимите свободно качающуюся деталь, метка в кадре")) from None
     if drops:
         _warn_unstamped_drops(track, drops)
     if not abs(fit.amplitude) > SWING_SNR * fit.residual_sd:
         raise _refuse(track.path, field, f"no swing stands out of the track's noise (amplitude "
                       f"{abs(fit.amplitude):.2g} px, noise {fit.residual_sd:.2g} px)",
-                      "film the part while it swings, the marker large and sharp in the frame")
+                      "film the part while it swings, the marker large and sharp in the frame",
+                      (f"качания не выделяются из шума траектории (амплитуда "
+                       f"{abs(fit.amplitude):.2g} пикс, шум {fit.residual_sd:.2g} пикс)",
+                       "снимайте деталь, пока она качается, метка в кадре крупная и резкая"))
     rate = track.frame_rate
     if fit.omega_d / (2 * math.pi) > NYQUIST_SHARE * rate / 2:
         raise _refuse(track.path, field, f"the film's {rate:.3g} frames per second barely "
                       f"follow a swing of {fit.omega_d / (2 * math.pi):.3g} Hz (the swing may "
-                      "be an alias of a faster one)", "film at 30 frames per second or more")
+                      "be an alias of a faster one)", "film at 30 frames per second or more",
+                      (f"частота съёмки {rate:.3g} кадр/с едва успевает за качаниями "
+                       f"{fit.omega_d / (2 * math.pi):.3g} Гц (это может быть отражение "
+                       "более быстрых качаний)", "снимайте с частотой 30 кадров в секунду "
+                       "или больше"))
     seen = track.frequency * fit.period
     if math.isfinite(seen) and abs(seen - 1) > SURVEY_AGREES:
         raise _refuse(track.path, field, f"the track swings at {1 / fit.period:.3g} Hz where the "
