@@ -49,13 +49,12 @@ def topic_page(folder: Path, topic: str, summary: list[str], targets: list, out:
         charts.append(name)
     when = dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d")
     grids = "quick grids (`--quick`)" if quick else "full grids"
-    lines = [f"# {topic}", "",
+    lines = [f"# Benchmark: {topic}", "",
              f"`python -m processing.bench --topic {topic}{' --quick' if quick else ''} "
              f"--docs docs/bench` — {grids}, run on {when} (one core, "
              f"{platform.machine()}, Python {platform.python_version()}, load average "
              f"{os.getloadavg()[0]:.1f} when it ended: times on a busy machine are longer).",
-             "",
-             "```text", *summary, "```", ""]
+             ""]
     if targets:
         lines += ["| target | measured | limit | verdict |", "|---|---|---|---|"]
         lines += [f"| {t.name} | {t.value:.4g} {t.unit} | {'≤' if t.kind == 'max' else '≥'} "
@@ -64,6 +63,7 @@ def topic_page(folder: Path, topic: str, summary: list[str], targets: list, out:
         lines.append("")
     lines += [f"![{topic}: {Path(c).stem.split('__', 1)[1].replace('_', ' ')}]({c})\n"
               for c in charts]
+    lines += ["## The summary as printed", "", "```text", *summary, "```", ""]
     page = folder / f"{topic}.md"
     page.write_text("\n".join(lines), encoding="utf-8")
     return page
