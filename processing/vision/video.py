@@ -712,13 +712,14 @@ def _find_drops(t: np.ndarray, s: np.ndarray, interval: float) -> list[tuple[flo
 
     After a dropped frame every later frame was taken an interval later than its time says,
     so the track runs ahead of the fitted swing by its velocity times that interval: a step
-    in the swing's timing (:func:`_timing_steps`). The largest step that explains the track
-    best as a whole number m ≥ 1 of intervals is taken while it stands :data:`DROP_SIGMAS`
-    standard errors out and within :data:`DROP_WHOLE` of m intervals; the frames after it
-    are retimed and the search repeated (at most :data:`MAX_DROPS` times). Each step taken
-    is then judged again with the others in place and with the noise of the track so
-    retimed (the steps not yet found inflate it), the weakest that no longer passes given up
-    until all pass.
+    in the swing's timing (:func:`_timing_steps`). The step that explains the track best as
+    a whole number m ≥ 1 of intervals is taken while it stands :data:`DROP_SIGMAS` standard
+    errors out; the frames after it are retimed and the search repeated (at most
+    :data:`MAX_DROPS` times). Each step taken is then judged again with the others in place
+    and with the noise of the track so retimed (the steps not yet found inflate it, and
+    bias a step's size while a neighbour is missing): it must still stand out and lie within
+    :data:`DROP_WHOLE` (or three standard errors) of a whole number of intervals, which it
+    then takes. The first that does not is given up and the rest judged again.
 
     Returns
     -------
@@ -737,7 +738,7 @@ def _find_drops(t: np.ndarray, s: np.ndarray, interval: float) -> list[tuple[flo
                   for j, (at, _) in enumerate(drops)]
         failed = [j for j, step in enumerate(judged) if step is None]
         if not failed:
-            return drops
+            return judged
         del drops[failed[0]]
     return drops
 
@@ -816,8 +817,9 @@ def _timing_steps(t, s, fit, drifting, interval: float) -> tuple[np.ndarray, np.
 
     References
     ----------
-    .. [1] P. Whittle, "Curve and periodogram smoothing", J. R. Statist. Soc. B 19, 1957
-           (the circulant approximation of a stationary noise's covariance).
+    .. [1] P. Whittle, "Estimation and information in stationary time series", Arkiv för
+           Matematik 2, 1953, 423–434 (a stationary series' likelihood by its spectrum: the
+           circulant approximation of its covariance).
     """
     h = 0.25 * interval
     model = drifting.predict(t)
