@@ -625,13 +625,9 @@ def swing_of(track: Track, *, field: str | None = None) -> Swing:
             keep = _consistent(s - drifting.predict(t))
             drops = _find_drops(t[keep], s[keep], interval)
             if drops:
-                further = _further_drop(t[keep], s[keep], interval, drops)
-                if further is not None:
-                    other = _fitted(_shifted(t, drops + [further], interval), s)[1]
+                doubt = _doubt(t, s, keep, interval, drops)
                 t = _shifted(t, drops, interval)
                 fit, drifting = _fitted(t, s)
-                if further is not None:
-                    doubt = (further[0], abs(other.period - drifting.period) / drifting.period)
         for _ in range(REFITS):
             keep = _consistent(s - drifting.predict(t))
             if keep.all():
@@ -773,6 +769,21 @@ def _further_drop(t, s, interval: float, drops):
     return float(t[k]), max(int(round(step[k] / interval)), 1)
 
 
+def _doubt(t, s, keep, interval: float, drops):
+    """The time of a further step too faint to be sure of (:func:`_further_drop`, sought
+    over the frames ``keep``) and the period's relative shift were it a dropped frame too,
+    or None."""
+    further = _further_drop(t[keep], s[keep], interval, drops)
+    if further is None:
+        return None
+    try:
+        periods = [_fitted(_shifted(t, more, interval), s)[1].period
+                   for more in (drops, drops + [further])]
+    except RuntimeError:
+        return None
+    return further[0], abs(periods[1] / periods[0] - 1)
+
+
 def _steps(t, s, interval: float, drops):
     """:func:`_timing_steps` of the track with ``drops`` retimed, and where a step can be
     told: a quarter swing or more from either end of the film (a step within a few frames
@@ -780,7 +791,10 @@ def _steps(t, s, interval: float, drops):
     alike: on a clean film a step four frames from its end stood 4.7 standard errors
     out)."""
     retimed = _shifted(t, drops, interval)
-    fit, drifting = _fitted(retimed, s)
+    try:
+        fit, drifting = _fitted(retimed, s)
+    except RuntimeError:                   # so retimed, no swing fits: no step to tell
+        return np.zeros_like(t), np.zeros_like(t), np.zeros(t.size, bool)
     step, root = _timing_steps(retimed, s, fit, drifting, interval)
     valid = np.isfinite(step * root)
     valid &= (retimed - retimed[0] >= 0.25 * drifting.period) \
@@ -839,7 +853,7 @@ def _timing_steps(t, s, fit, drifting, interval: float) -> tuple[np.ndarray, np.
     filtered = np.fft.irfft(np.fft.rfft(np.column_stack([r, B]), length, axis=0)
                             * inverse[:, None], length, axis=0)[:n]
     Cr, CB = filtered[:, 0], filtered[:, 1:]
-    M_inv = np.linalg.inv(B.T @ CB)
+    M_inv = np.linalg.pinv(B.T @ CB)
     c = np.fft.irfft(inverse, length)
     reach = np.fft.irfft(np.fft.rfft(v, length) * np.conj(np.fft.rfft(c[:n], length)),
                          length)[:n] - v * c[0]
