@@ -246,6 +246,37 @@ def test_frames_dropped_under_constant_rate_times_are_found_from_the_phase(tmp_p
     assert abs(swing.period.value / shot.mean_period - 1) < 2e-4
 
 
+def _shaken_track(seed: int, dropped=(), fps: float = 30.0):
+    """A 6° pendulum decaying to half over 20 swings, 100 px from its axis, filmed at
+    ``fps`` by a phone shaking 0.3 px RMS (a random walk smoothed over a quarter second,
+    as :mod:`processing.synth.phone_film` shakes) with 0.05 px of tracker noise; the frames
+    numbered ``dropped`` never taken, every frame stamped at the constant rate."""
+    from scipy.ndimage import gaussian_filter1d
+
+    rng = np.random.default_rng([seed, 33])
+    swinger = Swinger.decaying("pendulum", 1.1, math.radians(6.0), 0.5)
+    n = int(10 * 1.1 * fps)
+    taken = np.delete(np.arange(n + len(dropped)) / fps, list(dropped))[:n]
+    theta, _ = swinger.motion(taken[-1] + 0.1)
+    walk = gaussian_filter1d(np.cumsum(rng.standard_normal(n)), 0.25 * fps)
+    shake = 0.3 * (walk - walk.mean()) / walk.std()
+    return np.arange(n) / fps, 100.0 * theta(taken) + shake + rng.normal(0.0, 0.05, n)
+
+
+def test_a_dropped_frame_is_placed_from_the_swings_timing_through_a_phones_shake():
+    """The shake puts most of the track's noise about the swing's frequency (0.3 px against
+    a step of up to 1 px): weighed by the noise's own spectrum, both frames dropped are
+    found at the frame after each, an interval each; the same film without them, none."""
+    from processing.vision.video import _find_drops
+
+    stamps, s = _shaken_track(5, dropped=(77, 250))
+    found = sorted(_find_drops(stamps, s, 1 / 30))
+    assert [m for _, m in found] == [1, 1]
+    np.testing.assert_allclose([at for at, _ in found], [77 / 30, 249 / 30], atol=1.5 / 30)
+    stamps, s = _shaken_track(5)
+    assert _find_drops(stamps, s, 1 / 30) == []
+
+
 def test_a_patch_at_a_harmonic_of_the_swing_is_not_the_marker():
     """A patch that moves twice a swing (a trifilar's ring seen from above, moving only as
     the platform rises and sinks) is as periodic as the marker: the swing's frequency is the

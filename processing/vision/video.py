@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
 
@@ -111,17 +111,28 @@ fit."""
 MAX_DROPS = 20
 """Dropped frames sought in a film whose times claim a constant rate."""
 
+DROP_SIGMAS = 4.5
+"""Standard errors a step of the swing's timing must stand out by to be taken for a dropped
+frame (:func:`_find_drops`). (Measured on 60 clean phone films of 3–19° at 30 and 60 frames
+per second, 8 oscillations, with a phone's shake: the step tried — the one best explained as
+whole intervals, a quarter swing or more from the film's ends — stood at most 4.3 standard
+errors out (a step of half an interval), and none was taken; of 60 films with two frames dropped each, 55 were warned of
+and 96 of the 120 frames found, 2 more placed over 3 frames off.)"""
+
 DROP_WHOLE = 0.35
-"""Farthest the phase's step may lie from a whole number of frame intervals, in intervals."""
+"""Farthest a step may lie from a whole number of frame intervals, in intervals (or three of
+its standard errors, if more)."""
 
-DROP_SIGMAS = 6.0
+DROP_OSCILLATIONS = 2 * NOTCH + 2
+"""Fewest oscillations a film must span for its dropped frames to be sought: the residual's
+spectrum that weighs a step must be seen below the swing's frequency too, between the bins
+the fit empties about zero and about the swing (:data:`NOTCH` spacings each), where a
+phone's shake puts most of its power (on 3.5 oscillations it is not, and a hub's noisy
+track showed a step of 9 standard errors that was none)."""
 
-DROP_CANDIDATES = 3
-"""The largest steps between half periods tried, in turn."""
-
-DROP_REACH = 3
-"""Half periods each side of a step in the swing's phase that the step is measured over."""
-"""Standard deviations of its own noise a step of the phase must stand out by."""
+DROP_SMOOTH = 4
+"""Frequency spacings (1/duration) each side over which the residual's periodogram is averaged
+into the noise's spectrum that weighs the steps (:func:`_timing_steps`)."""
 
 OUTLIER = (6.0, 0.5)
 """A frame is left out of the swing's fit where its residual lies further than the larger of
@@ -611,33 +622,29 @@ def swing_of(track: Track, *, field: str | None = None) -> Swing:
     t, s = track.displacement()
     rho = track.radial()
     try:
-        fit = fit_damped_sine(t, s, baseline_order=1)
-        drifting = fit_anharmonic_decay(t, s, fit)
-        drops = 0
-        if _evenly_stamped(track):
+        fit, drifting = _fitted(t, s)
+        drops, doubt = [], None
+        if _evenly_stamped(track) and (t[-1] - t[0]) / fit.period >= DROP_OSCILLATIONS:
             interval = typical_interval(track.time)
-            for _ in range(MAX_DROPS):
-                step = _phase_step(t, s, fit, drifting, interval)
-                if step is None:
-                    break
-                t = np.where(t >= step[0], t + step[1] * interval, t)
-                drops += step[1]
-                fit = fit_damped_sine(t, s, baseline_order=1)
-                drifting = fit_anharmonic_decay(t, s, fit)
+            keep = _consistent(s - drifting.predict(t))
+            drops = _find_drops(t[keep], s[keep], interval)
+            if drops:
+                doubt = _doubt(t, s, keep, interval, drops)
+                t = _shifted(t, drops, interval)
+                fit, drifting = _fitted(t, s)
         for _ in range(REFITS):
             keep = _consistent(s - drifting.predict(t))
             if keep.all():
                 break
             t, s, rho = t[keep], s[keep], rho[keep]
-            fit = fit_damped_sine(t, s, baseline_order=1)
-            drifting = fit_anharmonic_decay(t, s, fit)
+            fit, drifting = _fitted(t, s)
     except RuntimeError as exc:
         raise _refuse(track.path, field, f"no oscillation fits the track ({exc})",
                       "film the part swinging freely, the marker in view",
                       (f"траектория метки не описывается колебаниями (подбор: '{exc}')",
                        "снимите свободно качающуюся деталь, метка в кадре")) from None
     if drops:
-        _warn_unstamped_drops(track, drops)
+        _warn_unstamped_drops(track, sum(m for _, m in drops), doubt)
     if not abs(fit.amplitude) > SWING_SNR * fit.residual_sd:
         raise _refuse(track.path, field, f"no swing stands out of the track's noise (amplitude "
                       f"{abs(fit.amplitude):.2g} px, noise {fit.residual_sd:.2g} px)",
@@ -674,6 +681,8 @@ def swing_of(track: Track, *, field: str | None = None) -> Swing:
                        f"снимите не меньше {MIN_OSCILLATIONS} колебаний (по методичке — 20; "
                        f"{MIN_OSCILLATIONS * fit.period:.1f} с этих качаний)"))
     period = period_of(drifting, t, s, rho)
+    if doubt is not None:
+        period = replace(period, limit=doubt[1] * period.value)
     if not (math.isfinite(period.u) and period.u > 0 and math.isfinite(period.dof)):
         raise _refuse(track.path, field, f"the period's uncertainty cannot be told from the "
                       f"{span:.1f} oscillations the film holds", f"film {FEW_OSCILLATIONS} "
@@ -691,82 +700,230 @@ def _evenly_stamped(track: Track) -> bool:
     return track.dropped == 0 and track.interval_spread <= IRREGULAR and track.time.size > 8
 
 
-def _phase_step(t, s, fit, drifting, interval: float):
-    """A frame dropped where the film's times do not show it: the swing's phase jumps.
+def _fitted(t: np.ndarray, s: np.ndarray) -> tuple:
+    """The damped sinusoid on a line and, from it, the fit whose frequency follows the
+    amplitude (:func:`processing.oscillations.anharmonic.fit_anharmonic_decay`)."""
+    fit = fit_damped_sine(t, s, baseline_order=1)
+    return fit, fit_anharmonic_decay(t, s, fit)
+
+
+def _shifted(t: np.ndarray, drops, interval: float) -> np.ndarray:
+    """The times with ``m`` frame intervals added from each dropped frame's time on."""
+    out = np.array(t, float)
+    for at, m in drops:
+        out[np.asarray(t) >= at] += m * interval
+    return out
+
+
+def _find_drops(t: np.ndarray, s: np.ndarray, interval: float) -> list[tuple[float, int]]:
+    """Frames dropped where the film's times claim a constant rate, from the swing's timing.
 
     After a dropped frame every later frame was taken an interval later than its time says,
-    so the track runs ahead of the fitted swing by its velocity v times that interval. The
-    frames are cut into half periods; in each, the residual from the fit is regressed on
-    the fitted swing's oscillation and on its velocity (an error of amplitude and one of
-    time, told apart), the second coefficient being the half period's offset in time. A
-    frame dropped in half period j steps the offsets of j − 1 and j + 1 apart by a whole
-    interval: where they step most, a line with a step (the fit's frequency takes up part
-    of the drop as a slope) is fitted through the :data:`DROP_REACH` offsets each side but
-    j's, and the step is taken
-    where it lies within :data:`DROP_WHOLE` of a whole number m ≥ 1 of intervals and
-    :data:`DROP_SIGMAS` times its standard error out (the offsets' scatter from their
-    second differences over the whole film, robustly: a step is a single outlier there).
-    The frame it starts at is the one of half period j that leaves the least residual.
+    so the track runs ahead of the fitted swing by its velocity times that interval: a step
+    in the swing's timing (:func:`_timing_steps`). The step that explains the track best as
+    a whole number m ≥ 1 of intervals is taken while it stands :data:`DROP_SIGMAS` standard
+    errors out; the frames after it are retimed and the search repeated (at most
+    :data:`MAX_DROPS` times). Each step taken is then judged again with the others in place
+    and with the noise of the track so retimed (the steps not yet found inflate it, and
+    bias a step's size while a neighbour is missing): it must still stand out and lie within
+    :data:`DROP_WHOLE` (or three standard errors) of a whole number of intervals, which it
+    then takes. The first that does not is given up and the rest judged again.
 
     Returns
     -------
-    (float, int) or None
-        The time from which the frames are m intervals late, and m.
+    list of (float, int)
+        The time of each dropped frame's successor (by the film's times) and the intervals
+        its frames are late. [s]
+    """
+    drops: list[tuple[float, int]] = []
+    for _ in range(MAX_DROPS):
+        found = _largest_step(t, s, interval, drops)
+        if found is None:
+            break
+        drops.append(found)
+    while drops:
+        judged = [_largest_step(t, s, interval, drops[:j] + drops[j + 1:], at=at)
+                  for j, (at, _) in enumerate(drops)]
+        failed = [j for j, step in enumerate(judged) if step is None]
+        if not failed:
+            return judged
+        del drops[failed[0]]
+    return drops
+
+
+def _largest_step(t, s, interval: float, drops, at: float | None = None):
+    """The step of the swing's timing, with ``drops`` already retimed, that explains the
+    track best as whole intervals (or the one at the frame of time ``at``), as (time, m),
+    or None where it does not pass (:func:`_find_drops`)."""
+    step, root, valid = _steps(t, s, interval, drops)
+    if not valid.any():
+        return None
+    k = int(np.argmax(_gain(step, root, valid, interval))) if at is None \
+        else int(np.argmin(np.abs(t - at)))
+    m = max(int(round(step[k] / interval)), 1)
+    whole = abs(step[k] - m * interval) <= max(DROP_WHOLE * interval, 3.0 / root[k])
+    if not valid[k] or step[k] * root[k] < DROP_SIGMAS or (at is not None and not whole):
+        return None
+    return float(t[k]), m
+
+
+def _further_drop(t, s, interval: float, drops):
+    """In a film known to drop frames (``drops`` found), the step beyond them that explains
+    the track best as whole intervals among those nearer one interval than none, as (time,
+    m), or None: a frame more may have been dropped there, too faintly to be sure of (its
+    step under :data:`DROP_SIGMAS` standard errors). The period's u carries it: the period
+    with it retimed too is one bound of a rectangular distribution about the period
+    without."""
+    step, root, valid = _steps(t, s, interval, drops)
+    valid &= step >= 0.5 * interval
+    if not valid.any():
+        return None
+    k = int(np.argmax(_gain(step, root, valid, interval)))
+    return float(t[k]), max(int(round(step[k] / interval)), 1)
+
+
+def _doubt(t, s, keep, interval: float, drops):
+    """The time of a further step too faint to be sure of (:func:`_further_drop`, sought
+    over the frames ``keep``) and the period's relative shift were it a dropped frame too,
+    or None."""
+    further = _further_drop(t[keep], s[keep], interval, drops)
+    if further is None:
+        return None
+    try:
+        periods = [_fitted(_shifted(t, more, interval), s)[1].period
+                   for more in (drops, drops + [further])]
+    except RuntimeError:
+        return None
+    return further[0], abs(periods[1] / periods[0] - 1)
+
+
+def _steps(t, s, interval: float, drops):
+    """:func:`_timing_steps` of the track with ``drops`` retimed, and where a step can be
+    told: a quarter swing or more from either end of the film (a step within a few frames
+    of an end rests on those few, and the fit's phase and the camera's shake bend them
+    alike: on a clean film a step four frames from its end stood 4.7 standard errors
+    out)."""
+    retimed = _shifted(t, drops, interval)
+    try:
+        fit, drifting = _fitted(retimed, s)
+    except RuntimeError:                   # so retimed, no swing fits: no step to tell
+        return np.zeros_like(t), np.zeros_like(t), np.zeros(t.size, bool)
+    step, root = _timing_steps(retimed, s, fit, drifting, interval)
+    valid = np.isfinite(step * root)
+    valid &= (retimed - retimed[0] >= 0.25 * drifting.period) \
+        & (retimed[-1] - retimed >= 0.25 * drifting.period)
+    return step, root, valid
+
+
+def _gain(step, root, valid, interval: float) -> np.ndarray:
+    """How much a step of the nearest whole number m ≥ 1 of intervals lowers the track's
+    weighted squared residual at each frame, root²·mI·(2δ − mI) (−∞ where no step can be
+    told)."""
+    whole = np.clip(np.round(np.where(valid, step, 0.0) / interval), 1, None) * interval
+    return np.where(valid, root ** 2 * whole * (2 * np.where(valid, step, 0.0) - whole),
+                    -np.inf)
+
+
+def _timing_steps(t, s, fit, drifting, interval: float) -> tuple[np.ndarray, np.ndarray]:
+    r"""A step of the swing's timing at each frame: its size and its inverse standard error.
+
+    A step δ at frame d makes the residual from the fit r ≈ δ·g_d, g_d = v·H(k − d) with v
+    the fitted swing's velocity and H the unit step. Its generalised least-squares estimate,
+    the fit's own freedoms (amplitude, its decay, phase, frequency, its drift, the baseline:
+    the columns B = swing·τʲ, v·τʲ, j ≤ 2, and 1, τ) taken out,
+
+    .. math:: \hat δ_d = \frac{g_d^T C^{-1} r - g_d^T C^{-1} B M^{-1} B^T C^{-1} r}
+              {g_d^T C^{-1} g_d - g_d^T C^{-1} B M^{-1} B^T C^{-1} g_d},\qquad
+              M = B^T C^{-1} B,
+
+    has the variance 1/denominator; every sum over g_d is a suffix sum over the frames, so
+    all frames are scanned at once. C is the noise's covariance, stationary: its spectrum
+    the residual's periodogram averaged over :data:`DROP_SMOOTH` spacings each side, the
+    bins the fit empties (within :data:`NOTCH` of the swing's frequency and of zero) filled
+    from beside them. A phone's shake puts most of the track's noise below and about the
+    swing's frequency, where a step's long reach lies; weighed by that spectrum, the step's
+    sharp edge at d (the swing's way over one interval) counts for what the white noise
+    above leaves it.
+
+    References
+    ----------
+    .. [1] P. Whittle, "Estimation and information in stationary time series", Arkiv för
+           Matematik 2, 1953, 423–434 (a stationary series' likelihood by its spectrum: the
+           circulant approximation of its covariance).
     """
     h = 0.25 * interval
-    v = (fit.predict(t + h) - fit.predict(t - h)) / (2 * h)
-    swing = fit.predict(t) - fit.baseline_at(t)
-    r = s - drifting.predict(t)
-    half = max(int(round(0.5 * fit.period / interval)), 4)
-    count = t.size // half
-    if count < 5:
-        return None
-    offsets = np.empty(count)
-    for j in range(count):
-        part = slice(j * half, (j + 1) * half)
-        design = np.column_stack([swing[part], v[part], np.ones(half)])
-        offsets[j] = np.linalg.lstsq(design, r[part], rcond=None)[0][1]
-    wiggle = np.diff(offsets, 2)
-    noise = 1.4826 * float(np.median(np.abs(wiggle - np.median(wiggle)))) / math.sqrt(6)
-    for k in np.argsort(offsets[:-2] - offsets[2:])[:DROP_CANDIDATES]:
-        found = _step_at(offsets, int(k), interval, noise)
-        if found is not None:
-            span = np.arange((k + 1) * half, (k + 2) * half)
-            late = offsets[k] + found * interval
-            cost = [float(np.sum((r[span] - v[span] * np.where(span >= p, late, offsets[k]))
-                                 ** 2)) for p in span]
-            return float(t[span[int(np.argmin(cost))]]), found
-    return None
+    model = drifting.predict(t)
+    v = (drifting.predict(t + h) - drifting.predict(t - h)) / (2 * h)
+    swing = model - fit.baseline_at(t)
+    tau = 2 * (t - t[0]) / (t[-1] - t[0]) - 1
+    B = np.column_stack([f * tau ** j for f in (swing, v) for j in range(3)] + [np.ones_like(t),
+                                                                                 tau])
+    q, _ = np.linalg.qr(B)
+    r = s - model
+    r = r - q @ (q.T @ r)
+    n = t.size
+    inverse, length = _inverse_spectrum(r, interval / drifting.period)
+    filtered = np.fft.irfft(np.fft.rfft(np.column_stack([r, B]), length, axis=0)
+                            * inverse[:, None], length, axis=0)[:n]
+    Cr, CB = filtered[:, 0], filtered[:, 1:]
+    M_inv = np.linalg.pinv(B.T @ CB)
+    c = np.fft.irfft(inverse, length)
+    reach = np.fft.irfft(np.fft.rfft(v, length) * np.conj(np.fft.rfft(c[:n], length)),
+                         length)[:n] - v * c[0]
+    gCg = _suffix(v * v * c[0] + 2 * v * reach)
+    gCB = _suffix(CB * v[:, None])
+    numerator = _suffix(v * Cr) - gCB @ (M_inv @ (B.T @ Cr))
+    denominator = gCg - np.einsum("ij,jk,ik->i", gCB, M_inv, gCB)
+    denominator[~(denominator > 1e-12 * np.max(denominator))] = np.nan
+    return numerator / denominator, np.sqrt(denominator)
 
 
-def _step_at(offsets: np.ndarray, k: int, interval: float, noise: float) -> int | None:
-    """Whole intervals m ≥ 1 by which half periods' offsets in time step between k and
-    k + 2 (see :func:`_phase_step`), or None where they do not; ``noise`` is the offsets'
-    own scatter (from their second differences over the film, robustly)."""
-    j = np.arange(max(k - DROP_REACH + 1, 0), min(k + DROP_REACH + 2, offsets.size))
-    j = j[j != k + 1]
-    if j.size < 5:
-        return None
-    design = np.column_stack([np.ones(j.size), j - k, j > k + 1])
-    coef, *_ = np.linalg.lstsq(design, offsets[j], rcond=None)
-    se = noise * math.sqrt(float(np.linalg.inv(design.T @ design)[2, 2]))
-    step = float(coef[2])
-    m = int(round(step / interval))
-    if m < 1 or abs(step - m * interval) > DROP_WHOLE * interval or step < DROP_SIGMAS * se:
-        return None
-    return m
+def _suffix(a: np.ndarray) -> np.ndarray:
+    """Sums from each row to the last."""
+    return np.cumsum(a[::-1], axis=0)[::-1]
 
 
-def _warn_unstamped_drops(track: Track, drops: int) -> None:
+def _inverse_spectrum(r: np.ndarray, f0: float) -> tuple[np.ndarray, int]:
+    """1/S of the residual's noise on a grid padded to twice its frames (a variance per frame,
+    σ² for white noise; see :func:`_timing_steps`) and the padded length. ``f0`` is the
+    swing's frequency in cycles per frame."""
+    n = r.size
+    length = 2 * n
+    power = np.abs(np.fft.rfft(r, length)) ** 2 / n
+    bins = np.arange(power.size)
+    width = NOTCH * length / n
+    emptied = (np.abs(bins - f0 * length) <= width) | (bins <= width)
+    kept = np.flatnonzero(~emptied)
+    for b in np.flatnonzero(emptied):
+        side = np.searchsorted(kept, b)
+        power[b] = max(power[kept[max(side - 1, 0)]], power[kept[min(side, kept.size - 1)]])
+    half = int(DROP_SMOOTH * length / n)
+    kernel = np.ones(2 * half + 1) / (2 * half + 1)
+    spectrum = np.convolve(np.pad(power, half, mode="reflect"), kernel, "valid")
+    return 1.0 / spectrum, length
+
+
+def _warn_unstamped_drops(track: Track, drops: int, doubt=None) -> None:
+    """Warn of frames dropped under constant-rate times, found from the swing's timing;
+    ``doubt``, the time of a further step too faint to be sure of and the period's relative
+    shift were it a dropped frame too (:func:`_further_drop`)."""
     name = Path(track.path).name
+    more_en = more_ru = ""
+    if doubt is not None:
+        at, share = doubt[0], 100 * doubt[1]
+        more_en = (f"; the swing's timing steps less surely at {at:.2f} s, where one more may "
+                   f"have been dropped: the period's u carries it (±{share:.2g} %)")
+        more_ru = (f"; менее уверенный скачок фазы качаний на {at:.2f} с, где мог пропасть ещё "
+                   f"один кадр, учтён в погрешности периода (±{share:.2g} %)")
     warnings.warn(DroppedFramesWarning(
         f"{name}: {drops} frame(s) dropped by the camera where the film's times claim a "
         "constant rate (the swing's phase jumps by a whole frame interval there): the frames "
-        "after each are timed that much later, as they were taken; film as the phone records "
-        "(each frame's own time) and close other apps",
+        f"after each are timed that much later, as they were taken{more_en}; film as the "
+        "phone records (each frame's own time) and close other apps",
         f"{name}: камера пропустила кадров: {drops}, а время кадров в файле — с постоянной "
         "частотой (фаза качаний скачет там на целый интервал между кадрами): кадры после "
-        "каждого пропуска отнесены на столько же позже, как они и сняты; снимайте в "
+        "каждого пропуска отнесены на столько же позже, как они и сняты"
+        f"{more_ru}; снимайте в "
         "исходном формате телефона (со временем каждого кадра) и закройте другие "
         "приложения"))
 
