@@ -80,8 +80,10 @@ PHOTO_FIX = {"en": "photograph the oscillogram again, sharp and whole, with each
                    "клапана, её нулём и отметками в кадре"}
 """What to do about a flat or noise-only trace read off a photograph."""
 
-MARKS_FIX = ("check the time-mark generator's lead to the recorder and record again, or leave "
-             "marks_channel out")
+MARKS_FIX = {"en": "check the time-mark generator's lead to the recorder and record again, or "
+                   "leave marks_channel out",
+             "ru": "проверьте провод от генератора отметок времени к регистратору и запишите "
+                   "заново, или уберите marks_channel"}
 """What to do about a flat or noise-only time-mark channel."""
 
 SEPARATION_MODEL = 0.02
@@ -291,11 +293,13 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
         traces = {v: c.read().astype(float) * c.volts_per_code
                   for v, c in zip(names, channels)}
         labels = {v: str(c.name) for v, c in zip(names, channels)}
-        tdc = _pulse_marks(channels[len(names)], rate, f"{where}.tdc_channel", {"en": "TDC marks", "ru": "отметок ВМТ"}, SENSOR_FIX)
+        tdc = _pulse_marks(channels[len(names)], rate, f"{where}.tdc_channel",
+                           {"en": "TDC marks", "ru": "отметок ВМТ"}, SENSOR_FIX)
         if len(channels) > len(names) + 1:
             marks = channels[-1]
             check_time_marks(inputs, "engine", marks.name,
-                             _pulse_marks(marks, rate, f"{where}.marks_channel", {"en": "time marks", "ru": "отметок времени"},
+                             _pulse_marks(marks, rate, f"{where}.marks_channel",
+                                          {"en": "time marks", "ru": "отметок времени"},
                                           MARKS_FIX), rate,
                              lambda problem, fix, key: InputError(
                                  problem, fix, file=marks.path, field=f"{where}.{key}"),
@@ -303,7 +307,8 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
         photos = {}
     for valve, x in traces.items():
         check_record(x, rate, file=str(path), field=field, channel=labels[valve],
-                     purpose={"en": "the valve's forces", "ru": "сил в клапане"}, fix=PHOTO_FIX if photos else SENSOR_FIX,
+                     purpose={"en": "the valve's forces", "ru": "сил в клапане"},
+                     fix=PHOTO_FIX if photos else SENSOR_FIX,
                      clipped_effect=CLIPPED_FORCE)
     size = next(iter(traces.values())).size
     return np.arange(size) / rate, traces, tdc, photos
@@ -427,22 +432,32 @@ def _calibration(inputs: Inputs, entry: dict, where: str):
     A = np.asarray(entry["deflection"].readings, dtype=float)
     if P.size != A.size:
         raise inputs.error(f"{P.size} loads but {A.size} deflections", "write one deflection "
-                           "for every load, in the same order", f"{where}.deflection")
+                           "for every load, in the same order", f"{where}.deflection",
+                           ru=(f"нагрузок {P.size}, а прогибов {A.size}", "запишите по прогибу "
+                               "на каждую нагрузку, в том же порядке"))
     if np.unique(P).size < 3:
         raise inputs.error(f"the calibration has {np.unique(P).size} distinct load(s)",
                            "load the rocker in several steps up to about 1500 N (the manual: "
-                           "80…100 mm of trace) and read the trace at each", f"{where}.load")
+                           "80…100 mm of trace) and read the trace at each", f"{where}.load",
+                           ru=(f"различных нагрузок при тарировке: {np.unique(P).size}",
+                               "нагрузите коромысло несколькими ступенями примерно до 1500 Н "
+                               "(по методичке: 80…100 мм записи) и снимите запись на каждой"))
     fault = calibration_fault(P, A, names=("load", "deflection"),
                               resolution=entry["deflection"].limit)
     if fault is not None:
-        raise inputs.error(fault, "read the trace's deflection again at each calibration load, "
-                           "each beside its own load (the channel must be the gauge's, its "
-                           "amplifier on)", f"{where}.deflection")
+        raise inputs.error(str(fault), "read the trace's deflection again at each calibration "
+                           "load, each beside its own load (the channel must be the gauge's, "
+                           "its amplifier on)", f"{where}.deflection",
+                           ru=(fault.ru, "снимите прогиб записи заново при каждой тарировочной "
+                               "нагрузке и запишите рядом со своей нагрузкой (канал — "
+                               "тензодатчика, усилитель включён)"))
     fit = fit_line(A, P)
     if not fit.slope > 0:
         raise inputs.error("the trace's deflection does not grow with the load",
                            "check the pairing of load and deflection, and their signs",
-                           f"{where}.deflection")
+                           f"{where}.deflection",
+                           ru=("прогиб записи не растёт с нагрузкой", "проверьте, что прогибы "
+                               "записаны против своих нагрузок, и их знаки"))
     u_b = math.hypot(entry["load"].u_type_b,
                      fit.slope * entry["deflection"].u_type_b) / math.sqrt(np.sum((A - A.mean())
                                                                                   ** 2))

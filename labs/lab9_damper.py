@@ -432,25 +432,36 @@ def _scale(inputs: Inputs) -> Measured | None:
     missing = "cal_reading" if "cal_phi" in d else "cal_phi"
     if missing not in d:
         raise inputs.error("the calibration needs both the twists and the record's readings",
-                           f"add {missing} = [...], one value for each twist", f"decay.{missing}")
+                           f"add {missing} = [...], one value for each twist", f"decay.{missing}",
+                           ru=("для тарировки нужны и углы закрутки, и показания записи",
+                               f"добавьте {missing} = [...], по значению на каждый угол"))
     phi = np.asarray(d["cal_phi"].readings, dtype=float)
     reading = np.asarray(d["cal_reading"].readings, dtype=float)
     if phi.size != reading.size:
         raise inputs.error(f"{phi.size} calibration twists but {reading.size} readings",
-                           "write one reading for every twist", "decay.cal_reading")
+                           "write one reading for every twist", "decay.cal_reading",
+                           ru=(f"углов закрутки при тарировке {phi.size}, а показаний "
+                               f"{reading.size}", "запишите по показанию на каждый угол"))
     if np.unique(phi).size < 2:
         one = phi.size < 2
         raise inputs.error(f"the calibration has {np.unique(phi).size} distinct "
                            f"{'point' if one else 'twist'}(s); a scale needs a straight line "
                            "through at least two", "read the record at two or more twists, "
                            "e.g. at no load and at the largest twist (better: four steps)",
-                           "decay.cal_reading" if one else "decay.cal_phi")
+                           "decay.cal_reading" if one else "decay.cal_phi",
+                           ru=(f"различных {'точек' if one else 'углов закрутки'} при тарировке: "
+                               f"{np.unique(phi).size}; для масштаба нужна прямая хотя бы через "
+                               "две", "снимите запись хотя бы при двух углах закрутки, например "
+                               "без нагрузки и при наибольшем угле (лучше: четыре ступени)"))
     fault = calibration_fault(phi, reading, names=("twist", "reading"),
                               resolution=d["cal_reading"].limit)
     if fault is not None:
-        raise inputs.error(fault, "read the record's deflection again at each twist set, "
+        raise inputs.error(str(fault), "read the record's deflection again at each twist set, "
                            "each beside its own twist in cal_reading (the channel must be "
-                           "the strain gauges', its amplifier on)", "decay.cal_reading")
+                           "the strain gauges', its amplifier on)", "decay.cal_reading",
+                           ru=(fault.ru, "снимите отклонение записи заново при каждом угле "
+                               "закрутки и запишите его в cal_reading рядом со своим углом "
+                               "(канал — тензодатчиков, усилитель включён)"))
     fit = fit_line(reading, phi)
     u_b = d["cal_phi"].u_type_b / np.sqrt(np.sum((reading - reading.mean()) ** 2))
     return fit.measured_slope(u_b=u_b).scaled(float(np.sign(fit.slope)))

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
+from .diagnostics import Reason
 from .result import Record
 from .uncertainty import Measured
 
@@ -139,8 +140,16 @@ def fit_line(x, y, *, through_origin: bool = False) -> LineFit:
     return LineFit(b, a, u_b, u_a, -xm * u_b**2, s, dof, x.size, False)
 
 
+CALIBRATION_WORDS_RU = {"load": ("нагрузка", "нагрузкой"),
+                        "twist": ("угол закрутки", "углом закрутки"),
+                        "deflection": ("прогибы", "прогиб", "прогиба"),
+                        "reading": ("показания", "показание", "показания")}
+"""The words of :func:`calibration_fault`'s names in Russian: a set value's nominative and
+instrumental, a reading's plural, singular and genitive."""
+
+
 def calibration_fault(applied, reading, *, names: tuple[str, str] = ("load", "reading"),
-                      resolution: float = 0.0) -> str | None:
+                      resolution: float = 0.0) -> Reason | None:
     """What keeps a calibration table from giving a scale, in words (None if nothing does).
 
     A calibration sets known values (loads, twists) and reads the instrument at each; a
@@ -155,40 +164,54 @@ def calibration_fault(applied, reading, *, names: tuple[str, str] = ("load", "re
     applied, reading : array_like
         The values set and the instrument's reading at each, one length. [any units]
     names : (str, str)
-        What they are called in the message.
+        What they are called in the message: keys of :data:`CALIBRATION_WORDS_RU`.
     resolution : float
         The readings' limit of error (0: none stated). [unit of ``reading``]
 
     Returns
     -------
-    str or None
+    Reason or None
+        The fault in English (``str``) and in Russian (``.ru``).
 
     Examples
     --------
     >>> calibration_fault([0, 300, 600, 900], [0.0, 18.1, 36.0, 54.2]) is None
     True
-    >>> calibration_fault([0, 300, 600, 900], [5, 5, 5, 5], names=("load", "deflection"))
-    'the deflections never change: every one of the 4 is 5'
-    >>> calibration_fault([0, 300, 600, 900], [0, 18, 36, 10], names=("load", "deflection"),
-    ...                   resolution=0.2)
+    >>> fault = calibration_fault([0, 300, 600, 900], [5, 5, 5, 5], names=("load", "deflection"))
+    >>> str(fault), fault.ru
+    ('the deflections never change: every one of the 4 is 5', 'прогибы не меняются: все 4 равны 5')
+    >>> fault = calibration_fault([0, 300, 600, 900], [0, 18, 36, 10],
+    ...                           names=("load", "deflection"), resolution=0.2)
+    >>> str(fault)
     'deflection 4 (10) turns back past deflection 3 (36), although its load is larger: the others rise with the load'
+    >>> fault.ru
+    'прогиб 4 (10) меньше прогиба 3 (36), хотя нагрузка у него больше: остальные растут с нагрузкой'
     """
     x, y = np.asarray(applied, dtype=float).ravel(), np.asarray(reading, dtype=float).ravel()
     what, read = names
+    (what_ru, what_ins), (reads_ru, read_ru, read_gen) = (CALIBRATION_WORDS_RU[what],
+                                                          CALIBRATION_WORDS_RU[read])
     if np.ptp(y) <= 2 * resolution:
         if np.ptp(y) == 0:
-            return f"the {read}s never change: every one of the {y.size} is {y[0]:g}"
-        return (f"the {read}s never change by more than their limit of error twice over: "
-                f"they span {np.ptp(y):g} ({2 * resolution:g} allowed)")
+            return Reason(f"the {read}s never change: every one of the {y.size} is {y[0]:g}",
+                          f"{reads_ru} не меняются: все {y.size} равны {y[0]:g}")
+        return Reason(f"the {read}s never change by more than their limit of error twice "
+                      f"over: they span {np.ptp(y):g} ({2 * resolution:g} allowed)",
+                      f"{reads_ru} меняются не больше удвоенного предела погрешности: их "
+                      f"размах {np.ptp(y):g} (допустимо {2 * resolution:g})")
     order = np.argsort(x, kind="stable")
     direction = math.copysign(1.0, fit_line(x, y).slope) if np.ptp(x) > 0 else 1.0
     ahead = order[0]
     for k in order[1:]:
         if x[k] > x[ahead] and direction * (y[k] - y[ahead]) < -2 * resolution:
-            trend = "rise" if direction > 0 else "fall"
-            return (f"{read} {k + 1} ({y[k]:g}) turns back past {read} {ahead + 1} "
-                    f"({y[ahead]:g}), although its {what} is larger: the others {trend} with "
-                    f"the {what}")
+            trend, trend_ru, side = (("rise", "растут", "меньше") if direction > 0 else
+                                     ("fall", "убывают", "больше"))
+            return Reason(f"{read} {k + 1} ({y[k]:g}) turns back past {read} {ahead + 1} "
+                          f"({y[ahead]:g}), although its {what} is larger: the others "
+                          f"{trend} with the {what}",
+                          f"{read_ru} {k + 1} ({y[k]:g}) {side} {read_gen} {ahead + 1} "
+                          f"({y[ahead]:g}), хотя {what_ru} у него больше: остальные "
+                          f"{trend_ru} с {what_ins}")
         if direction * (y[k] - y[ahead]) > 0:
             ahead = k
     return None
