@@ -47,7 +47,7 @@ def topic_page(folder: Path, topic: str, summary: list[str], targets: list, out:
         name = f"{topic}__{png.name}"
         shutil.copyfile(png, folder / name)
         charts.append(name)
-    when = dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d")
+    when = dt.datetime.now(dt.UTC).strftime("%Y-%m-%d")
     grids = "quick grids (`--quick`)" if quick else "full grids"
     lines = [f"# Benchmark: {topic}", "",
              f"`python -m processing.bench --topic {topic}{' --quick' if quick else ''} "
