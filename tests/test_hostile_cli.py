@@ -281,7 +281,7 @@ def test_one_bad_submission_never_stops_a_class(tmp_path, capsys, monkeypatch, k
     with its reason, and the exit code says something was refused."""
     import labs.teachers.check
 
-    real = labs.teachers.check.evaluate
+    real = labs.teachers.check.read_inputs
 
     def failing(path, **kw):
         if Path(path).parent.name == "bad":
@@ -289,7 +289,7 @@ def test_one_bad_submission_never_stops_a_class(tmp_path, capsys, monkeypatch, k
         return real(path, **kw)
 
     if kind == "internal-error":
-        monkeypatch.setattr(labs.teachers.check, "evaluate", failing)
+        monkeypatch.setattr(labs.teachers.check, "read_inputs", failing)
     for who in ("ann", "bob"):
         _submission(tmp_path / "class" / who)
     bad = _bad_submission(tmp_path / "class" / "bad", kind)
