@@ -413,7 +413,7 @@ def _few_marks(inputs: Inputs, entry: dict, found: int, duration: float,
     n = entry.get("n")
     strokes = inputs["engine"]["strokes"]
     need = 2 * np.pi * strokes / n.value if n is not None else 0.0
-    if duration < need:
+    if duration < need and not photos:
         return InputError(f"{found} TDC mark(s) on the record: it lasts {duration:.3g} s, "
                           f"shorter than the two camshaft revolutions its speed and a whole "
                           f"valve event need ({need:.3g} s at n = {n.value / report.RPM_SI:.0f} "
@@ -422,13 +422,15 @@ def _few_marks(inputs: Inputs, entry: dict, found: int, duration: float,
     if photos:
         lines = next(iter(photos.values())).lines
         return InputError(
-            f"{found} TDC mark(s) found on the photograph's {duration:.3g} s, a revolution's "
-            f"speed needs two: the reader did not find the TDC marks' line ({lines})",
+            f"{found} TDC mark(s) found along the {duration:.3g} s of trace read off the "
+            f"photograph, a revolution's speed needs two: the reader did not find the TDC "
+            f"marks' line, or lost the traces ({lines})",
             "look at the overlay: photograph or scan the TDC-mark line whole and sharp, with "
             "the sheet's edges in the picture, or give the record as a recording",
             file=str(entry["signal"]), field=f"{where}.signal",
-            ru=(f"на снимке за {duration:.3g} с найдено отметок ВМТ: {found}, а для скорости "
-                f"за оборот нужны две: линия отметок ВМТ не найдена ({lines})",
+            ru=(f"на {duration:.3g} с кривых, прочитанных со снимка, найдено отметок ВМТ: "
+                f"{found}, а для скорости за оборот нужны две: линия отметок ВМТ не найдена "
+                f"или кривые потеряны при чтении ({lines})",
                 "посмотрите на наложение: снимите или отсканируйте линию отметок ВМТ целиком и "
                 "резко, с краями листа в кадре, или дайте запись файлом сигналов"))
     return InputError(f"{found} TDC mark(s) on the record's {duration:.3g} s: its speed needs "
