@@ -415,7 +415,9 @@ def _oscillogram(inputs: Inputs, i: int, entry: dict, revolutions: int) -> Oscil
                              "сфотографируйте линию резко, по всей её длине")) from None
     inside = starts[(starts >= channel.time[0]) & (starts <= channel.time[-1])]
     omega = mean_speed(inside, 2 * np.pi * revolutions, channel.time_scale)
-    _check_tdc_speed(omega, entry, tdc, channel, path, field)
+    engine = inputs["engine"]
+    _check_tdc_speed(omega, entry, tdc, channel, path, field,
+                     engine.get("cylinders", 1) / revolutions)
     # the spot and the camera's blur low-passed the ripple: restored by the σ the stroke
     # shows, the restoration known within its own size (a rectangle that wide, type B)
     full = cycles.deblurred(channel.stroke_blur)
@@ -495,13 +497,39 @@ def _converter_level(entry: dict) -> float:
     return entry["h_mean"].value
 
 
-def _check_tdc_speed(omega: Measured, entry: dict, tdc, channel, path, field: str) -> None:
+FIRING_MATCH = 0.05
+"""How close (relative) the TDC marks' speed must come to the tachometer's times the firings
+a revolution for the marks read to be taken for the speed trace's ripple."""
+
+
+def _check_tdc_speed(omega: Measured, entry: dict, tdc, channel, path, field: str,
+                     firings: float) -> None:
     """The TDC marks' mean speed against the tachometer: far apart, the marks read are not
     the TDC marks (a lid's edge, a trace or the time marks taken for them) or the mark
-    period is wrong; refused, naming the lines found."""
+    period is wrong; refused, naming the lines found. Marks that come ``firings`` times a
+    revolution (the cylinders' firings: two on a four-cylinder four-stroke engine) are the
+    dips of the speed trace's ripple, the trace taken for a mark line."""
     n_t = entry["n_tach"]
     gap = omega.value / n_t.value - 1
-    if abs(gap) > TACH_REFUSE + 2 * np.hypot(n_t.u / n_t.value, omega.u / omega.value):
+    tolerance = TACH_REFUSE + 2 * np.hypot(n_t.u / n_t.value, omega.u / omega.value)
+    if firings >= 2 and abs(omega.value / (firings * n_t.value) - 1) < FIRING_MATCH:
+        rpm, tach = omega.value * 30 / np.pi, n_t.value * 30 / np.pi
+        raise InputError(
+            f"the {tdc.size} TDC marks read off the oscillogram give {rpm:.0f} min⁻¹, "
+            f"{firings:g} times the tachometer's {tach:.0f} min⁻¹: they come with the "
+            "cylinders' firings, so the speed trace's ripple (its dips) was taken for a line "
+            f"with TDC marks; {channel.lines}",
+            "look at the overlay; photograph or scan the record with its TDC mark line (a "
+            "mark each revolution) whole and sharp, or read h_max and h_min off the trace "
+            "by hand", file=str(path), field=field,
+            ru=(f"{tdc.size} отметок ВМТ на осциллограмме дают {rpm:.0f} мин⁻¹ — в "
+                f"{firings:g} раза больше, чем тахометр ({tach:.0f} мин⁻¹): они идут с "
+                "частотой вспышек, то есть за линию с отметками ВМТ приняты провалы "
+                f"пульсаций кривой скорости; {channel.lines_ru}",
+                "посмотрите на наложение; снимите или отсканируйте запись с линией отметок "
+                "ВМТ (одна отметка за оборот) целиком и резко или прочтите h_max и h_min с "
+                "кривой вручную"))
+    if abs(gap) > tolerance:
         raise InputError(
             f"the {tdc.size} TDC marks read off the oscillogram give a mean speed of "
             f"{omega.value * 30 / np.pi:.0f} min⁻¹, the tachometer {n_t.value * 30 / np.pi:.0f} "

@@ -43,7 +43,7 @@ from processing.inputs.record_quality import (SENSOR_FIX, check_pulses, check_re
                                        clipped_mask)
 from processing.regression import calibration_fault, curvature_test, fit_line
 from processing.result import LabResult, flag_estimates, result_values
-from processing.inputs.signals import (image_options, is_image, open_channel, open_channels,
+from processing.inputs.signals import (image_options, is_image, open_channels,
                                 read_figures)
 from processing.torsional.torsiogram import Revolutions, crank_angle, revolutions
 from processing.uncertainty import Measured, propagate
@@ -268,13 +268,10 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
     path, field = entry["signal"], f"{where}.signal"
     if is_image(path):
         options = image_options(inputs.sections.get("image"))
-        traces, photos = {}, {}
-        for valve, name in names.items():
-            ch = photos[valve] = open_channel(path, channel=name, field=field, image=options)
-            traces[valve] = np.nan_to_num(ch.read() * _paper_mm(ch))
-        first = next(iter(photos.values()))
-        tdc = first.marks.get("tdc", np.array([]))
-        rate = first.sample_rate
+        photos = dict(zip(names, open_channels(path, list(names.values()), field=field,
+                                               image=options)))
+        traces, tdc = _on_one_time_axis(photos, path, field)
+        rate = next(iter(photos.values())).sample_rate
         labels = {v: str(photos[v].name) for v in names}
     else:
         rate = entry["sample_rate"].value if "sample_rate" in entry else None
@@ -314,6 +311,43 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
     return np.arange(size) / rate, traces, tdc, photos
 
 
+SHARED_SPAN = 0.5
+"""Least share of the longest trace's span that the valves' traces of one sheet must be read
+over together."""
+
+
+def _on_one_time_axis(photos: dict, path, field: str) -> tuple[dict, np.ndarray]:
+    """The valves' traces read off one sheet, on the first's time grid over the time all of
+    them are read [mm of paper], and the TDC marks' times on it [s].
+
+    Each trace read off a sheet starts its time where it is first read, so two traces of
+    one sheet are shifted by the difference of the times each puts the same mark at (a
+    time mark, else a TDC mark; none: no shift). A trace read over less than
+    :data:`SHARED_SPAN` of the longest one's span is refused: the reader lost it."""
+    first = next(iter(photos.values()))
+    kind = next((k for k in ("time", "tdc") if first.marks.get(k, np.empty(0)).size), None)
+    shift = {v: float(first.marks[kind][0] - ch.marks[kind][0]) if kind else 0.0
+             for v, ch in photos.items()}
+    lo = max(shift.values())
+    hi = min(shift[v] + ch.time[-1] for v, ch in photos.items())
+    longest = max(ch.time[-1] for ch in photos.values())
+    if hi - lo < SHARED_SPAN * longest:
+        short = min(photos, key=lambda v: photos[v].time[-1])
+        raise InputError(
+            f"{photos[short].name} is read over {photos[short].time[-1]:.3g} s, the valves' "
+            f"traces together over {max(hi - lo, 0.0):.3g} s of the sheet's {longest:.3g} s: "
+            "the reader lost a trace", "look at the overlay: photograph or scan the sheet "
+            "flat, sharp and evenly lit, the traces whole", file=str(path), field=field,
+            ru=(f"{photos[short].name} прочитана на {photos[short].time[-1]:.3g} с, кривые "
+                f"клапанов вместе — на {max(hi - lo, 0.0):.3g} с из {longest:.3g} с листа: "
+                "кривая потеряна при чтении", "посмотрите на наложение: снимите или "
+                "отсканируйте лист ровно, резко и равномерно освещённым, кривые целиком"))
+    grid = first.time[(first.time >= lo) & (first.time <= hi)]
+    traces = {v: np.interp(grid, ch.time + shift[v], np.nan_to_num(ch.read() * _paper_mm(ch)))
+              for v, ch in photos.items()}
+    return traces, first.marks.get("tdc", np.array([])) - (grid[0] if grid.size else 0.0)
+
+
 def _distinct(inputs: Inputs, uses: list[tuple[dict, object, str]]) -> None:
     """Refuse one channel named for two things (a valve's force and the TDC marks): each use
     is (what it is for, in English and Russian, the channel, the field that names it)."""
@@ -351,7 +385,7 @@ def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
     duration = time.size / rate
     per_rev = inputs["engine"]["tdc_per_revolution"]
     if tdc.size < per_rev + 1:
-        raise _few_marks(inputs, entry, tdc.size, duration, where)
+        raise _few_marks(inputs, entry, tdc.size, duration, where, photos)
     try:
         revs = revolutions(tdc, per_revolution=per_rev)
     except InputError as exc:
@@ -360,7 +394,7 @@ def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
     span = revs.mark_times[-1] - revs.mark_times[0]
     speed = Measured(revs.angular_speed, revs.u_speed, max(revs.speeds.size - 1, 1),
                      limit=revs.angular_speed / (rate * span))
-    _check_speed(entry, speed.value, where)
+    _check_speed(entry, speed.value, where, photos)
     traces = {}
     cam_turn = 4 * np.pi / inputs["engine"]["strokes"] / speed.value
     for valve, x in raw.items():
@@ -384,13 +418,14 @@ def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
 
 
 def _few_marks(inputs: Inputs, entry: dict, found: int, duration: float,
-               where: str) -> InputError:
+               where: str, photos: dict) -> InputError:
     """Too few TDC marks for a revolution: a record too short for the tachometer's speed,
-    or marks the channel does not hold."""
+    or marks the channel does not hold (on a photograph: the TDC marks not found, named
+    with the lines the reader found)."""
     n = entry.get("n")
     strokes = inputs["engine"]["strokes"]
     need = 2 * np.pi * strokes / n.value if n is not None else 0.0
-    if duration < need:
+    if duration < need and not photos:
         return InputError(f"{found} TDC mark(s) on the record: it lasts {duration:.3g} s, "
                           f"shorter than the two camshaft revolutions its speed and a whole "
                           f"valve event need ({need:.3g} s at n = {n.value / report.RPM_SI:.0f} "
@@ -401,6 +436,21 @@ def _few_marks(inputs: Inputs, entry: dict, found: int, duration: float,
                               "частоты вращения и целого события клапана "
                               f"({need:.3g} с при n = {n.value / report.RPM_SI:.0f} мин⁻¹)",
                               "запишите хотя бы два оборота распределительного вала"))
+    if photos:
+        channel = next(iter(photos.values()))
+        lines, lines_ru = channel.lines, channel.lines_ru
+        return InputError(
+            f"{found} TDC mark(s) found along the {duration:.3g} s of trace read off the "
+            f"photograph, a revolution's speed needs two: the reader did not find the TDC "
+            f"marks' line, or lost the traces ({lines})",
+            "look at the overlay: photograph or scan the TDC-mark line whole and sharp, with "
+            "the sheet's edges in the picture, or give the record as a recording",
+            file=str(entry["signal"]), field=f"{where}.signal",
+            ru=(f"на {duration:.3g} с кривых, прочитанных со снимка, найдено отметок ВМТ: "
+                f"{found}, а для скорости за оборот нужны две: линия отметок ВМТ не найдена "
+                f"или кривые потеряны при чтении ({lines_ru})",
+                "посмотрите на наложение: снимите или отсканируйте линию отметок ВМТ целиком и "
+                "резко, с краями листа в кадре, или дайте запись файлом сигналов"))
     return InputError(f"{found} TDC mark(s) on the record's {duration:.3g} s: its speed needs "
                       "a whole revolution", "name the TDC channel (tdc_channel = ...) and "
                       "record at least two camshaft revolutions", file=str(entry["signal"]),
@@ -410,17 +460,32 @@ def _few_marks(inputs: Inputs, entry: dict, found: int, duration: float,
                           "и запишите хотя бы два оборота распределительного вала"))
 
 
-def _check_speed(entry: dict, omega: float, where: str) -> None:
-    """The TDC marks' speed against the tachometer's n."""
+def _check_speed(entry: dict, omega: float, where: str, photos: dict) -> None:
+    """The TDC marks' speed against the tachometer's n (on a photograph, marks of another
+    line taken for the TDC marks, named with the lines the reader found)."""
     if "n" not in entry:
         return
     n = entry["n"]
-    check_tachometer(omega, n, lambda gap: InputError(
-        f"the TDC marks give {omega / report.RPM_SI:.0f} min⁻¹ but n = "
-        f"{n.value / report.RPM_SI:.0f} min⁻¹ ({100 * gap:+.0f} %): a mark per revolution too "
-        "many or too few, or the wrong record", "check n, the TDC channel and "
-        "tdc_per_revolution in [engine]", file=str(entry["signal"]), field=f"{where}.n"),
-        lambda: report.speed_disagrees(where, omega, n.value))
+
+    def refuse(gap):
+        said = (f"the TDC marks give {omega / report.RPM_SI:.0f} min⁻¹ but n = "
+                f"{n.value / report.RPM_SI:.0f} min⁻¹ ({100 * gap:+.0f} %)")
+        if photos:
+            channel = next(iter(photos.values()))
+            return InputError(
+                f"{said}: the reader took other pips for the TDC marks, or missed some of "
+                f"them ({channel.lines})", "look at the overlay: photograph or scan the TDC-mark "
+                "line whole and sharp, or give the record as a recording; check n",
+                file=str(entry["signal"]), field=f"{where}.signal",
+                ru=(f"отметки ВМТ дают {omega / report.RPM_SI:.0f} мин⁻¹, а n = "
+                    f"{n.value / report.RPM_SI:.0f} мин⁻¹ ({100 * gap:+.0f} %): за отметки ВМТ "
+                    f"приняты другие метки или часть их пропущена ({channel.lines_ru})", "посмотрите на наложение: снимите или отсканируйте линию "
+                    "отметок ВМТ целиком и резко или дайте запись файлом сигналов; проверьте n"))
+        return InputError(f"{said}: a mark per revolution too many or too few, or the wrong "
+                          "record", "check n, the TDC channel and tdc_per_revolution in "
+                          "[engine]", file=str(entry["signal"]), field=f"{where}.n")
+
+    check_tachometer(omega, n, refuse, lambda: report.speed_disagrees(where, omega, n.value))
 
 
 # ------------------------------------------------------------------------ calibration

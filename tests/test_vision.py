@@ -269,6 +269,29 @@ def test_traces_at_rest_are_not_taken_for_straight_lines():
         assert rec.marks["time"].size >= 38
 
 
+def test_traces_resting_on_their_zero_lines_are_given_back():
+    """The same two valves with their zero lines drawn: at rest each trace lies on its zero
+    line, which is lifted off with it, but its events leave that line and come back to it,
+    so the trace is given back there and followed end to end at the line's row; the TDC
+    line's pips are no events, and its line stays a line."""
+    layout = Layout(length=0.25, speed=0.25 / 0.2, mark_period=0.005,
+                    tdc_times=tuple(np.arange(0.01, 0.2, 0.04)))
+    beams = [Beam(hump, 0.062, 0.03, zero_line=True),
+             Beam(lambda t: hump(t + 0.03), 0.016, 0.03, zero_line=True)]
+    scene = render(layout, beams, replace(PHOTO, size=(2400, 1200)), seed=2)
+    records = read_paper_records(scene.image, mark_period=0.005, paper_width=0.12)
+    assert len(records) == 2
+    for rec, beam in zip(records, beams):
+        assert np.isfinite(rec.value).mean() > 0.99
+        assert rec.duration == pytest.approx(0.2, rel=0.02)
+        assert rec.marks["tdc"].size == 5
+        rest = np.nanmedian(rec.value)            # at rest 65 % of the time
+        swing = np.nanmax(rec.value) - rest
+        truth = beam.gain * hump(np.linspace(0, 0.08, 8001)).max()
+        assert swing == pytest.approx(truth, rel=0.1)
+        assert np.mean(np.abs(rec.value - rest) < 0.02 * truth) > 0.55
+
+
 def test_sharp_crests_are_read_off_the_strokes_outer_edge():
     """A 450 Hz ringing at 14 px a period, swinging ±4 mm: sharper than the 0.3 mm stroke is
     wide, so the centroid of a column under a crest sinks by a third of the swing; read at

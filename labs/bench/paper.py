@@ -356,7 +356,9 @@ def foreign_family() -> Family:
 
 def foreign_error(result, case) -> dict:
     """Each result the scene knows: its relative error, its target, whether its 95 % interval
-    holds the truth; the worst relative error is ``error``."""
+    holds the truth; the worst relative error is ``error``; ``notices``: the codes of the
+    warnings the lab gave with its result (a lab keeps its warnings with the result, as the
+    report shows them, rather than raising them to the caller)."""
     out, worst = {}, 0.0
     covered, within = True, True
     for name, truth in case.truth.items():
@@ -367,14 +369,16 @@ def foreign_error(result, case) -> dict:
         covered &= bool(lo <= truth <= hi)
         within &= abs(rel) <= FOREIGN_TARGETS[re.sub(r"_\d+$", "", name)]
         worst = max(worst, abs(rel))
-    return {**out, "error": worst, "covered": covered, "within": within}
+    return {**out, "error": worst, "covered": covered, "within": within,
+            "notices": "; ".join(sorted({n.code for n in result.warnings}))}
 
 
 def _foreign_silent(rows: pd.DataFrame) -> pd.DataFrame:
-    """Foreign records reduced outside their targets with no warning at all."""
+    """Foreign records reduced outside their targets with no warning at all (neither raised
+    nor given with the result)."""
     done = rows["failed"].fillna("") == ""
-    return rows[done & ~rows["within"].fillna(True).astype(bool)
-                & (rows["warnings"].fillna("") == "")]
+    said = rows["warnings"].fillna("") + rows.get("notices", pd.Series("", rows.index)).fillna("")
+    return rows[done & ~rows["within"].fillna(True).astype(bool) & (said == "")]
 
 
 def foreign_targets(frame: pd.DataFrame) -> list[Target]:
@@ -502,7 +506,7 @@ def summary_lines(frame: pd.DataFrame) -> list[str]:
     foreign = frame[frame["family"] == "foreign records"]
     columns = [c for c in ("lab", "seed", "capture", "lid", "zero_line", "scale_given", "grid",
                            "time_marks",
-                           "error", "covered", "warnings", "failed") if c in foreign]
+                           "error", "covered", "notices", "failed") if c in foreign]
     return ["Foreign records (each lab's measurement on a strip of the second family):",
             foreign[columns].to_string(index=False, float_format=fmt, max_colwidth=70), "",
             "Summary (median over scenes):",

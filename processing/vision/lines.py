@@ -18,6 +18,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import ndimage
 from scipy.signal import find_peaks
 
 from ..regression import fit_line
@@ -42,6 +43,10 @@ DIPPING = 0.5
 columns are such) that may lie in stretches along which the ink beside the row moves — its
 nearest row changing by 2 px or more. A pip lifts a line to a flat top; a trace that dwells
 at one level and dips off it (a speed trace of small δ) leaves for rows it sweeps through."""
+
+REST_MIN = 0.03
+"""Shortest stretch, as a share of the sheet's length, along which a trace is taken to rest on
+a line (:func:`restore_rests`); a trace lost where it crosses a line leaves a few columns."""
 
 BLOCK_COLUMNS = 160
 """Typical block length along the line; 6 to 32 blocks per sheet. [px]"""
@@ -151,6 +156,89 @@ def remove_lines(density: np.ndarray, noise: float) -> list[Line]:
     return lines
 
 
+def restore_rests(density: np.ndarray, drawn: np.ndarray, lines: list[Line],
+                  threshold: float) -> list[tuple[Line, int, int]]:
+    """Give a line back its density where a trace rests on it.
+
+    A beam at rest draws along its zero line (a valve's force while the valve is shut, a
+    decay settled): lifted off with the line, the trace would be lost there, and its events
+    would stand apart as if no trace joined them. What tells a trace at rest from the line
+    is where the trace goes on: an event is a stroke that leaves the line's row and comes
+    back to it, so the trace rests on the line between the end of one such stroke and the
+    start of the next (or the sheet's end), wherever both ends of that stretch lie on the
+    line's row. A trace crossing the line leaves no such stretch (it runs on as one stroke,
+    or is lost for a few columns: stretches shorter than :data:`REST_MIN` of the sheet are
+    left alone), a mark line's pips are no events (strokes shorter than that along the
+    sheet), and a line no stroke leaves from stays lifted off whole.
+
+    Parameters
+    ----------
+    density : numpy.ndarray
+        Density with the lines lifted off, rows × columns; changed in place.
+    drawn : numpy.ndarray
+        The density before the lines were lifted off.
+    lines : list of Line
+        The lines a trace may rest on (the zero lines).
+    threshold : float
+        Density above which a pixel is ink.
+
+    Returns
+    -------
+    list of (Line, int, int)
+        Each stretch given back: the line, its first column and one past its last.
+    """
+    h, w = density.shape
+    labels, _ = ndimage.label(density > threshold, structure=np.ones((3, 3), bool))
+    boxes = ndimage.find_objects(labels)
+    cols = np.arange(w)
+    out = []
+    for line in lines:
+        reach = line.width / 2 + max(3.0, line.width)
+        offsets = np.arange(-int(np.ceil(reach)), int(np.ceil(reach)) + 1)
+        rows = np.round(line.at(cols))[None, :].astype(int) + offsets[:, None]
+        inside = (rows >= 0) & (rows < h)
+        band = np.where(inside, labels[np.clip(rows, 0, h - 1), cols[None, :]], 0)
+        occupied = np.zeros(w, bool)
+        starts, ends = set(), set()
+        for k in np.unique(band[band > 0]):
+            rs, cs = boxes[k - 1]
+            if not _leaves(line, rs, cs, reach):
+                continue                # a remnant of the line itself, or of the rest on it
+            occupied[cs] = True
+            if cs.stop - cs.start < REST_MIN * w:
+                continue                # a mark's pip, or a stroke's fragment: no event
+            on = (band == k).any(axis=0)
+            if on[cs.start:cs.start + 3].any():
+                starts.add(cs.start)
+            if on[cs.stop - 3:cs.stop].any():
+                ends.add(cs.stop)
+        edges = np.flatnonzero(np.diff(np.concatenate([[1], occupied.astype(np.int8), [1]])))
+        for a, b in zip(edges[::2], edges[1::2]):
+            bounded = (a == 0 or a in ends) and (b == w or b in starts)
+            if bounded and (a in ends or b in starts) and b - a >= REST_MIN * w:
+                _give_back(density, drawn, line, a, b)
+                out.append((line, int(a), int(b)))
+    return out
+
+
+def _leaves(line: Line, rows: slice, cols: slice, reach: float) -> bool:
+    """Whether a stroke's bounding box reaches beyond ``reach`` of the line's row."""
+    at = line.at(np.array([cols.start, cols.stop - 1], dtype=float))
+    return bool(rows.start < at.min() - reach or rows.stop - 1 > at.max() + reach)
+
+
+def _give_back(density: np.ndarray, drawn: np.ndarray, line: Line, a: int, b: int) -> None:
+    """Copy the drawn density back over the rows :func:`_subtract` lifted along ``line``
+    between columns ``a`` and ``b``."""
+    h = density.shape[0]
+    span = line.width / 2 + 3
+    cols = np.arange(a, b)
+    centre = line.at(cols)
+    offsets = np.arange(-int(np.ceil(span)), int(np.ceil(span)) + 1)
+    rows = np.clip(np.round(centre)[None, :].astype(int) + offsets[:, None], 0, h - 1)
+    density[rows, cols[None, :]] = drawn[rows, cols[None, :]]
+
+
 JOINED = 0.5
 """Share of the columns in which the row midway between two close parallel lines holds ink,
 above which the two are a mark line and the tops of its pips, joined by the pips' sides."""
@@ -167,8 +255,9 @@ def _without_combs(density: np.ndarray, lines: list[Line], noise: float) -> list
     """Drop the 'lines' that are the tops of a mark line's pips: time marks so dense (a few
     pixels apart, or blurred into bars) that their top strokes fill most of a row, as a line
     does. Two unrelated lines are joined only here and there (by a trace crossing, a grid
-    line); a mark line and its pips' tops are joined by the pips' sides, so that the row
-    midway between them holds ink in more than :data:`JOINED` of the columns. Of the two,
+    line), and a line three times darker or fainter than another was not drawn by its
+    marker (a printed grid's line beside a mark line); a mark line and its pips' tops are
+    joined by the pips' sides, so that the row midway between them holds ink in more than :data:`JOINED` of the columns. Of the two,
     the mark line holds ink in more columns (it runs between the pips, a top only over its
     pip) and is kept. Taken for a line, the tops would hide the pips from their line."""
     h, w = density.shape
@@ -179,8 +268,9 @@ def _without_combs(density: np.ndarray, lines: list[Line], noise: float) -> list
     for i, a in enumerate(lines):
         for j in range(i + 1, len(lines)):
             b = lines[j]
-            if abs(a.position - b.position) >= 0.1 * h:
-                continue
+            if abs(a.position - b.position) >= 0.1 * h \
+                    or not 1 / 3 < a.strength / b.strength < 3:
+                continue                # apart, or not drawn by one marker
             level = max(min(a.strength, b.strength) / 3, 4 * noise)
             middle = 0.5 * (a.at(cols) + b.at(cols))
             if np.mean(_inked(density, middle[None, :] + np.arange(-1, 2)[:, None],

@@ -131,7 +131,9 @@ def find_pips(density: np.ndarray, line: Line, noise: float,
         offsets = np.arange(near, max(far, near + 2))
         rows = np.clip(np.round(centre[None, :] + side * offsets[:, None]).astype(int), 0, h - 1)
         strip = density[rows, cols[None, :]]
-        profile = strip.mean(axis=1)
+        # each row's paper level (its median: pips are a small share of its columns) set
+        # aside, so that a few sparse pips stand out of an unevenly flattened paper
+        profile = strip.mean(axis=1) - np.median(strip, axis=1)
         # the pips' tops gather in one row band, well above the rows their sides cross (a
         # spike's tip, where the beam turns, only about twice its slanted sides): the three
         # highest maxima of the row profile are tried, and proved pips or not below

@@ -66,11 +66,11 @@ from ..diagnostics import (BlurredMarksWarning, InputError, LowConfidenceTraceWa
 from ..numerals import plural
 from ..result import Figure
 from ..uncertainty import Measured
-from .lines import Line, grid_spacing, remove_lines
+from .lines import Line, grid_spacing, remove_lines, restore_rests
 from .marks import Pips, TimeBase, TimeMarkError, find_mark_rows, find_pips, time_base
 from .overlay import Overlay, plot_values
 from .paper import Sheet, darkness, find_sheet, flatten, load_image, square_up, working_copy
-from .traces import LOW_CONFIDENCE, NoTraceError, Traces, find_runs, follow
+from .traces import LOW_CONFIDENCE, NoTraceError, Traces, find_runs, follow, ink_threshold
 
 LOW_SHARE = 0.05
 """Share of low-confidence samples above which a record warns."""
@@ -468,6 +468,10 @@ def read_paper_records(source, *, traces: int | None = None, mark_period=None,
             density[pips.band[0]:pips.band[1]] = 0.0
     metres = _length_scale(where, given, sheet, plain, reduction)
     seconds = _time_scale(where, given, metres, time_pips)
+    found_pips = {k: p for k, p in (("time", time_pips), ("tdc", tdc_pips)) if p is not None}
+    judged = judge_lines(sheet.grey, lines, plain, found_pips) if lines else []
+    zero_lines = [line for line, kind in judged if kind == "zero line"]
+    restore_rests(density, laid.drawn, zero_lines, ink_threshold(density, noise)[0])
     try:
         found = follow(find_runs(density, noise, plain), density.shape[1], traces)
     except NoTraceError as exc:
@@ -478,9 +482,6 @@ def read_paper_records(source, *, traces: int | None = None, mark_period=None,
                               "сфотографируйте запись так, чтобы линии заполняли кадр, резко "
                               "и при ровном освещении; проверьте, что это файл "
                               "осциллограммы")) from None
-    found_pips = {k: p for k, p in (("time", time_pips), ("tdc", tdc_pips)) if p is not None}
-    judged = judge_lines(sheet.grey, lines, plain, found_pips)
-    zero_lines = [line for line, kind in judged if kind == "zero line"]
     value_scale, unit = _value_scale(where, given, metres, unit)
     overlay_marks = {k: (p.rising, float(p.line.at(density.shape[1] / 2) + p.side * p.offset))
                      for k, p in (("time", time_pips), ("tdc", tdc_pips)) if p is not None}
@@ -576,6 +577,8 @@ class _Laid:
     density: np.ndarray
     noise: float
     lines: list[Line]
+    drawn: np.ndarray
+    """The density before the straight lines were lifted off."""
     time_pips: Pips | None
     tdc_pips: Pips | None
     plain: list[Line]
@@ -603,9 +606,10 @@ def _laid_out(grey: np.ndarray, corners, turns: int) -> _Laid:
     its straight lines lifted off, the pips beside them."""
     sheet = square_up(grey, corners, turns=turns)
     density, noise = flatten(sheet.grey)
+    drawn = density.copy()
     lines = remove_lines(density, noise)
     remove_lines(density.T, noise)
-    return _Laid(sheet, density, noise, lines, *_mark_lines(density, lines, noise))
+    return _Laid(sheet, density, noise, lines, drawn, *_mark_lines(density, lines, noise))
 
 
 def _upright(where: _Where, grey: np.ndarray) -> _Laid:

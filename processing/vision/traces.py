@@ -116,6 +116,17 @@ class Runs(Record):
         return np.diff(self.starts)
 
 
+def ink_threshold(density: np.ndarray, noise: float) -> tuple[float, float]:
+    """The density above which a pixel is a trace's ink: :data:`THRESHOLD_SIGMA` σ of the
+    paper's noise, or :data:`PEAK_SHARE` of the typical column's darkest density if higher;
+    and that typical density (the median of the columns' darkest, over those standing
+    2 × :data:`THRESHOLD_SIGMA` σ out of the noise)."""
+    col_max = density.max(axis=0)
+    strong = col_max[col_max > 2 * THRESHOLD_SIGMA * noise]
+    typical = float(np.median(strong)) if strong.size else 0.0
+    return max(THRESHOLD_SIGMA * noise, PEAK_SHARE * typical), typical
+
+
 def find_runs(density: np.ndarray, noise: float, lines=()) -> Runs:
     """Cut every column into runs of rows above the threshold and measure each.
 
@@ -139,9 +150,7 @@ def find_runs(density: np.ndarray, noise: float, lines=()) -> Runs:
     """
     h, w = density.shape
     col_max = density.max(axis=0)
-    strong = col_max[col_max > 2 * THRESHOLD_SIGMA * noise]
-    typical = float(np.median(strong)) if strong.size else 0.0
-    threshold = max(THRESHOLD_SIGMA * noise, PEAK_SHARE * typical)
+    threshold, typical = ink_threshold(density, noise)
     for line in lines:
         _mend_crossings(density, line, threshold)
     mask = np.zeros((w, h + 2), np.int8)
@@ -268,7 +277,8 @@ def _edges(density, col, lo, hi, threshold: float) -> tuple[np.ndarray, np.ndarr
 
 def _mend_crossings(density: np.ndarray, line, threshold: float) -> None:
     """Interpolate across ``line``'s rows in the columns a stroke crosses it (dark on both
-    sides)."""
+    sides) and lost its density there (light on the line's row; a stroke left whole, as a
+    trace resting on the line and given back, stays as it is)."""
     h, w = density.shape
     cols = np.arange(w)
     half = line.width / 2 + 1
@@ -277,8 +287,10 @@ def _mend_crossings(density: np.ndarray, line, threshold: float) -> None:
     bottom = top + span
     inside = (top >= 0) & (bottom < h)
     crossing = np.zeros(w, bool)
+    centre = np.clip(np.round(line.at(cols)).astype(int), 0, h - 1)
     crossing[inside] = (density[top[inside], cols[inside]] > threshold) \
-        & (density[bottom[inside], cols[inside]] > threshold)
+        & (density[bottom[inside], cols[inside]] > threshold) \
+        & (density[centre[inside], cols[inside]] <= threshold)
     c = cols[crossing]
     if c.size == 0:
         return
