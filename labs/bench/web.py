@@ -25,7 +25,8 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-SAMPLES = Path(__file__).resolve().parent.parent / "sample_data"
+from labs.samples import sample_dir
+
 LAB1 = {"meta.student": "bench", "body.m": "11,800", "body.g": "9,8156 ± 0,0005 m/s^2",
         "trifilar.R1": "99,8", "trifilar.R2": "140,3", "trifilar.l": "799,8",
         "trifilar.n_osc": "20", "trifilar.t": "36,07; 36,21; 36,22", "trifilar.m_p": "2,104",
@@ -123,7 +124,7 @@ def main(argv=None) -> int:
     p.add_argument("--workers", type=int, default=2)
     p.add_argument("--seed", type=int, default=0)
     args = p.parse_args(argv)
-    photo = {"decay.signal": ("decay.jpg", (SAMPLES / "lab9-photo/decay.jpg").read_bytes(),
+    photo = {"decay.signal": ("decay.jpg", (sample_dir() / "lab9-photo/decay.jpg").read_bytes(),
                               "image/jpeg")}
     proc, base = _serve(args.workers)
     peak, stop = [0], threading.Event()
