@@ -98,10 +98,10 @@ def test_docs_pages_show_targets_and_charts_and_replace_a_rerun(toy_rows, tmp_pa
     out, docs_dir = tmp_path / "out", tmp_path / "docs"
     out.mkdir()
     plot_error_time(pd.DataFrame(toy_rows), out / "error_vs_time.png", {"toy": "relative error"})
-    targets = [Target("toy error", 0.002, 0.01, unit="rel"), Target("speed", 1.0, 5.0, "min")]
+    targets = [Target("toy |error|", 0.002, 0.01, unit="rel"), Target("speed", 1.0, 5.0, "min")]
     page = docs.topic_page(docs_dir, "toy", ["toy: 1 case"], targets, out, quick=True)
     text = page.read_text(encoding="utf-8")
-    assert "| toy error | 0.002 rel | ≤ 0.01 rel | PASS |" in text
+    assert "| toy \\|error\\| | 0.002 rel | ≤ 0.01 rel | PASS |" in text
     assert "| speed | 1  | ≥ 5  | FAIL |" in text and "--quick" in text
     assert "![toy: error vs time](toy__error_vs_time.png)" in text
     assert (docs_dir / "toy__error_vs_time.png").read_bytes().startswith(PNG)

@@ -15,6 +15,11 @@ import shutil
 from pathlib import Path
 
 
+def _cell(text: str) -> str:
+    """Text safe inside a Markdown table's cell (a target's name may hold |x|)."""
+    return text.replace("|", "\\|")
+
+
 def topic_page(folder: Path, topic: str, summary: list[str], targets: list, out: Path, *,
                quick: bool) -> Path:
     """Write the page of one topic's run and copy its charts beside it.
@@ -57,8 +62,9 @@ def topic_page(folder: Path, topic: str, summary: list[str], targets: list, out:
              ""]
     if targets:
         lines += ["| target | measured | limit | verdict |", "|---|---|---|---|"]
-        lines += [f"| {t.name} | {t.value:.4g} {t.unit} | {'≤' if t.kind == 'max' else '≥'} "
-                  f"{t.limit:.4g} {t.unit} | {'PASS' if t.passed else 'FAIL'} |"
+        lines += [f"| {_cell(t.name)} | {t.value:.4g} {t.unit} | "
+                  f"{'≤' if t.kind == 'max' else '≥'} {t.limit:.4g} {t.unit} | "
+                  f"{'PASS' if t.passed else 'FAIL'} |"
                   for t in targets]
         lines.append("")
     lines += [f"![{topic}: {Path(c).stem.split('__', 1)[1].replace('_', ' ')}]({c})\n"
