@@ -1237,11 +1237,11 @@ def check_class(files, folders=(), *, policy: PolicyFile | None = None,
 
 def read_class(folder: str | Path, *, policy: str | Path | None = None,
                keys: str | Path | None = None, roster: str | Path | None = None,
-               lang: str = "en") -> ClassCheck:
+               lang: str = "en", crash=None) -> ClassCheck:
     """Check a class folder as ``dynlab check FOLDER [--policy P] [--keys K [--roster R]]``
     does (:func:`check_class` of every ``.toml`` under it): the entry point for a program
     (the web page) that checks a class and writes its summary
-    (:func:`labs.teachers.check_report.write_summary`).
+    (:func:`labs.teachers.check_report.write_summary`). ``crash`` is :func:`check_class`'s.
 
     Raises
     ------
@@ -1261,4 +1261,4 @@ def read_class(folder: str | Path, *, policy: str | Path | None = None,
     variants = None if keys is None else read_variants(
         keys, None if roster is None else read_roster(roster))
     return check_class(files, [folder], policy=read_policy(policy), variants=variants,
-                       keys=keys, lang=lang)
+                       keys=keys, lang=lang, crash=crash)

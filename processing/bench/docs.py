@@ -62,9 +62,8 @@ def topic_page(folder: Path, topic: str, summary: list[str], targets: list, out:
              ""]
     if targets:
         lines += ["| target | measured | limit | verdict |", "|---|---|---|---|"]
-        lines += [f"| {_cell(t.name)} | {t.value:.4g} {t.unit} | "
-                  f"{'≤' if t.kind == 'max' else '≥'} {t.limit:.4g} {t.unit} | "
-                  f"{'PASS' if t.passed else 'FAIL'} |"
+        lines += [f"| {_cell(t.name)} | {t.value:.4g} {t.unit} | {t.sign} {t.limit:.4g} "
+                  f"{t.unit} | {'PASS' if t.passed else 'FAIL'} |"
                   for t in targets]
         lines.append("")
     lines += [f"![{topic}: {Path(c).stem.split('__', 1)[1].replace('_', ' ')}]({c})\n"

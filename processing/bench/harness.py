@@ -112,11 +112,15 @@ class Target:
             return False
         return bool(self.value <= self.limit if self.kind == "max" else self.value >= self.limit)
 
+    @property
+    def sign(self) -> str:
+        """How the value must stand to the limit: ``≤`` or ``≥``."""
+        return "≤" if self.kind == "max" else "≥"
+
     def line(self) -> str:
         """``PASS  name: value (limit ≤ x unit)  detail``."""
-        sign = "≤" if self.kind == "max" else "≥"
         text = (f"{'PASS' if self.passed else 'FAIL'}  {self.name}: {self.value:.4g} "
-                f"(target {sign} {self.limit:.4g}{' ' + self.unit if self.unit else ''})")
+                f"(target {self.sign} {self.limit:.4g}{' ' + self.unit if self.unit else ''})")
         return text + (f"  {self.detail}" if self.detail else "")
 
 
