@@ -43,6 +43,7 @@ from processing.bench.harness import Target, environment, write_rows, write_targ
 from processing.diagnostics import InputError
 from processing.checking.grading import CONSTANT_SLIPS, FACTOR_SLIPS, Policy, Reported, agrees
 from processing.checking.input_slips import INPUT_SLIPS
+from processing.inputs.reuse import scope
 from processing.measurement import load, read_toml
 
 from labs.teachers.check import CHECK_SAMPLES, Check, _input_slips, _lab_slips, check, copies
@@ -96,8 +97,10 @@ def _unique(candidates: list[tuple[str, float]], name: str, r) -> list[tuple[str
                        for m, w in candidates)]
 
 
+@scope()
 def _submission(lab_id: str, seed: int, folder: Path, rng) -> list[dict]:
-    """Write one variant and its submission; the truth of every reported value."""
+    """Write one variant and its submission; the truth of every reported value (the
+    variant's reductions in one :func:`processing.inputs.reuse.scope`, as a check's)."""
     module = LABS[lab_id]
     written = _written(lab_id, seed, folder)
     ours = evaluate(written["toml"], n_samples=500).results

@@ -42,6 +42,7 @@ from processing.diagnostics import InputError
 from processing.checking.grading import (CONSTANT_SLIPS, FACTOR_SLIPS, TRANSCENDENTAL_SLIPS,
                                          Z_LIMIT, Policy, Reported, Slip, Verdict, judge,
                                          written_digits)
+from processing.inputs.reuse import scope
 
 from labs.registry import LABS, lab_module, read_inputs, reduce_loaded
 
@@ -762,6 +763,7 @@ def _variant_slips(results, reported, variants: Variants, sid: str):
     return readings_of, values_of, slips
 
 
+@scope()
 def check(path: str | Path, *, policy: str | Path | None = None, confine: bool = False,
           key: dict[str, float] | None = None, variants: Variants | None = None,
           sid: str | None = None, **options) -> Check:
@@ -790,6 +792,11 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
     Returns
     -------
     Check
+
+    Notes
+    -----
+    One :func:`processing.inputs.reuse.scope`: the reductions of the slips find the analyses
+    of the recordings they leave as they were done.
 
     Raises
     ------
