@@ -680,7 +680,7 @@ def _regime(inputs: Inputs, i: int, entry: dict, calibration) -> Regime:
 
 @by_content(lambda inputs, i, entry, calibration, revolutions: (
     i, {k: v for k, v in entry.items() if k != "n_tach"}, calibration, revolutions,
-    inputs.sections.get("analysis"), inputs["wheel"]))
+    inputs.sections.get("analysis"), inputs["wheel"]), shared=True)
 def _recording(inputs: Inputs, i: int, entry: dict, calibration, revolutions: int) -> Recording:
     """Regime ``i``'s recording analysed: a function of its entry but the tachometer's
     reading (a slip of n reaches ω_tach, not the teeth), the wheel, the analysis's settings

@@ -378,7 +378,8 @@ def _paper_mm(channel) -> float:
     return 1e3 if channel.unit == "m" else 1.0
 
 
-@by_content(lambda inputs, i, entry, valves: (i, entry, valves, inputs["engine"]))
+@by_content(lambda inputs, i, entry, valves: (i, entry, valves, inputs["engine"]),
+            shared=True)
 def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
     """Record ``i`` read and analysed: a function of its entry, the valves' calibrations and
     the engine's settings alone."""

@@ -365,7 +365,8 @@ def _marks(x, rate: float) -> np.ndarray:
 
 
 @by_content(lambda inputs, i, entry: (i, entry, *(inputs.sections.get(s) for s in
-                                                  ("torsiograph", "engine", "image"))))
+                                                  ("torsiograph", "engine", "image"))),
+            shared=True)
 def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
     """Record ``i`` read and analysed: a function of its entry and of the torsiograph's,
     the engine's and the image's settings alone (a slip of the calibration's R or h finds it

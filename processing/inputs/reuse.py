@@ -40,8 +40,8 @@ def scope() -> Iterator[None]:
 
 
 def content_key(x) -> tuple:
-    """A hashable key that is equal for equal content: an array by its dtype, shape and
-    bytes' digest; a file by its path, size and time of change; a dataclass, mapping or
+    """A hashable key that is equal for equal content: an array of numbers by its dtype,
+    shape and bytes' digest; a file by its path, size and time of change; a dataclass, mapping or
     sequence by its parts; a number, text or None as itself.
 
     Raises
@@ -49,13 +49,15 @@ def content_key(x) -> tuple:
     TypeError
         A value of another kind (its content cannot be told: the stage is not reused).
     """
-    if x is None or isinstance(x, (bool, int, float, complex, str, bytes)):
+    if isinstance(x, float):
+        return ("float", x.hex())       # −0.0 is not 0.0; a NaN is the NaN it was
+    if x is None or isinstance(x, (bool, int, str, bytes)):
         return (type(x).__name__, x)
-    if isinstance(x, np.ndarray):
+    if isinstance(x, np.ndarray) and not x.dtype.hasobject:
         data = np.ascontiguousarray(x)
         return ("array", data.dtype.str, data.shape, hashlib.sha1(data.tobytes()).digest())
     if isinstance(x, np.generic):
-        return ("scalar", x.dtype.str, x.item())
+        return ("scalar", x.dtype.str, content_key(x.item()))
     if isinstance(x, Path):
         stat = x.stat()
         return ("path", str(x.resolve()), stat.st_size, stat.st_mtime_ns)
