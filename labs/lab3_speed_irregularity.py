@@ -40,6 +40,7 @@ from processing.speed.edges import stream_edges
 from processing.measurement import (ENGINE_SPEED, SAMPLE_RATE, STROKES, Field, Inputs, LabSpec,
                                     Section, bi, image_section)
 from processing.inputs.record_quality import check_pulse_channel, check_record
+from processing.inputs.reuse import by_content
 from processing.result import (KEY, STRICTLY_POSITIVE, LabResult, Typical, compare, computed,
                                flag_estimates, result_values)
 from processing.inputs.signals import image_options, open_channel, read_edge_times, read_figures
@@ -677,7 +678,13 @@ def _regime(inputs: Inputs, i: int, entry: dict, calibration) -> Regime:
     return Regime(i + 1, recording, _oscillogram(inputs, i, entry, revolutions))
 
 
+@by_content(lambda inputs, i, entry, calibration, revolutions: (
+    i, {k: v for k, v in entry.items() if k != "n_tach"}, calibration, revolutions,
+    inputs.sections.get("analysis"), inputs["wheel"]), shared=True)
 def _recording(inputs: Inputs, i: int, entry: dict, calibration, revolutions: int) -> Recording:
+    """Regime ``i``'s recording analysed: a function of its entry but the tachometer's
+    reading (a slip of n reaches ω_tach, not the teeth), the wheel, the analysis's settings
+    and the calibration alone."""
     analysis = inputs.sections.get("analysis", {"edge_method": "fit"})
     times, tdc, spt = _signal_edges(inputs, i, entry, analysis["edge_method"])
     label = bi(f"regime {i + 1}", f"режим {i + 1}")

@@ -53,6 +53,7 @@ from processing.inputs.record_checks import check_tachometer, whole_ratio
 from processing.result import LabResult, compare, flag_estimates, result_values
 from processing.inputs.signals import open_channels
 from processing.inputs.record_quality import check_record, irregular_marks
+from processing.inputs.reuse import by_content
 from processing.vibration.steady_record import decimate, mean_cycle
 from processing.torsional.torsiogram import Revolutions, revolutions, steady_crank_angle
 from processing.uncertainty import Measured, propagate
@@ -452,7 +453,12 @@ def _channel(p: int, name: str, x: np.ndarray, rate: float, timing, strokes: int
     return Channel(0, p + 1, name, rms, pp, fit)
 
 
+@by_content(lambda inputs, i, entry, points, phases: (i, entry, points, phases,
+                                                      inputs["engine"]["strokes"]))
 def _record(inputs: Inputs, i: int, entry: dict, points: int, phases) -> Recorded:
+    """Record ``i``'s channels read and analysed: a function of its entry, the engine's
+    strokes, the points and the cylinders' phases alone (a slip of the engine's R or m_j finds
+    it done)."""
     where = f"record[{i}]"
     path = entry["signal"]
 

@@ -41,6 +41,7 @@ from processing.measurement import (ENGINE_SPEED, MARK_PERIOD, SAMPLE_RATE, STRO
 from processing.inputs.record_checks import check_tachometer, check_time_marks
 from processing.inputs.record_quality import (SENSOR_FIX, check_pulses, check_record,
                                        clipped_mask)
+from processing.inputs.reuse import by_content, scope
 from processing.regression import calibration_fault, curvature_test, fit_line
 from processing.result import LabResult, flag_estimates, result_values
 from processing.inputs.signals import (image_options, is_image, open_channels,
@@ -377,7 +378,11 @@ def _paper_mm(channel) -> float:
     return 1e3 if channel.unit == "m" else 1.0
 
 
+@by_content(lambda inputs, i, entry, valves: (i, entry, valves, inputs["engine"]),
+            shared=True)
 def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
+    """Record ``i`` read and analysed: a function of its entry, the valves' calibrations and
+    the engine's settings alone."""
     where = f"record[{i}]"
     names = {v: spec.get("channel", v) for v, spec in valves.items()}
     time, raw, tdc, photos = _read(inputs, where, entry, names)
@@ -720,7 +725,7 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20036) -> LabR
         read, a speed far from the tachometer's.
     """
     strokes = inputs["engine"]["strokes"]
-    with collect_notices() as notices:
+    with scope(), collect_notices() as notices:      # a stretch met twice is fitted once
         valves = _valves(inputs)
         recorded = [_record(inputs, i, e, valves) for i, e in enumerate(inputs["record"])]
         flat = _flat(recorded, valves)

@@ -46,6 +46,7 @@ from processing.measurement import (ENGINE_SPEED, MARK_PERIOD, SAMPLE_RATE, STRO
                                     LabSpec, Section, bi, firing_order, image_section)
 from processing.inputs.record_checks import check_tachometer, check_time_marks, whole_ratio
 from processing.inputs.record_quality import check_record, irregular_marks
+from processing.inputs.reuse import by_content
 from processing.regression import fit_line
 from processing.torsional.resonance import (Resonance, SweepEdge, locate_resonances, major_orders,
                                  relative_phase_sum, resonance_speed)
@@ -363,7 +364,13 @@ def _marks(x, rate: float) -> np.ndarray:
     return detect_edges(np.asarray(x, dtype=float), "fit") / rate
 
 
+@by_content(lambda inputs, i, entry: (i, entry, *(inputs.sections.get(s) for s in
+                                                  ("torsiograph", "engine", "image"))),
+            shared=True)
 def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
+    """Record ``i`` read and analysed: a function of its entry and of the torsiograph's,
+    the engine's and the image's settings alone (a slip of the calibration's R or h finds it
+    done)."""
     where = f"record[{i}]"
     path = entry["signal"]
 

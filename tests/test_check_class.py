@@ -245,3 +245,28 @@ def test_the_class_summary_a_row_per_student_with_marks_units_and_moodle_grades(
                  str(variants.parent / "roster.csv"), "--out", str(out), "--lang", "ru"]) == 2
     page = (out / "summary.html").read_text(encoding="utf-8")
     assert "не сдано" in page and "кН/мм" in page and "not handed in" not in page
+
+
+def test_a_class_is_checked_with_one_blas_thread(monkeypatch, tmp_path):
+    """check_class holds numpy's BLAS to one thread per process while it checks (and lets it
+    go after): a check's fits are small and more threads only spin on a shared machine."""
+    from threadpoolctl import threadpool_info
+
+    import labs.teachers.check as ck
+    from processing.diagnostics import InputError
+
+    def blas_threads():
+        return [i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"]
+
+    seen = []
+
+    def counting(path, **options):
+        seen.append(blas_threads())
+        raise InputError("not checked here", "none")
+
+    monkeypatch.setattr(ck, "check", counting)
+    (tmp_path / "a.toml").write_text('lab = "lab1"\n', encoding="utf-8")
+    before = blas_threads()
+    result = ck.check_class([tmp_path / "a.toml"])
+    assert seen == [[1] * len(before)] and list(result.refused) == [str(tmp_path / "a.toml")]
+    assert blas_threads() == before

@@ -149,23 +149,27 @@ def test_lab6_valves_swapped(variants, ours):
         assert_named(variants, ours, "lab6", name, student[name].value, "valves_swapped")
 
 
-def test_a_stretch_fitted_again_is_the_fit_made_before():
-    """The valves-swapped slip reduces every trace again: a free oscillation over the same
-    stretch (another preload moves the closing, not the stretch fitted) is the fit made
-    before, the same as a fresh one; another trace is fitted anew."""
+def test_a_stretch_fitted_again_is_the_fit_made_before(monkeypatch):
+    """The valves-swapped slip reduces every trace again: inside one scope a free oscillation
+    over the same stretch (another preload moves the closing, not the stretch fitted) is the
+    fit made before, the same as a fresh one; another trace, or the same outside the scope,
+    is fitted anew."""
+    from processing.inputs.reuse import scope
     from processing.valvetrain import valve_force as vf
 
+    fits, fit = [], vf.fit_baselines
+    monkeypatch.setattr(vf, "fit_baselines", lambda *a, **k: fits.append(1) or fit(*a, **k))
     t = np.arange(0, 0.04, 1e-4)
     x = 50 + 300 * t + 20 * np.exp(-150 * t) * np.cos(2 * np.pi * 450 * t)
-    vf._FITTED.clear()
-    fresh = vf.free_oscillation(t, x, 0.0, 0.04)
-    again = vf.free_oscillation(t, x, 0.0, 0.0395)
-    assert again.fit is fresh.fit and len(vf._FITTED) == 1
-    vf._FITTED.clear()
+    with scope():
+        fresh = vf.free_oscillation(t, x, 0.0, 0.04)
+        again = vf.free_oscillation(t, x, 0.0, 0.0395)
+        assert len(fits) == 1
+        vf.free_oscillation(t, 1.01 * x, 0.0, 0.04)
+        assert len(fits) == 2 and fresh.fit.delta == again.fit.delta
     anew = vf.free_oscillation(t, x, 0.0, 0.0395)
+    assert len(fits) == 3
     assert (anew.frequency, anew.u_frequency) == (again.frequency, again.u_frequency)
-    other = vf.free_oscillation(t, 1.01 * x, 0.0, 0.04)
-    assert other.fit is not anew.fit and len(vf._FITTED) == 2
 
 
 def test_lab6_camshaft_and_crank_angles(variants, ours):
@@ -231,3 +235,66 @@ def test_lab9_slips(variants, ours):
     assert_named(variants, ours, "lab9", "E_max", M_phi, "energy_without_half")
     assert_named(variants, ours, "lab9", "xi_static_1",
                  r["E_loss_1"].value / (2 * r["E_max_1"].value), "energy_without_half")
+
+
+def test_a_stage_reused_by_content_gives_a_copy_and_its_warnings_again():
+    """Inside a scope a stage marked by_content runs once per content of what decides it
+    (an array's bytes, not its identity), the caller gets its own copy, and the warnings it
+    raised are raised again; outside every scope it runs each time."""
+    import warnings
+
+    from processing.inputs.reuse import by_content, scope
+
+    runs = []
+
+    @by_content(lambda x, label: x)
+    def stage(x, label):
+        runs.append(label)
+        warnings.warn(UserWarning(f"seen {label}"))
+        return {"sum": float(x.sum()), "label": label}
+
+    x = np.arange(5.0)
+    with scope(), warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        first = stage(x, "a")
+        first["sum"] = -1.0
+        again = stage(x.copy(), "b")
+        stage(x + 1, "c")
+    assert runs == ["a", "c"] and again == {"sum": 10.0, "label": "a"}
+    assert [str(w.message) for w in caught] == ["seen a", "seen a", "seen c"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        stage(x, "d")
+    assert runs[-1] == "d"
+
+
+# ------------------------------------------------------------ formula slips, recorded labs
+
+@pytest.mark.parametrize("lab, slip, symbol", [
+    ("lab3", "rpm_as_rad_s_in_formula", "n"),
+    ("lab7", "diameter_for_radius_in_formula", "R")])
+def test_a_formula_slip_is_named_in_a_recorded_lab(variants, ours, lab, slip, symbol):
+    """A lab whose file names recordings is reduced again for the slips of its formula's
+    inputs (the recordings' analysis reused): a result the slip moves, written as the slipped
+    reduction gives it, is named by that slip — where no other slip gives the same value."""
+    from labs.teachers.check import _lab_slips
+    from processing.checking.grading import CONSTANT_SLIPS, FACTOR_SLIPS
+    from processing.checking.input_slips import slipped_inputs
+    from processing.measurement import load
+
+    module = {"lab3": lab3, "lab4": lab4, "lab7": lab7}[lab]
+    inputs = load(variants[lab], module.SPEC)
+    changed = next(c for s, sym, c in slipped_inputs(inputs) if s.name == slip and sym == symbol)
+    student = module.reduce(changed, n_samples=500).results
+    r = ours[lab]
+    own = _lab_slips(module, r, inputs, {"n_samples": 500})
+
+    def alone(name: str) -> bool:
+        value = student[name].value
+        others = [s.candidate(name, r[name].value, r[name].unit)
+                  for s in (*FACTOR_SLIPS, *CONSTANT_SLIPS, *own)]
+        return abs(value / r[name].value - 1) > 0.05 and not any(
+            o is not None and abs(o / value - 1) < 0.02 for o in others)
+
+    name = next(n for n in r if n in student and r[n].value and alone(n))
+    assert_named(variants, ours, lab, name, student[name].value, slip)

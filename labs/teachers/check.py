@@ -42,6 +42,7 @@ from processing.diagnostics import InputError
 from processing.checking.grading import (CONSTANT_SLIPS, FACTOR_SLIPS, TRANSCENDENTAL_SLIPS,
                                          Z_LIMIT, Policy, Reported, Slip, Verdict, judge,
                                          written_digits)
+from processing.inputs.reuse import scope
 
 from labs.registry import LABS, lab_module, read_inputs, reduce_loaded
 
@@ -762,6 +763,7 @@ def _variant_slips(results, reported, variants: Variants, sid: str):
     return readings_of, values_of, slips
 
 
+@scope()
 def check(path: str | Path, *, policy: str | Path | None = None, confine: bool = False,
           key: dict[str, float] | None = None, variants: Variants | None = None,
           sid: str | None = None, **options) -> Check:
@@ -790,6 +792,11 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
     Returns
     -------
     Check
+
+    Notes
+    -----
+    One :func:`processing.inputs.reuse.scope`: the reductions of the slips find the analyses
+    of the recordings they leave as they were done.
 
     Raises
     ------
@@ -1194,6 +1201,12 @@ def _meta_id(path: Path) -> str | None:
     return sid if isinstance(sid, str) else None
 
 
+BLAS_THREADS = 1
+"""Threads of numpy's BLAS while a class is checked (threadpoolctl): a check's linear algebra
+is small (fits of a few parameters), so more threads only spin; one per process leaves the
+other cores to other work (or to a pool of checking processes)."""
+
+
 def check_class(files, folders=(), *, policy: PolicyFile | None = None,
                 variants: Variants | None = None, keys: str | Path | None = None,
                 lang: str = "en", progress=lambda items: items, crash=None) -> ClassCheck:
@@ -1201,7 +1214,7 @@ def check_class(files, folders=(), *, policy: PolicyFile | None = None,
     ``<folder>/<id>/`` of ``folders``, or its ``[meta] id``) where ``variants`` (read from
     ``keys``) are given, checked with ``confine`` where the files come from ``folders``; a
     submission that cannot be checked is refused with its reason (in ``lang``), the others
-    checked; the copies found.
+    checked, with numpy's BLAS on :data:`BLAS_THREADS` thread; the copies found.
 
     Parameters
     ----------
@@ -1214,26 +1227,29 @@ def check_class(files, folders=(), *, policy: PolicyFile | None = None,
     InputError
         A policy's ``expected`` no submission gives (:func:`unknown_expected`).
     """
+    from threadpoolctl import threadpool_limits
+
     policy = policy or PolicyFile()
     checks, refused, ids, problems = [], {}, {}, {}
-    for path in progress(files):
-        sid = folder_id(path, folders)
-        try:
-            if variants is not None:
-                sid = student_key(variants, sid, _meta_id(path), path, keys)
-            checks.append(check(path, policy=policy, confine=bool(folders), variants=variants,
-                                sid=sid))
-        except InputError as exc:
-            refused[str(path)], problems[str(path)] = exc.text(lang), exc
-            ids.update({str(path): sid} if sid else {})
-        except Exception as exc:
-            if crash is None:
-                raise
-            refused[str(path)] = problems[str(path)] = crash(exc, str(path))
-            ids.update({str(path): sid} if sid else {})
+    with threadpool_limits(limits=BLAS_THREADS):
+        for path in progress(files):
+            sid = folder_id(path, folders)
+            try:
+                if variants is not None:
+                    sid = student_key(variants, sid, _meta_id(path), path, keys)
+                checks.append(check(path, policy=policy, confine=bool(folders), variants=variants,
+                                    sid=sid))
+            except InputError as exc:
+                refused[str(path)], problems[str(path)] = exc.text(lang), exc
+                ids.update({str(path): sid} if sid else {})
+            except Exception as exc:
+                if crash is None:
+                    raise
+                refused[str(path)] = problems[str(path)] = crash(exc, str(path))
+                ids.update({str(path): sid} if sid else {})
+
     unknown_expected(checks, policy)
     return ClassCheck(checks, refused, copies(checks), policy, variants, ids, problems)
-
 
 def read_class(folder: str | Path, *, policy: str | Path | None = None,
                keys: str | Path | None = None, roster: str | Path | None = None,

@@ -15,11 +15,10 @@ import re
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, replace
 from functools import cache
-from pathlib import Path
 
 from processing.measurement import Field, Inputs
 from processing.uncertainty import Measured
-from processing.units import dimension
+from processing.units import cycles_factor, dimension
 
 ROTATIONAL_SPEED = dimension("rpm")
 LENGTH = dimension("m")
@@ -65,6 +64,12 @@ def _unit_is(dim: str) -> Callable[[Field], bool]:
     return lambda f: bool(f.unit) and f.kind == "quantity" and _dimension(f.unit) == dim
 
 
+def _rotational_speed(f: Field) -> bool:
+    """An angle per time (``rpm``, ``rad/s``): a crank's speed, not a frequency or a sample
+    rate in ``Hz`` (whose dimension pint gives the same)."""
+    return _unit_is(ROTATIONAL_SPEED)(f) and cycles_factor(f.unit, "Hz") != 1.0
+
+
 _RADIUS_OR_DIAMETER = re.compile(r"[rRdDS](?:\d|_|$)")
 """The manual's symbols of a radius, a diameter or the stroke (``r``, ``R1``, ``d_ref``,
 ``D_rim``, ``S``), not a word that starts so (``division``)."""
@@ -100,11 +105,11 @@ INPUT_SLIPS = (
     InputSlip("rpm_as_rad_s_in_formula",
               {"en": "{symbol} in min⁻¹ used as rad/s inside the formula (×30/π)",
                "ru": "{symbol} в мин⁻¹ подставлена в формулу как рад/с (×30/π)"},
-              _unit_is(ROTATIONAL_SPEED), _scaled(30 / math.pi)),
+              _rotational_speed, _scaled(30 / math.pi)),
     InputSlip("omega_for_n",
               {"en": "ω in rad/s put for {symbol} in min⁻¹ inside the formula (×π/30)",
                "ru": "в формулу вместо {symbol} в мин⁻¹ подставлена ω в рад/с (×π/30)"},
-              _unit_is(ROTATIONAL_SPEED), _scaled(math.pi / 30)),
+              _rotational_speed, _scaled(math.pi / 30)),
     InputSlip("g_as_10",
               {"en": "g = 10 m/s² taken for {symbol}",
                "ru": "принято {symbol} = 10 м/с²"},
@@ -132,10 +137,10 @@ INPUT_SLIPS = (
 def slipped_inputs(inputs: Inputs) -> Iterator[tuple[InputSlip, str, Inputs]]:
     """Every input slip the inputs allow: the slip, the symbol(s) of the inputs it changes
     (``section.field`` where the symbol repeats), and the inputs as it leaves them. A lab
-    whose inputs name a recording is left out (its reduction reads the recording again: 0.3
-    to 7 s each)."""
+    whose inputs name a recording is reduced again as any (its analysis of a recording the
+    slip leaves as it was is reused inside a check: :mod:`processing.inputs.reuse`)."""
     spec = inputs.spec
-    if spec is None or _reads_recordings(inputs):
+    if spec is None:
         return
     for section in spec.sections:
         if section.name not in inputs:
@@ -147,13 +152,6 @@ def slipped_inputs(inputs: Inputs) -> Iterator[tuple[InputSlip, str, Inputs]]:
                 changed = _changed(inputs, section.name, group, slip)
                 if changed is not None:
                     yield slip, ", ".join(f.display_symbol for f in group), changed
-
-
-def _reads_recordings(inputs: Inputs) -> bool:
-    """Whether the inputs name a file (a recording, a photograph)."""
-    return any(isinstance(v, Path) or isinstance(v, list) and any(isinstance(x, Path)
-                                                                 for x in v)
-               for name in inputs.sections for e in _entries(inputs, name) for v in e.values())
 
 
 def _entries(inputs: Inputs, section: str) -> list[dict]:

@@ -59,6 +59,7 @@ from scipy.io import wavfile
 
 from processing.diagnostics import InputError
 from processing.files import IMAGE, STREAMED, TABLE, read_text, regular
+from processing.inputs.reuse import by_content
 
 CHUNK = 2**22
 """Default block length of :meth:`Channel.chunks` [samples]: 32 MB of float64."""
@@ -709,6 +710,14 @@ class _Table:
 
     @classmethod
     def read(cls, src: _Source) -> _Table:
+        """The file parsed, once per content inside a :func:`processing.inputs.reuse.scope`
+        (a check's reductions of its slips and its digest of the recordings read the file
+        again), pointing at ``src``'s field."""
+        return dataclasses.replace(cls._parsed(src), src=src)
+
+    @classmethod
+    @by_content(lambda cls, src: src.path, shared=True)
+    def _parsed(cls, src: _Source) -> _Table:
         text = _read_text(src)
         lines = _content_lines(text)
         first = next(lines, None)
@@ -798,7 +807,7 @@ class _Table:
                                      "впишите недостающее значение или удалите строку (пропуск "
                                      "в оцифрованном сигнале значит, что запись надо разрезать "
                                      "здесь)"))
-        return values
+        return values.copy()            # the caller's own: a table may be read again
 
 
 def _read_text(src: _Source) -> str:

@@ -45,6 +45,7 @@ from scipy.signal import savgol_coeffs
 from processing.oscillations.decay import BaselineChoice, DampedSineFit, fit_baselines
 from processing.oscillations.savgol import savgol
 from processing.result import Record
+from processing.inputs.reuse import by_content
 
 ZERO_BAND = 5.0
 """Half-width of the zero's band, in noise standard deviations: samples within it of the
@@ -368,29 +369,17 @@ def oscillation_period(time, force) -> float:
     return 1.0 / float(f[np.argmax(spectrum)])
 
 
-FITS_KEPT = 512
-"""Stretches whose fits :func:`_fitted` keeps: a trace reduced again with other inputs that
-leave its stretches where they were (a check trying a slip that reads each valve's trace with
-the other valve's calibration) finds them fitted, as long as they are among the last this
-many."""
-
-_FITTED: dict[tuple, BaselineChoice] = {}
-
-
+@by_content(shared=True)
 def _fitted(t: np.ndarray, y: np.ndarray, t0: float, T: float,
             cut: np.ndarray) -> BaselineChoice:
     """:func:`processing.oscillations.decay.fit_baselines` of a stretch (start ``t0``, period
-    ``T``, samples ``cut`` left out), each stretch fitted once: the fit is a function of the
-    samples alone, so the fit made before of the same samples (a few hundred; their bytes the
-    key) is the one a new fit would give."""
-    key = (t.tobytes(), y.tobytes(), t0, T, cut.tobytes())
-    if key not in _FITTED:
-        with np.errstate(over="ignore", invalid="ignore"):
-            models = fit_baselines(t, y, start=t0, period=T, exclude=cut)
-        if len(_FITTED) >= FITS_KEPT:
-            del _FITTED[next(iter(_FITTED))]        # the oldest
-        _FITTED[key] = models
-    return _FITTED[key]
+    ``T``, samples ``cut`` left out), each stretch fitted once inside a
+    :func:`processing.inputs.reuse.scope`: the fit is a function of the samples alone, so the
+    fit made before of the same samples (a trace's stretch met again by the other valve's
+    calibration, or by a check's slip that leaves the trace as it was) is the one a new fit
+    would give."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        return fit_baselines(t, y, start=t0, period=T, exclude=cut)
 
 
 def free_oscillation(time, force, start: float, stop: float,
