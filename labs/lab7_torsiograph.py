@@ -70,13 +70,14 @@ CARRYING_SHARE = 0.3
 """An order carries a record when its amplitude is at least this share of the largest: the
 frequencies the manual's 5–10 × f_c concerns."""
 
-BLUR_RESTORED = 1.0
-"""Limit of error of an amplitude read off a photographed torsiogram, as a share of its
-restoration: the light spot and the capture's blur flatten the peaks (by 1–3 % at 150–190 Hz
-on 200–300 dpi scans and phone photographs of the second family's strips), which the reading
-undoes by the σ the stroke shows (:func:`processing.torsional.seismic.blur_gain`); a single
-oscillation's crest mixes frequencies, so the restoration is known within its own size
-(a rectangle that wide either side, type B)."""
+PHOTO_RESIDUAL = 0.015
+"""Limit of error (relative) of an amplitude read off a photographed torsiogram once its blur
+is undone (:func:`_restoration`): the trace as read is smoothed by the light spot, the
+capture's blur and the line's width (peaks 1–3 % low), which the reading undoes by the σ the
+stroke shows (:func:`processing.torsional.seismic.blur_gain`); a single oscillation's crest
+mixes frequencies and the stroke's σ is itself read, so −1.4 … +0.5 % is left (16 records
+of ``dynlab synth lab7 --image --seed 1``, 4 of the second family's strips). Where the
+restoration is larger, its own size is the limit."""
 
 MIN_CYCLES = 2
 """Working cycles a record needs for its orders: with fewer, a half order cannot be told
@@ -421,11 +422,14 @@ def _blur(channel) -> float:
 
 
 def _restoration(channel, value: float, frequency: float) -> float:
-    """What the blur's restoration added to an amplitude of ``frequency`` [Hz]: its
-    limit of error (:data:`BLUR_RESTORED`)."""
-    if not np.isfinite(frequency):
+    """The limit of error of an amplitude of ``frequency`` [Hz] read off a photograph: what
+    its blur's restoration added, or :data:`PHOTO_RESIDUAL` of it if more (0 for a
+    recorded trace)."""
+    blur = _blur(channel)
+    if blur == 0:
         return 0.0
-    return BLUR_RESTORED * abs(value) * (1 - 1 / float(blur_gain(frequency, _blur(channel))))
+    added = 1 - 1 / float(blur_gain(frequency, blur)) if np.isfinite(frequency) else 0.0
+    return abs(value) * max(added, PHOTO_RESIDUAL)
 
 
 def _check_orders(result: Torsiogram, name: str, refuse) -> None:
