@@ -51,7 +51,7 @@ from processing.regression import fit_line
 from processing.torsional.resonance import (Resonance, SweepEdge, locate_resonances, major_orders,
                                  relative_phase_sum, resonance_speed)
 from processing.result import LabResult, compare, flag_estimates, result_values
-from processing.torsional.seismic import amplitude_ratio
+from processing.torsional.seismic import amplitude_ratio, blur_gain
 from processing.inputs.signals import (image_options, is_image, open_channel, open_channels,
                                 read_figures)
 from processing.torsional.chain import natural_modes
@@ -71,11 +71,14 @@ CARRYING_SHARE = 0.3
 """An order carries a record when its amplitude is at least this share of the largest: the
 frequencies the manual's 5–10 × f_c concerns."""
 
-PHOTO_AMPLITUDE = 0.035
-"""Limit of error (relative) of an amplitude read off a phone photograph of a torsiogram:
-the trace as read is smoothed by the camera's blur and the line's width, so peaks read 1–3.3 %
-low where an oscillation's period spans 50–170 px (14 records of ``dynlab synth lab7 --image
---seed 7``, a phone's 2400 px across 250 mm of paper)."""
+PHOTO_RESIDUAL = 0.015
+"""Limit of error (relative) of an amplitude read off a photographed torsiogram once its blur
+is undone (:func:`_restoration`): the trace as read is smoothed by the light spot, the
+capture's blur and the line's width (peaks 1–3 % low), which the reading undoes by the σ the
+stroke shows (:func:`processing.torsional.seismic.blur_gain`); a single oscillation's crest
+mixes frequencies and the stroke's σ is itself read, so −1.4 … +0.5 % is left (16 records
+of ``dynlab synth lab7 --image --seed 1``, 4 of the second family's strips). Where the
+restoration is larger, its own size is the limit."""
 
 MIN_CYCLES = 2
 """Working cycles a record needs for its orders: with fewer, a half order cannot be told
@@ -391,7 +394,8 @@ def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
     try:
         result = analyse(time, trace, tdc_times, natural_frequency=settings["f_c"].value,
                          damping_ratio=settings["zeta"].value,
-                         per_revolution=settings["tdc_per_revolution"], strokes=strokes)
+                         per_revolution=settings["tdc_per_revolution"], strokes=strokes,
+                         blur=_blur(trace_channel))
     except InputError as exc:
         raise refuse(f"channel '{trace_channel.name}': {exc.problem}", exc.fix,
                      trace_field) from None
@@ -416,6 +420,23 @@ def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
                      limit=revs.angular_speed / (rate * span))
     return Recorded(i + 1, entry["load"], Path(path), result, float(cycles), speed,
                     trace_channel)
+
+
+def _blur(channel) -> float:
+    """σ of the smoothing along the time axis of a trace read off a photograph (0 for a
+    recorded one). [s]"""
+    return float(getattr(channel, "stroke_blur", 0.0))
+
+
+def _restoration(channel, value: float, frequency: float) -> float:
+    """The limit of error of an amplitude of ``frequency`` [Hz] read off a photograph: what
+    its blur's restoration added, or :data:`PHOTO_RESIDUAL` of it if more (0 for a
+    recorded trace)."""
+    blur = _blur(channel)
+    if blur == 0:
+        return 0.0
+    added = 1 - 1 / float(blur_gain(frequency, blur)) if np.isfinite(frequency) else 0.0
+    return abs(value) * max(added, PHOTO_RESIDUAL)
 
 
 def _check_orders(result: Torsiogram, name: str, refuse) -> None:
@@ -717,18 +738,20 @@ def _flat(inputs: Inputs, recorded, slope, found, amplitudes) -> dict:
             flat[f"r{r.number}.clock"] = r.channel.clock
         if t.frequency_fit is not None:
             flat[f"r{r.number}.half_period"] = t.frequency_fit.measured_slope()
-        photo = PHOTO_AMPLITUDE if is_image(r.source) else 0.0
         largest = t.peaks.largest
-        flat[f"r{r.number}.A"] = Measured(largest, t.u_largest, limit=photo * largest)
+        flat[f"r{r.number}.A"] = Measured(
+            largest, t.u_largest, limit=_restoration(r.channel, largest, t.carrying_frequency))
         flat[f"r{r.number}.f"] = t.carrying_frequency
     for f in found:
         k = f.resonance.order
         for n in f.records:
             orders, a, u = amplitudes[n]
             col = int(np.argmin(np.abs(orders - k)))
-            photo = PHOTO_AMPLITUDE if is_image(recorded[n - 1].source) else 0.0
-            flat[f"r{n}.order{k:g}"] = Measured(float(a[col]), float(u[col]), np.inf,
-                                                limit=photo * float(a[col]))
+            rec = recorded[n - 1]
+            flat[f"r{n}.order{k:g}"] = Measured(
+                float(a[col]), float(u[col]), np.inf,
+                limit=_restoration(rec.channel, float(a[col]),
+                                   k * rec.trace.revolution_frequency))
         flat[f"res{f.number}.model"] = Measured(0.0, limit=RESONANCE_MODEL * f.resonance.step)
     if "chain" in inputs:
         chain = inputs["chain"]

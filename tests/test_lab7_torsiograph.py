@@ -288,8 +288,8 @@ def test_photographed_sweep_gives_the_recorded_sweeps_results(tmp_path):
     """The seeded sweep written twice — as recordings, and as phone photographs of its paper
     torsiograms (300 mm strips at 1.5 m/s: 2.7–7 revolutions) — gives the same resonances (orders exact,
     speeds within 0.05 %), the design value φ_max within 2 % of the truth, every stated
-    interval holding its truth (the photographs' amplitudes carry their reading's limit,
-    PHOTO_AMPLITUDE), and the report shows each photograph as read."""
+    interval holding its truth (the photographs' amplitudes carry their blur's restoration
+    as a limit, PHOTO_RESIDUAL), and the report shows each photograph as read."""
     photo = lab7.write_synthetic(tmp_path / "jpg", seed=7, image=True, revolutions=6, part=0)
     recorded = lab7.write_synthetic(tmp_path / "csv", seed=7, revolutions=6, part=0)
     key = json.loads(photo["answer"].read_text())["results"]

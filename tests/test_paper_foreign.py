@@ -223,3 +223,64 @@ def test_lab9_decay_on_a_foreign_strip(tmp_path):
         assert r.value == pytest.approx(truth, rel=0.01), name
         lo, hi = r.estimate.interval95
         assert lo <= truth <= hi, name
+
+
+def settling(t):
+    """A damper ring twisted 1 unit and released at 30 ms: 25 Hz, δ = 0.8, at rest on its
+    zero line from about 0.2 s on."""
+    s = np.clip(t - 0.03, 0.0, None)
+    return np.where(t < 0.03, 1.0, np.exp(-20.0 * s) * np.cos(2 * np.pi * 25.0 * s))
+
+
+def test_decay_settling_on_its_zero_line():
+    """A decay that settles on its zero line, under a printed grid, scanned with a light lid:
+    the zero line is one (not a lid's edge, though the trace darkens one side of it; not a
+    line of TDC marks, though the swings rise off it), and the trace is read to its end,
+    where it runs merged with the line, within the stroke's reach of it (the scans of the
+    damper were refused: 'not read over 28 stretches')."""
+    decay = Strip(length=0.16, width=0.08, speed=0.4,
+                  traces=(Trace(settling, 0.04, 0.02, zero_line=True),),
+                  marks=(Marks(np.arange(0, 0.4, 0.01), 0.005, shape="pip", duration=0.003,
+                               rise=0.3, role="time"),),
+                  grid=Grid(origin=(0.0013, 0.0016)))
+    scene = expose(decay, LIGHT_LID, seed=7)
+    rec = read_paper_record(scene.image, mark_period=0.01, dpi=150, zero="line")
+    assert "(zero line, taken)" in rec.lines and "TDC" not in rec.lines, rec.lines
+    values = rec.read()                               # no stretch left unread
+    assert rec.time[-1] > 0.38
+    tail = values[rec.time > 0.25]
+    assert np.abs(tail).max() < rec.stroke_value * 1.5, rec.stroke_value
+    assert np.max(values) == pytest.approx(0.02, rel=0.03)
+
+
+def test_a_fragment_cut_off_at_an_end_is_no_part_of_the_record():
+    """The follower's step into the sheet's edge (a few columns reaching across the sheet,
+    cut off from the trace by a gap) is left out of the record; a piece of a trace as long
+    as a few strokes is kept."""
+    from processing.vision.record import _ends
+
+    row = np.full(200, 50.0)
+    row[:5], row[5:12], row[190:] = 600.0, np.nan, np.nan
+    confidence = np.where(np.isfinite(row), 1.0, 0.0)
+    assert _ends(row, confidence, 6.0) == (12, 189)
+    row[:5] = 50.0
+    row[5:12] = np.nan
+    row[:30] = 50.0
+    assert _ends(row, np.where(np.isfinite(row), 1.0, 0.0), 6.0) == (0, 189)
+
+
+def test_the_background_beyond_the_sheets_edge_is_no_trace():
+    """A 'trace' hugging the squared-up sheet's top border (a dark lid left inside the
+    sheet's outline) is dropped; the beam's trace is kept."""
+    from processing.vision.record import _on_sheet
+    from processing.vision.traces import NoTraceError, Traces
+
+    cols = 300
+    row = np.vstack([np.full(cols, 5.0), 400 + 30 * np.sin(np.arange(cols) / 20)])
+    found = Traces(np.zeros((2, cols), int), row, np.full((2, cols), 0.1),
+                   np.ones((2, cols)), np.array([13.0, 6.0]), np.array([3.0, 1.5]))
+    kept = _on_sheet(found, 960)
+    assert kept.count == 1 and kept.row[0] == pytest.approx(row[1])
+    with pytest.raises(NoTraceError):
+        _on_sheet(Traces(found.run[:1], row[:1], found.u[:1], found.confidence[:1],
+                         found.width[:1], found.spread[:1]), 960)

@@ -75,8 +75,32 @@ def amplitude_ratio(frequency, natural_frequency, damping_ratio):
     return r ** 2 / np.sqrt((1 - r ** 2) ** 2 + (2 * damping_ratio * r) ** 2)
 
 
+def blur_gain(frequency, blur: float):
+    r"""The restoration of a Gaussian smoothing along the time axis: a record low-passed by
+    a Gaussian of σ = ``blur`` [s] (a photographed trace: the light spot's profile and the
+    capture's blur, :attr:`processing.vision.record.PaperRecord.stroke_blur`) holds the
+    component of frequency f multiplied by exp(−(2πfσ)²/2); this is its inverse,
+
+    .. math:: G_b(f) = e^{(2\pi f \sigma)^2/2}
+
+    Parameters
+    ----------
+    frequency : array_like
+        [Hz]
+    blur : float
+        σ [s] (0: no smoothing, gain 1).
+
+    Returns
+    -------
+    ndarray
+        G_b ≥ 1.
+    """
+    return np.exp(0.5 * (2 * np.pi * np.asarray(frequency, dtype=float) * blur) ** 2)
+
+
 def correct_trace(trace, sample_rate: float, natural_frequency: float, damping_ratio: float, *,
-                  low: float, high: float | None = None, upsample: int = 1) -> np.ndarray:
+                  low: float, high: float | None = None, upsample: int = 1,
+                  blur: float = 0.0, band: float = np.inf) -> np.ndarray:
     """A record corrected for the torsiograph's response, frequency by frequency.
 
     Every component above ``low`` is divided by :func:`torsiograph_response`; below it (the
@@ -99,6 +123,13 @@ def correct_trace(trace, sample_rate: float, natural_frequency: float, damping_r
         Low-pass edge. [Hz]
     upsample : int, keyword-only
         Output samples per input sample.
+    blur : float, keyword-only
+        σ of a Gaussian smoothing along the time axis the record went through after the
+        instrument (a photographed trace's): above ``low`` it is undone too
+        (:func:`blur_gain`). [s]
+    band : float, keyword-only
+        Highest frequency the record holds (its highest order): above it the blur's gain is
+        held at its value there, so that the noise beyond is not raised. [Hz]
 
     Returns
     -------
@@ -132,7 +163,8 @@ def correct_trace(trace, sample_rate: float, natural_frequency: float, damping_r
     f = np.fft.rfftfreq(n, 1 / sample_rate)
     gain = np.ones(f.size, dtype=complex)
     above = f >= low
-    gain[above] = 1 / torsiograph_response(f[above], natural_frequency, damping_ratio)
+    gain[above] = blur_gain(np.minimum(f[above], band), blur) / torsiograph_response(
+        f[above], natural_frequency, damping_ratio)
     if high is not None:
         taper = np.clip((f - high) / (0.5 * high), 0, 1)
         gain *= 0.5 * (1 + np.cos(np.pi * taper))

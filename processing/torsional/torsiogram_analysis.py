@@ -22,7 +22,7 @@ from processing.diagnostics import InputError
 from .orders import OrderFit, order_fit
 from processing.regression import LineFit
 from processing.result import Record
-from .seismic import correct_trace, slow_part, torsiograph_response
+from .seismic import blur_gain, correct_trace, slow_part, torsiograph_response
 from .torsiogram import (EXTREMUM_THRESHOLD, CyclePeaks, Peaks, Revolutions, cycle_peaks, denoise,
                          half_range_u, oscillation_frequency, peak_amplitudes, revolutions,
                          steady_crank_angle)
@@ -162,7 +162,7 @@ class Torsiogram(Record):
 
 def analyse_trace(time, x, mark_times, *, natural_frequency: float, damping_ratio: float,
                   per_revolution: int = 1, strokes: int = 4, max_order: float = MAX_ORDER,
-                  upsample: int = 4) -> Torsiogram:
+                  upsample: int = 4, blur: float = 0.0) -> Torsiogram:
     """Reduce one torsiograph record of a steady regime.
 
     Steps: speed and crank angle from the TDC marks (:func:`revolutions`,
@@ -200,6 +200,11 @@ def analyse_trace(time, x, mark_times, *, natural_frequency: float, damping_rati
         the sample rate).
     upsample : int, keyword-only
         Fineness of the corrected record's grid.
+    blur : float, keyword-only
+        σ of the Gaussian smoothing along the time axis of a trace read off a photograph
+        (:attr:`processing.vision.record.PaperRecord.stroke_blur`), undone with the
+        instrument's response, order by order and frequency by frequency
+        (:func:`processing.torsional.seismic.blur_gain`). [s]
 
     Returns
     -------
@@ -229,12 +234,14 @@ def analyse_trace(time, x, mark_times, *, natural_frequency: float, damping_rati
         raise InputError(f"the record holds {t.size} samples, too few for its orders up to "
                          f"{top:g} and a drift", "record longer (several working cycles)") \
             from None
-    correction = 1 / torsiograph_response(fit.order * f_rev, natural_frequency, damping_ratio)
+    correction = blur_gain(fit.order * f_rev, blur) / torsiograph_response(
+        fit.order * f_rev, natural_frequency, damping_ratio)
     cycle = cycle_peaks(fit, correction, strokes=strokes)
     fine = t[0] + np.arange(t.size * upsample) / (rate * upsample)
     low = 0.5 * step * f_rev
     residual = correct_trace(x - fit.periodic - fit.drift, rate, natural_frequency,
-                             damping_ratio, low=low, upsample=upsample)
+                             damping_ratio, low=low, upsample=upsample, blur=blur,
+                             band=top * f_rev)
     slow = _below(residual, rate * upsample, low)
     drift = np.interp(fine, t, fit.drift) + slow
     oscillation = fit.synthesize(steady_crank_angle(fine, revs), correction) + residual - slow
@@ -273,7 +280,8 @@ def _oscillations(fine: np.ndarray, oscillation: np.ndarray, drift: np.ndarray,
 
 def read_oscillations(time, x, mark_times, *, natural_frequency: float,
                       damping_ratio: float, per_revolution: int = 1, strokes: int = 4,
-                      max_order: float = MAX_ORDER, upsample: int = 4) -> Torsiogram:
+                      max_order: float = MAX_ORDER, upsample: int = 4,
+                      blur: float = 0.0) -> Torsiogram:
     """Reduce a torsiograph record too short for its orders (under two working cycles, a
     half order cannot be told from the drift) to its single oscillations, as the manual
     reads them: the speed from the TDC marks, the record corrected for the instrument
@@ -292,7 +300,7 @@ def read_oscillations(time, x, mark_times, *, natural_frequency: float,
     top = min(max_order, ORDER_SHARE * rate / f_rev)
     fine = t[0] + np.arange(t.size * upsample) / (rate * upsample)
     corrected = correct_trace(x, rate, natural_frequency, damping_ratio, low=low,
-                              upsample=upsample)
+                              upsample=upsample, blur=blur, band=top * f_rev)
     drift = slow_part(corrected, rate * upsample, low)
     return Torsiogram(revolutions=revs, fit=None, correction=np.empty(0), cycle=None,
                       **_oscillations(fine, corrected - drift, drift, top * f_rev, rate / 2))

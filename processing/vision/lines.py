@@ -30,6 +30,10 @@ MIN_BLOCK_SHARE = 0.6
 MAX_WAVINESS = 0.75
 """Largest RMS departure of a line's block positions from a straight line. [px]"""
 
+PULLED_SHARE = 0.25
+"""Largest share of a line's blocks that a trace dwelling beside it may pull off its row
+(their centroids drawn towards the trace) and that are left out of its fit."""
+
 MAX_WANDER = 0.75
 """How far a line's column centroids may stray to both sides of it. [px]"""
 
@@ -97,6 +101,26 @@ def _block_medians(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return med, (edges[:-1] + edges[1:] - 1) / 2
 
 
+def _straight_fit(middles: np.ndarray, centres: np.ndarray, present: np.ndarray):
+    """The straight line through the blocks' centroids where it is seen, or None if they
+    scatter about it by more than :data:`MAX_WAVINESS`. Where a trace runs beside a line
+    (a decay settling on its zero line, a torsiogram crossing it at a shallow angle) the
+    merged strokes pull a block's centroid off: the block farthest off is left out, one at
+    a time, up to :data:`PULLED_SHARE` of the blocks; a trace keeping near one level
+    scatters along its whole length and stays wavy."""
+    keep = present.copy()
+    spare = int(PULLED_SHARE * present.sum())
+    while True:
+        fit = fit_line(middles[keep], centres[keep])
+        if fit.residual_sd <= MAX_WAVINESS:
+            return fit
+        if spare == 0:
+            return None
+        off = np.where(keep, np.abs(centres - fit.predict(middles)), -1.0)
+        keep[int(np.argmax(off))] = False
+        spare -= 1
+
+
 def remove_lines(density: np.ndarray, noise: float) -> list[Line]:
     """Find the straight lines running along the rows and subtract them from ``density``.
 
@@ -131,8 +155,8 @@ def remove_lines(density: np.ndarray, noise: float) -> list[Line]:
         rows = np.arange(lo, hi, dtype=float)[:, None]
         weight = np.where(window > 0.5 * tops, window, 0.0)
         centres = (weight * rows).sum(axis=0) / np.maximum(weight.sum(axis=0), 1e-12)
-        fit = fit_line(middles[present], centres[present])
-        if fit.residual_sd > MAX_WAVINESS:
+        fit = _straight_fit(middles, centres, present)
+        if fit is None:
             continue
         position = float(fit.predict(w / 2))
         wide = med[max(row - 3 * reach, 0):min(row + 3 * reach + 1, h)]

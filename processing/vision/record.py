@@ -55,7 +55,7 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -67,7 +67,8 @@ from ..numerals import plural
 from ..result import Figure
 from ..uncertainty import Measured
 from .lines import Line, grid_spacing, remove_lines, restore_rests
-from .marks import Pips, TimeBase, TimeMarkError, find_mark_rows, find_pips, time_base
+from .marks import (MIN_TIME_MARKS, Pips, TimeBase, TimeMarkError, find_mark_rows, find_pips,
+                    time_base)
 from .overlay import Overlay, plot_values
 from .paper import Sheet, darkness, find_sheet, flatten, load_image, square_up, working_copy
 from .traces import LOW_CONFIDENCE, NoTraceError, Traces, find_runs, follow, ink_threshold
@@ -95,6 +96,10 @@ EDGE_STEP = 0.025
 """Relative difference of the bare background's brightness on the two sides of a straight line
 above which it is the sheet's edge against a scanner's lid or a table (a zero line has paper
 on both sides)."""
+
+BARE_PERCENTILE = 75
+"""Percentile of a column's brightness across a band beside a line taken for its bare
+background (:func:`_edge_step`)."""
 
 INK_SHARE = 0.5
 """Least density of a zero line as a share of the darkest line's: a beam at rest exposes it
@@ -473,7 +478,8 @@ def read_paper_records(source, *, traces: int | None = None, mark_period=None,
     zero_lines = [line for line, kind in judged if kind == "zero line"]
     restore_rests(density, laid.drawn, zero_lines, ink_threshold(density, noise)[0])
     try:
-        found = follow(find_runs(density, noise, plain), density.shape[1], traces)
+        found = _on_sheet(follow(find_runs(density, noise, plain), density.shape[1], traces),
+                          density.shape[0])
     except NoTraceError as exc:
         raise where.error(f"{exc} (after the straight lines and marks were set aside)",
                           "photograph the record so that the traces fill the frame, sharp and "
@@ -491,6 +497,32 @@ def read_paper_records(source, *, traces: int | None = None, mark_period=None,
                                lines, found_pips, bridge, sheet, overlay_marks, judged,
                                metres))
     return records
+
+
+def _on_sheet(found: Traces, h: int) -> Traces:
+    """The traces on the paper: a 'trace' whose stroke reaches the squared-up sheet's top or
+    bottom border (``h`` rows) in most of its columns is the background beyond the sheet's
+    edge (a dark lid or table left inside the sheet's outline), not a beam's record.
+
+    Raises
+    ------
+    NoTraceError
+        Nothing is left."""
+    keep = []
+    for j in range(found.count):
+        rows = found.row[j][np.isfinite(found.row[j])]
+        reach = float(found.width[j])
+        border = (rows < reach) | (rows > h - 1 - reach)
+        if not np.mean(border) > 0.5:
+            keep.append(j)
+    if not keep:
+        raise NoTraceError("no trace stands out of the paper inside the sheet's edges",
+                           "ни одна линия записи не выделяется на бумаге внутри краёв ленты")
+    if len(keep) == found.count:
+        return found
+    return replace(found, run=found.run[keep], row=found.row[keep], u=found.u[keep],
+                   confidence=found.confidence[keep], width=found.width[keep],
+                   spread=found.spread[keep])
 
 
 def judge_lines(grey: np.ndarray, lines: list[Line], plain: list[Line],
@@ -552,8 +584,12 @@ def judge_lines(grey: np.ndarray, lines: list[Line], plain: list[Line],
 
 
 def _edge_step(grey: np.ndarray, line: Line) -> float:
-    """Relative difference of the median brightness in two bands beside a line, clear of its
-    stroke (1 where a band leaves the frame: the line runs along the frame's edge)."""
+    """Relative difference of the bare background's brightness in two bands beside a line,
+    clear of its stroke (1 where a band leaves the frame: the line runs along the frame's
+    edge). The background of a column's band is its brightest rows (:data:`BARE_PERCENTILE`):
+    ink only darkens, and a trace dwelling beside a zero line (a decay settled on it, a
+    torsiogram about it) covers a few of the band's rows, where a lid or a table covers all;
+    the median over the columns follows."""
     h, w = grey.shape
     cols = np.arange(0, w, max(1, w // 600))
     centre = line.at(cols)
@@ -565,7 +601,7 @@ def _edge_step(grey: np.ndarray, line: Line) -> float:
         if np.mean((rows >= 0) & (rows < h)) < 0.9:
             return 1.0
         band = grey[np.clip(rows, 0, h - 1), cols[None, :]].astype(float)
-        sides.append(float(np.median(np.median(band, axis=0))))
+        sides.append(float(np.median(np.percentile(band, BARE_PERCENTILE, axis=0))))
     return abs(sides[0] - sides[1]) / max(max(sides), 1.0)
 
 
@@ -732,6 +768,9 @@ def _mark_lines(density, lines: list[Line], noise: float):
             chosen.append(pips)
     time_pips = chosen[0] if chosen and _regular_marks(chosen[0]) >= 3 else None
     rest = chosen[1:] if time_pips is not None else chosen
+    # a TDC marker marks each revolution of a steady regime: its pips lie on an even grid
+    # (some may be missed); a trace's strokes off a line it swings about do not
+    rest = [p for p in rest if p.count < MIN_TIME_MARKS or _regular_marks(p) >= MIN_TIME_MARKS]
     tdc_pips = max(rest, key=lambda p: p.count) if rest else None
     marked = [p for p in (time_pips, tdc_pips) if p is not None]
     # a faint 'line' along the pips' tops belongs to them too
@@ -927,11 +966,11 @@ def _record(where: _Where, found: Traces, j: int, seconds, value_scale: Measured
             metres: Measured | None) -> PaperRecord:
     tb, per_px = seconds
     row = found.row[j]
-    valid = np.flatnonzero(np.isfinite(row))
-    first, last = int(valid[0]), int(valid[-1])
+    first, last = _ends(row, found.confidence[j], float(found.width[j]))
     cols = np.arange(first, last + 1, dtype=float)
     row, u_row, conf = row[first:last + 1], found.u[j, first:last + 1], \
         found.confidence[j, first:last + 1]
+    row, u_row, conf = _along_lines(cols, row, u_row, conf, zero_lines, float(found.width[j]))
     name = f"trace {j}"
     ref = None
     if zero == "line":
@@ -985,6 +1024,57 @@ def _record(where: _Where, found: Traces, j: int, seconds, value_scale: Measured
 SHORT_GAP = 2.0
 """Gaps up to this many stroke widths long are interpolated across whatever ``bridge`` asks
 (and counted in the low-confidence warning): within them the trace can hardly turn."""
+
+
+END_FRAGMENT = 3.0
+"""A piece of a trace at either end of it, cut off from the rest by a gap and shorter than
+this many stroke widths, is no part of the record (:func:`_ends`)."""
+
+
+def _ends(row: np.ndarray, confidence: np.ndarray, stroke: float) -> tuple[int, int]:
+    """The first and last columns of a trace's record: those read with confidence, less a
+    piece at either end shorter than :data:`END_FRAGMENT` stroke widths and cut off from
+    the rest by a gap (the follower's step into what bounds the trace: the sheet's edge, a
+    lid's shadow across it)."""
+    valid = np.flatnonzero(np.isfinite(row) & (confidence >= LOW_CONFIDENCE))
+    if valid.size < 2:
+        valid = np.flatnonzero(np.isfinite(row))
+    breaks = np.flatnonzero(np.diff(valid) > 1)
+    pieces = np.split(valid, breaks + 1)
+    if len(pieces) > 1 and pieces[0].size < END_FRAGMENT * stroke:
+        pieces = pieces[1:]
+    if len(pieces) > 1 and pieces[-1].size < END_FRAGMENT * stroke:
+        pieces = pieces[:-1]
+    return int(pieces[0][0]), int(pieces[-1][-1])
+
+
+def _along_lines(cols: np.ndarray, row: np.ndarray, u_row: np.ndarray, conf: np.ndarray,
+                 lines: list[Line], stroke: float):
+    """The trace across its gaps along a zero line: where a beam runs on its zero line (a
+    decay settling, a torsiogram's slow part), the two strokes merge and the trace is lost
+    with the line lifted off; it lies within the line's stroke there. A gap both of whose
+    ends lie within half the line's width and the trace's whole width of a zero line (the
+    trace touching the line, its centroid pulled by the merge) is filled by a straight line
+    between its ends, known within that reach (rectangular), and read with
+    confidence :data:`~.traces.LOW_CONFIDENCE` (not counted as unreliable: the stroke
+    bounds it)."""
+    lost = ~np.isfinite(row)
+    if not lost.any() or not lines:
+        return row, u_row, conf
+    row, u_row, conf = row.copy(), u_row.copy(), conf.copy()
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], lost.astype(np.int8), [0]])))
+    for a, b in zip(edges[::2], edges[1::2]):
+        if a == 0 or b == row.size:
+            continue
+        for line in lines:
+            reach = line.width / 2 + stroke
+            ends = np.array([a - 1, b])
+            if np.all(np.abs(row[ends] - line.at(cols[ends])) <= reach):
+                row[a:b] = np.interp(cols[a:b], cols[ends], row[ends])
+                u_row[a:b] = reach / np.sqrt(3)
+                conf[a:b] = LOW_CONFIDENCE
+                break
+    return row, u_row, conf
 
 
 def _resample(t_cols, time, *arrays):
