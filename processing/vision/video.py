@@ -4,7 +4,7 @@ its oscillation fitted over the whole film.
 :func:`track_marker` reads the film with OpenCV, frame by frame with each frame's own
 timestamp (a phone films at a variable rate: the spread of the intervals is reported). The
 marker — the patch that moves most against the still background (the median of the first
-frames), or the one inside a given region — becomes a template; each frame it is found again
+frames), or the one inside a given region or of a given colour — becomes a template; each frame it is found again
 by normalised cross-correlation in a window about its last place (:func:`cv2.matchTemplate`,
 so an even change of lighting does not matter), then aligned to a small fraction of a pixel
 by ECC (:func:`_refine`). The peak's height is the frame's confidence; frames below
@@ -506,7 +506,8 @@ def track_marker(path, *, roi=None, colour: str | None = None, field: str | None
     ------
     InputError
         Not a film; frames larger than :data:`~processing.vision.frames.MAX_FRAME_PIXELS`;
-        too short; nothing moves periodically; the marker lost in most frames.
+        too short; nothing moves periodically (inside ``roi``, of ``colour``); the marker
+        lost in most frames.
     """
     film = open_film(path, field)
     scale = film.scale
@@ -528,9 +529,9 @@ def track_marker(path, *, roi=None, colour: str | None = None, field: str | None
                       "name the marker's colour as the film shows it ("
                       + ", ".join(COLOURS) + "), or say where it is: roi = [x, y, w, h] in "
                       "pixels of the first frame",
-                      (f"за первые {stamps[-1] - stamps[0]:.1f} с видео не качается ни одно "
-                       f"пятно цвета «{name_ru}»" + ("" if roi is None else
-                                                     " внутри заданной области"),
+                      (f"за первые {stamps[-1] - stamps[0]:.1f} с видео не качается ни одна "
+                       f"{name_ru} метка" + ("" if roi is None else
+                                            " внутри заданной области"),
                        "укажите цвет метки, как он виден на видео (" + ", ".join(COLOURS)
                        + "), или где она: roi = [x, y, w, h] в пикселях первого кадра"))
     if marker is None and roi is not None:
