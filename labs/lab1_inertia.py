@@ -30,6 +30,7 @@ from processing.reporting.figures import method_chart
 from processing.result import (KEY, SIGNED, STRICTLY_POSITIVE, Figure, LabResult, Table,
                                compare, flag_estimates, result_values)
 from processing.uncertainty import Measured, propagate
+from processing.vision.marker import COLOURS
 from processing.vision.video import film_figures, filmed_times
 
 
@@ -354,6 +355,11 @@ SPEC = LabSpec(
                             "frequency)", "где метка на первом кадре видео, [x, y, w, h] в "
                             "пикселях (без него — пятно, качающееся с частотой качаний)"),
                   kind="region", required=False),
+            Field("colour", bi("the marker's colour, as the film shows it (without it: the "
+                              "patch that swings at the swing's frequency)",
+                              "цвет метки, как он виден на видео (без него — пятно, "
+                              "качающееся с частотой качаний)"),
+                  kind="choice", choices=COLOURS, required=False),
             Field("m_p", bi("mass of the empty platform", "масса пустой платформы"), **MASS,
                   required=False, symbol="m_p"),
             Field("t_p", bi("time of n_osc oscillations, empty platform",
@@ -378,6 +384,11 @@ SPEC = LabSpec(
                             "frequency)", "где метка на первом кадре видео, [x, y, w, h] в "
                             "пикселях (без него — пятно, качающееся с частотой качаний)"),
                   kind="region", required=False),
+            Field("colour", bi("the marker's colour, as the film shows it (without it: the "
+                              "patch that swings at the swing's frequency)",
+                              "цвет метки, как он виден на видео (без него — пятно, "
+                              "качающееся с частотой качаний)"),
+                  kind="choice", choices=COLOURS, required=False),
             Field("t_0", bi("time of n_osc oscillations of the empty clamp",
                             "время n колебаний пустого подвеса"), **STOPWATCH, required=False,
                   symbol="t₀"),
@@ -420,6 +431,11 @@ SPEC = LabSpec(
                             "frequency)", "где метка на первом кадре видео, [x, y, w, h] в "
                             "пикселях (без него — пятно, качающееся с частотой качаний)"),
                   kind="region", required=False),
+            Field("colour", bi("the marker's colour, as the film shows it (without it: the "
+                              "patch that swings at the swing's frequency)",
+                              "цвет метки, как он виден на видео (без него — пятно, "
+                              "качающееся с частотой качаний)"),
+                  kind="choice", choices=COLOURS, required=False),
             Field("amplitude", bi("swing amplitude", "амплитуда качаний"), **AMPLITUDE),
         )),
     ),
@@ -656,7 +672,7 @@ def _model(inputs: Inputs):
 def _check_physics(inputs: Inputs, prop) -> None:
     for sec in ("trifilar", "pendulum"):
         if sec in inputs and "amplitude" in inputs[sec]:
-            check_amplitude(inputs[sec]["amplitude"].value, SPEC.section(sec).label["en"])
+            check_amplitude(inputs[sec]["amplitude"], SPEC.section(sec).label["en"])
     if "analytic" in inputs and min(prop["J_analytic"].value, prop["m_analytic"].value) <= 0:
         holes = [i for i, p in enumerate(inputs["analytic"]) if p["hole"]]
         largest = max(holes, key=lambda i: abs(prop[f"J_part_{i}"].value), default=0)

@@ -32,6 +32,7 @@ from processing.reporting.figures import histogram, method_chart
 from processing.result import (KEY, SIGNED, STRICTLY_POSITIVE, Figure, LabResult, Table, compare,
                                flag_estimates, result_values)
 from processing.uncertainty import Measured, propagate
+from processing.vision.marker import COLOURS
 from processing.vision.video import film_figures, filmed_times
 
 KATER_CONDITION_LIMIT = 10.0
@@ -227,6 +228,11 @@ SPEC = LabSpec(
                             "frequency)", "где метка на первом кадре видео, [x, y, w, h] в "
                             "пикселях (без него — пятно, качающееся с частотой качаний)"),
                   kind="region", required=False),
+            Field("colour", bi("the marker's colour, as the film shows it (without it: the "
+                              "patch that swings at the swing's frequency)",
+                              "цвет метки, как он виден на видео (без него — пятно, "
+                              "качающееся с частотой качаний)"),
+                  kind="choice", choices=COLOURS, required=False),
             Field("t_D", bi("time of n_osc oscillations hung at the big end",
                             "время n колебаний на кривошипной головке"),
                   **{**STOPWATCH, "required": False}, symbol="t_D"),
@@ -367,7 +373,7 @@ def _checks(inputs: Inputs, prop) -> None:
                            "l_CD is the distance between the prism edges (mm); d_C, d_D are "
                            "diameters", "swinging.l_CD")
     if "amplitude" in sw:
-        check_amplitude(sw["amplitude"].value, SPEC.section("swinging").label["en"])
+        check_amplitude(sw["amplitude"], SPEC.section("swinging").label["en"])
     kappa = prop["kappa_swinging"].value
     l_C = prop["l_C_swinging"]
     if kappa > KATER_CONDITION_LIMIT or not 0 < l_C.value < sw["l_CD"].value:

@@ -19,7 +19,8 @@ Each film is read as a lab reads it (:func:`~processing.vision.video.track_marke
 the film (its span over the oscillations it holds, from the integrated motion's zero
 crossings); a pendulum's period corrected to zero amplitude (lab 1's T₀ = T/F(θ), θ the
 amplitude the film's period belongs to, :attr:`~processing.vision.video.Filmed.
-period_amplitude`, u through :func:`processing.uncertainty.propagate`) is held against the
+period_amplitude` within its limit, :attr:`~processing.vision.video.Filmed.corrected_with`,
+u through :func:`processing.uncertainty.propagate`) is held against the
 scene's T₀.
 
 Targets (the issue's): every film at a constant rate reduced; the period within 10⁻³ of its
@@ -43,7 +44,7 @@ from scipy import stats
 from ..diagnostics import DroppedFramesWarning, InputError, NominalFrameRateWarning
 from processing.oscillations.oscillation import pendulum_period_factor
 from ..synth.phone_film import Phone, Swinger, render
-from ..uncertainty import Measured, propagate
+from ..uncertainty import propagate
 from ..vision.video import Filmed, swing_of, track_marker
 from .harness import Target, coverage_targets
 
@@ -97,7 +98,7 @@ def _lab1_zero_amplitude(read: Filmed) -> tuple[float, float, float]:
     """Lab 1's period corrected to zero amplitude, T/F(θ), with its u and ν."""
     prop = propagate(lambda T, a: {"T0": T / pendulum_period_factor(a)},
                      {"T": read.swing.period,
-                      "a": Measured(read.period_amplitude, limit=read.period_amplitude_limit)},
+                      "a": read.corrected_with},
                      n_samples=4000, seed=1)
     est = prop["T0"]
     return est.value, est.u, est.dof

@@ -116,8 +116,10 @@ def check_amplitude(amplitude, method: str, *, limit=np.radians(10.0)) -> None:
 
     Parameters
     ----------
-    amplitude : float
-        Amplitude of the swing or twist. [rad]
+    amplitude : float or Measured
+        Amplitude of the swing or twist. [rad] A measured one whose limit of error reaches
+        zero (a film whose arc hardly sags: its own warning says so) is not known to be
+        above anything, and is not warned of.
     method : str
         What swung, for the message (e.g. "trifilar").
     limit : float
@@ -127,6 +129,10 @@ def check_amplitude(amplitude, method: str, *, limit=np.radians(10.0)) -> None:
 
     from processing.diagnostics import AmplitudeTooLargeWarning
 
+    reach = getattr(amplitude, "limit", 0.0) or 0.0
+    amplitude = getattr(amplitude, "value", amplitude)
+    if reach >= amplitude:
+        return
     deg, lim = np.degrees(amplitude), np.degrees(limit)
     if deg > lim:
         factor = float(pendulum_period_factor(amplitude)) ** 2 - 1.0

@@ -186,9 +186,11 @@ def reduce(grey: np.ndarray, scale: float) -> np.ndarray:
     return cv2.resize(grey, size, interpolation=cv2.INTER_AREA)
 
 
-def frames(film: Film, field_name: str | None = None) -> Iterator[tuple[np.ndarray, float]]:
+def frames(film: Film, field_name: str | None = None, *,
+           colour: bool = False) -> Iterator[tuple]:
     """Each frame in presentation order: its grey image at :attr:`Film.scale` and its time
-    (NaN where the frame carries none). [s]
+    (NaN where the frame carries none) [s]; with ``colour``, its BGR image at that scale
+    too (a third item).
 
     Raises
     ------
@@ -204,7 +206,11 @@ def frames(film: Film, field_name: str | None = None) -> Iterator[tuple[np.ndarr
         for frame in box.decode(stream):
             decoded += 1
             t = float(frame.time) if frame.pts is not None and film.timed else math.nan
-            yield np.ascontiguousarray(reduce(_luma(frame), film.scale)), t
+            grey = np.ascontiguousarray(reduce(_luma(frame), film.scale))
+            if colour:
+                yield grey, t, reduce(frame.to_ndarray(format="bgr24"), film.scale)
+            else:
+                yield grey, t
     except av.FFmpegError as exc:
         if not decoded:
             raise _refuse(film.path, field_name, f"not a film FFmpeg can decode ({exc})",

@@ -78,6 +78,53 @@ MOVES = 1.0
 """Smallest amplitude of a candidate's swing, on the survey's frames. [px]"""
 
 
+COLOURS = {
+    "red": {"en": "red", "ru": "красная"}, "orange": {"en": "orange", "ru": "оранжевая"},
+    "yellow": {"en": "yellow", "ru": "жёлтая"}, "green": {"en": "green", "ru": "зелёная"},
+    "blue": {"en": "blue", "ru": "синяя"}, "magenta": {"en": "magenta", "ru": "пурпурная"},
+    "white": {"en": "white", "ru": "белая"}, "black": {"en": "black", "ru": "чёрная"}}
+"""The marker's colours a student may name (a measurement file's ``colour``)."""
+
+HUES = {"red": ((0, 10), (170, 180)), "orange": ((10, 22),), "yellow": ((22, 35),),
+        "green": ((35, 85),), "blue": ((85, 130),), "magenta": ((130, 170),)}
+"""Hue ranges of the coloured markers, OpenCV's H (0–180, half degrees)."""
+
+SATURATED = (90, 60)
+"""Least saturation and value (0–255) of a coloured marker's pixels: a pale or dark patch
+is no colour."""
+
+WHITE, BLACK = (50, 170), 70
+"""A white marker's greatest saturation and least value; a black one's greatest value."""
+
+COLOUR_REACH = 0.5
+"""How far about the pixels of the colour named the marker may lie, in shares of the
+largest patch's side (its difference from the background spreads past its own
+edge)."""
+
+
+def colour_mask(bgr: np.ndarray, colour: str) -> np.ndarray:
+    """Where a frame (BGR) shows ``colour`` (one of :data:`COLOURS`), as 0/1 (uint8),
+    widened by :data:`COLOUR_REACH` of its largest patch's side."""
+    hsv = cv2.cvtColor(bgr, cv2.COLOR_BGR2HSV)
+    h, sat, val = hsv[..., 0], hsv[..., 1], hsv[..., 2]
+    if colour == "white":
+        mask = (sat <= WHITE[0]) & (val >= WHITE[1])
+    elif colour == "black":
+        mask = val <= BLACK
+    else:
+        mask = np.zeros(h.shape, bool)
+        for lo, hi in HUES[colour]:
+            mask |= (h >= lo) & (h < hi)
+        mask &= (sat >= SATURATED[0]) & (val >= SATURATED[1])
+    mask = mask.astype(np.uint8)
+    count, _, stats, _ = cv2.connectedComponentsWithStats(mask)
+    if count < 2:
+        return mask
+    side = int(stats[1:, cv2.CC_STAT_AREA].max() ** 0.5)
+    reach = max(int(COLOUR_REACH * side), 1)
+    return cv2.dilate(mask, np.ones((2 * reach + 1, 2 * reach + 1), np.uint8))
+
+
 @dataclass(frozen=True)
 class Marker:
     """The marker found by :func:`survey`, on the frames tracked.
@@ -110,29 +157,46 @@ class Marker:
     contrast: float
 
 
-def median_stack(frames: np.ndarray, rows: int = 64) -> np.ndarray:
-    """The median of a stack of frames (frames × rows × columns), float32, taken a band of
-    ``rows`` at a time: the stack itself is all the memory it takes."""
-    out = np.empty(frames.shape[1:], np.float32)
+def median_stack(frames: np.ndarray, rows: int = 16) -> np.ndarray:
+    """The median of a stack of frames (frames × rows × columns) in their own type (of
+    uint8, rounded), taken a band of ``rows`` at a time: the stack itself is all the
+    memory it takes. Each band is turned so that a pixel's frames lie side by side before
+    they are partitioned (a third faster than partitioning across the stack)."""
+    n = frames.shape[0]
+    middle = (n // 2,) if n % 2 else (n // 2 - 1, n // 2)
+    out = np.empty(frames.shape[1:], frames.dtype)
     for r in range(0, frames.shape[1], rows):
-        out[r:r + rows] = np.median(frames[:, r:r + rows], axis=0)
+        band = np.moveaxis(frames[:, r:r + rows], 0, -1).copy()
+        band.partition(middle, axis=-1)
+        mean = band[..., middle].mean(axis=-1)
+        out[r:r + rows] = np.rint(mean) if out.dtype == np.uint8 else mean
     return out
 
 
 def even_light(frames: np.ndarray) -> np.ndarray:
-    """The frames (float32) with their light evened out: each multiplied by the median
-    lighting of all over its own lighting (the frame blurred over a sixteenth of its longest
-    side; both worked out on the frames reduced eight times). A flicker, an exposure change
-    or a shadow's slow sweep go; a compact moving patch stays."""
-    h, w = frames.shape[1:]
+    """The frames (uint8, rounded) with their light evened out: each multiplied by the
+    median lighting of all over its own lighting (the frame blurred over a sixteenth of its
+    longest side; both worked out on the frames reduced eight times). A flicker, an
+    exposure change or a shadow's slow sweep go; a compact moving patch stays. (Whole grey
+    levels: a quarter of float32's memory, whose first touch was half the survey's time.)"""
+    n, h, w = frames.shape
     small = (max(w // 8, 1), max(h // 8, 1))
     sigma = max(small) / 16
-    light = np.stack([cv2.GaussianBlur(cv2.resize(f, small, interpolation=cv2.INTER_AREA)
-                                       .astype(np.float32), (0, 0), sigma) + 1.0
-                      for f in frames])
+    light = np.empty((n, small[1], small[0]), np.float32)
+    for k, f in enumerate(frames):
+        light[k] = cv2.GaussianBlur(cv2.resize(f, small, interpolation=cv2.INTER_AREA)
+                                    .astype(np.float32), (0, 0), sigma) + 1.0
     typical = np.median(light, axis=0)
-    return np.stack([f * cv2.resize(typical / lit, (w, h), interpolation=cv2.INTER_LINEAR)
-                     for f, lit in zip(frames.astype(np.float32), light)])
+    out = np.empty((n, h, w), np.uint8)
+    gain = np.empty((h, w), np.float32)
+    lit = np.empty((h, w), np.float32)
+    for k, f in enumerate(frames):
+        cv2.resize(typical / light[k], (w, h), dst=gain, interpolation=cv2.INTER_LINEAR)
+        np.multiply(f, gain, out=lit)
+        np.rint(lit, out=lit)
+        np.clip(lit, 0, 255, out=lit)
+        out[k] = lit
+    return out
 
 
 def _blob(diff: np.ndarray, cx: int, cy: int) -> tuple[float, float, float]:
@@ -306,7 +370,7 @@ def _fundamental(followed: list, top):
     return top
 
 
-def survey(kept: np.ndarray, times: np.ndarray, roi=None):
+def survey(kept: np.ndarray, times: np.ndarray, roi=None, colours=None):
     """The marker in a film's first frames (see the module's notes).
 
     Parameters
@@ -317,6 +381,9 @@ def survey(kept: np.ndarray, times: np.ndarray, roi=None):
         Their times. [s]
     roi : (x, y, w, h), optional
         Where the marker is sought, on the frames tracked. [px]
+    colours : sequence of numpy.ndarray, optional
+        Each survey frame's :func:`colour_mask` of the marker's colour, on the frames
+        tracked: the marker is sought where the reference frame shows it.
 
     Returns
     -------
@@ -324,20 +391,26 @@ def survey(kept: np.ndarray, times: np.ndarray, roi=None):
         None where nothing in the frames moves periodically.
     """
     shrink = min(1.0, SURVEY_SIDE / max(kept.shape[1:]))
-    small = np.stack([cv2.resize(f, None, fx=shrink, fy=shrink, interpolation=cv2.INTER_AREA)
-                      if shrink < 1 else f for f in kept])
+    small = kept if shrink >= 1 else np.stack([cv2.resize(f, None, fx=shrink, fy=shrink,
+                                                          interpolation=cv2.INTER_AREA)
+                                               for f in kept])
     even = even_light(small)
     background = median_stack(even)
-    diffs = np.stack([cv2.GaussianBlur(np.abs(f - background), (0, 0), 1.0) for f in even])
-    reference = int(np.argmin(diffs.reshape(len(diffs), -1).mean(axis=1)))
+    reference = int(np.argmin([cv2.absdiff(f, background).mean() for f in even]))
+    diff = cv2.GaussianBlur(cv2.absdiff(even[reference], background).astype(np.float32),
+                            (0, 0), 1.0)
     if roi is not None:
         x0, y0, w, h = (int(round(v * shrink)) for v in roi)
-        mask = np.zeros(diffs.shape[1:], np.float32)
+        mask = np.zeros(diff.shape, np.float32)
         mask[max(y0, 0):y0 + h, max(x0, 0):x0 + w] = 1.0
-        diffs *= mask
-    noise = float(np.std(even[reference] - even[reference - 1 if reference else 1])) / math.sqrt(2)
+        diff *= mask
+    if colours is not None:
+        diff *= cv2.resize(colours[reference], diff.shape[::-1],
+                           interpolation=cv2.INTER_NEAREST).astype(np.float32)
+    noise = float(np.std(even[reference].astype(np.float32)
+                         - even[reference - 1 if reference else 1])) / math.sqrt(2)
     followed = []
-    for x, y, side, contrast in candidates(diffs[reference], max(3.0 * noise, 8.0)):
+    for x, y, side, contrast in candidates(diff, max(3.0 * noise, 8.0)):
         templates = turned(even[reference], x, y, side, SURVEY_TURNS)
         way = follow(even, templates, reference, x, y)
         found = way[:, 2] >= SURVEY_CONFIDENCE

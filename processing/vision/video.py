@@ -4,7 +4,7 @@ its oscillation fitted over the whole film.
 :func:`track_marker` reads the film with OpenCV, frame by frame with each frame's own
 timestamp (a phone films at a variable rate: the spread of the intervals is reported). The
 marker — the patch that moves most against the still background (the median of the first
-frames), or the one inside a given region — becomes a template; each frame it is found again
+frames), or the one inside a given region or of a given colour — becomes a template; each frame it is found again
 by normalised cross-correlation in a window about its last place (:func:`cv2.matchTemplate`,
 so an even change of lighting does not matter), then aligned to a small fraction of a pixel
 by ECC (:func:`_refine`). The peak's height is the frame's confidence; frames below
@@ -41,7 +41,8 @@ from processing.oscillations.savgol import savgol
 from ..uncertainty import Measured
 from .frames import (DROPPED, IRREGULAR, frame_clock, frames, interval_spread, open_film,
                      typical_interval)
-from .marker import SURVEY_FRAMES, SURVEY_SECONDS, TURNS, survey, turned
+from .marker import (COLOURS, SURVEY_FRAMES, SURVEY_SECONDS, TURNS, colour_mask, survey,
+                     turned)
 
 MIN_CONFIDENCE = 0.75
 """Normalised correlation below which a frame's marker position is left out (the marker
@@ -252,7 +253,7 @@ class Track:
         empties, which neither the fit nor its residual's density would carry. The radial
         residual measures them: s = Rθ + ρ tan θ leaves the shake as d_x/cos θ, a slow
         wander whose density at the swing's frequency the u carries (:func:`period_of`)."""
-        t, theta, rho = self._polar
+        t, theta, rho, _ = self._polar
         if theta is None:
             return t, rho
         return t, self.circle[2] * theta + rho * np.tan(theta)
@@ -263,15 +264,23 @@ class Track:
         tilted phone draws the circle as an ellipse) and a slow drift: what the camera's
         shake and the tracker's noise move the marker across its arc. Zeros where the
         track is too straight for an arc. [px]"""
-        t, theta, rho = self._polar
+        t, theta, rho, _ = self._polar
         if theta is None:
             return np.zeros_like(t)
         return rho
 
+    def radial_shape(self) -> np.ndarray | None:
+        """The columns taken out of :meth:`radial` (the path's shape in θ and the slow
+        drift), at its frames; None where the track is too straight for an arc. The θ³ and
+        θ columns swing at the swing's own frequency, so they empty part of the radial
+        residual's density there (:func:`_density_at` allows for it)."""
+        return self._polar[3]
+
     @cached_property
     def _polar(self):
-        """(times, θ, ρ) of the frames on the path: the angle about the arc's centre and
-        the radial residual (:meth:`radial`); θ None and ρ the projection on the principal
+        """(times, θ, ρ, shape) of the frames on the path: the angle about the arc's
+        centre, the radial residual (:meth:`radial`) and the columns taken out of it
+        (:meth:`radial_shape`); θ and shape None and ρ the projection on the principal
         direction where the track is too straight for an arc."""
         k = self.on_path
         xy = np.column_stack([self.x[k], self.y[k]])
@@ -286,9 +295,9 @@ class Track:
             tau = (t - t[0]) / max(float(t[-1] - t[0]), 1e-9)
             shape = np.column_stack([theta ** j for j in range(4)] + [tau, tau ** 2])
             rho = rho - shape @ np.linalg.lstsq(shape, rho, rcond=None)[0]
-            return t, theta, rho
+            return t, theta, rho, shape
         _, _, vt = np.linalg.svd(xy - mean, full_matrices=False)
-        return t, None, (xy - mean) @ vt[0]
+        return t, None, (xy - mean) @ vt[0], None
 
 
 @dataclass(frozen=True)
@@ -430,28 +439,33 @@ def _refine(grey: np.ndarray, template: np.ndarray, x: float, y: float):
     return x0 + dx + half, y0 + dy + half
 
 
-def _survey_frames(film, field):
+def _survey_frames(film, field, colour: str | None = None):
     """The survey's frames (:data:`~processing.vision.marker.SURVEY_FRAMES` of them, every
-    so many over :data:`~processing.vision.marker.SURVEY_SECONDS` at a high frame rate) and
-    their times (by the nominal rate where the film holds none)."""
+    so many over :data:`~processing.vision.marker.SURVEY_SECONDS` at a high frame rate),
+    their times (by the nominal rate where the film holds none) and, with ``colour``, each
+    one's :func:`~processing.vision.marker.colour_mask` (else None)."""
     rate = film.rate if math.isfinite(film.rate) and film.rate > 0 else 30.0
     stride = max(1, math.ceil(rate * SURVEY_SECONDS / SURVEY_FRAMES))
-    kept, times = None, []
-    for index, (grey, t) in enumerate(frames(film, field)):
+    kept, times, masks = None, [], []
+    for index, decoded in enumerate(frames(film, field, colour=colour is not None)):
         if index % stride:
             continue
+        grey, t = decoded[0], decoded[1]
         if kept is None:
             kept = np.empty((SURVEY_FRAMES, *grey.shape), np.uint8)
         kept[len(times)] = grey
         times.append(t if math.isfinite(t) else index / rate)
+        if colour is not None:
+            masks.append(colour_mask(decoded[2], colour))
         if len(times) == SURVEY_FRAMES:
             break
     if kept is None:
-        return np.empty((0, 1, 1), np.uint8), np.empty(0)
-    return kept[:len(times)], np.asarray(times)
+        return np.empty((0, 1, 1), np.uint8), np.empty(0), None
+    return kept[:len(times)], np.asarray(times), masks if colour is not None else None
 
 
-def track_marker(path, *, roi=None, field: str | None = None, roi_field: str | None = None,
+def track_marker(path, *, roi=None, colour: str | None = None, field: str | None = None,
+                 roi_field: str | None = None, colour_field: str | None = None,
                  min_confidence: float = MIN_CONFIDENCE, keep_frames: int = 4) -> Track:
     """Track the marker on a swinging part through a film.
 
@@ -469,11 +483,16 @@ def track_marker(path, *, roi=None, field: str | None = None, roi_field: str | N
     roi : (x, y, w, h), optional
         Where the marker is in the first frames, in the film's pixels: the marker is the
         patch inside it that swings. [px]
+    colour : str, optional
+        The marker's colour (one of :data:`~processing.vision.marker.COLOURS`): the marker
+        is the patch of that colour that swings.
     field : str, optional
         The measurement-file field that named the film, for errors.
     roi_field : str, optional
         The measurement-file field that gave ``roi`` (``pendulum.roi``), for errors and for
         the advice to give one.
+    colour_field : str, optional
+        The measurement-file field that gave ``colour``, for errors.
     min_confidence : float
         Frames whose correlation peak is lower are left out.
     keep_frames : int
@@ -487,11 +506,12 @@ def track_marker(path, *, roi=None, field: str | None = None, roi_field: str | N
     ------
     InputError
         Not a film; frames larger than :data:`~processing.vision.frames.MAX_FRAME_PIXELS`;
-        too short; nothing moves periodically; the marker lost in most frames.
+        too short; nothing moves periodically (inside ``roi``, of ``colour``); the marker
+        lost in most frames.
     """
     film = open_film(path, field)
     scale = film.scale
-    kept, stamps = _survey_frames(film, field)
+    kept, stamps, colours = _survey_frames(film, field, colour)
     if len(kept) < 16:
         raise _refuse(path, field, f"the film holds {len(kept)} frames",
                       "film the whole swing: 20 oscillations or more",
@@ -500,7 +520,20 @@ def track_marker(path, *, roi=None, field: str | None = None, roi_field: str | N
     if roi is not None:
         _check_roi(path, roi, film.size, roi_field)
     where = None if roi is None else tuple(scale * float(v) for v in roi)
-    marker = survey(kept, stamps, where)
+    marker = survey(kept, stamps, where, colours)
+    if marker is None and colour is not None:
+        name, name_ru = COLOURS[colour]["en"], COLOURS[colour]["ru"]
+        raise _refuse(path, colour_field or field, f"no {name} patch swings in the film's first "
+                      f"{stamps[-1] - stamps[0]:.1f} s" + ("" if roi is None else
+                                                          " inside the region given"),
+                      "name the marker's colour as the film shows it ("
+                      + ", ".join(COLOURS) + "), or say where it is: roi = [x, y, w, h] in "
+                      "pixels of the first frame",
+                      (f"за первые {stamps[-1] - stamps[0]:.1f} с видео не качается ни одна "
+                       f"{name_ru} метка" + ("" if roi is None else
+                                            " внутри заданной области"),
+                       "укажите цвет метки, как он виден на видео (" + ", ".join(COLOURS)
+                       + "), или где она: roi = [x, y, w, h] в пикселях первого кадра"))
     if marker is None and roi is not None:
         x, y, w, h = (round(v) for v in roi)
         raise _refuse(path, roi_field or field, "nothing swings inside the region "
@@ -621,6 +654,7 @@ def swing_of(track: Track, *, field: str | None = None) -> Swing:
     """
     t, s = track.displacement()
     rho = track.radial()
+    shape = track.radial_shape()
     try:
         fit, drifting = _fitted(t, s)
         drops, doubt = [], None
@@ -637,6 +671,7 @@ def swing_of(track: Track, *, field: str | None = None) -> Swing:
             if keep.all():
                 break
             t, s, rho = t[keep], s[keep], rho[keep]
+            shape = None if shape is None else shape[keep]
             fit, drifting = _fitted(t, s)
     except RuntimeError as exc:
         raise _refuse(track.path, field, f"no oscillation fits the track ({exc})",
@@ -680,7 +715,7 @@ def swing_of(track: Track, *, field: str | None = None) -> Swing:
                       (f"видео охватывает {span:.1f} колебания",
                        f"снимите не меньше {MIN_OSCILLATIONS} колебаний (по методичке — 20; "
                        f"{MIN_OSCILLATIONS * fit.period:.1f} с этих качаний)"))
-    period = period_of(drifting, t, s, rho)
+    period = period_of(drifting, t, s, rho, shape)
     if doubt is not None:
         period = replace(period, limit=doubt[1] * period.value)
     if not (math.isfinite(period.u) and period.u > 0 and math.isfinite(period.dof)):
@@ -958,19 +993,34 @@ def _density_near(t: np.ndarray, r: np.ndarray, f0: float) -> tuple[float, int]:
     return float(power.mean()), int(f.size)
 
 
-def _density_at(t: np.ndarray, r: np.ndarray, f0: float) -> tuple[float, int]:
-    """A series' spectral density at f₀ (as :func:`_density_near`: a variance per frame),
+def _density_at(t: np.ndarray, r: np.ndarray, f0: float,
+                basis: np.ndarray | None = None) -> tuple[float, float]:
+    r"""A series' spectral density at f₀ (as :func:`_density_near`: a variance per frame),
     from the periodogram at the frequencies 1/duration apart within :data:`NOTCH` spacings
-    of it, and their number."""
+    of it, and the number of frequencies' worth it rests on.
+
+    Where ``basis``' columns were taken out of the series by least squares, each
+    frequency's periodogram holds only the share of the noise they leave it: with Q an
+    orthonormal basis of the columns and e_f the frequency's exponential,
+    E P_f = S·w_f, w_f = 1 − |Qᴴe_f|²/n; the density is ΣP_f/Σw_f, the mean of Σw_f
+    frequencies (a column that swings at f₀ — the path's θ and θ³ on the radial residual —
+    takes out about one frequency's worth of its 2 degrees of freedom there: the mean alone
+    would be 20 % low on five frequencies)."""
     duration = float(t[-1] - t[0])
     f = f0 + np.arange(-math.floor(NOTCH), math.floor(NOTCH) + 1) / duration
     f = f[f > 0]
-    power = np.abs(np.exp(-2j * np.pi * np.outer(f, t - t[0])) @ r) ** 2 / r.size
-    return float(power.mean()), int(f.size)
+    waves = np.exp(-2j * np.pi * np.outer(f, t - t[0]))
+    power = np.abs(waves @ r) ** 2 / r.size
+    left = np.ones(f.size)
+    if basis is not None:
+        q, _ = np.linalg.qr(basis)
+        left = np.clip(1 - np.sum(np.abs(waves @ q) ** 2, axis=1) / r.size, 0.0, 1.0)
+    return float(power.sum() / left.sum()), float(left.sum())
 
 
 def period_of(fit: AnharmonicFit, t: np.ndarray, s: np.ndarray,
-              radial: np.ndarray | None = None) -> Measured:
+              radial: np.ndarray | None = None,
+              radial_shape: np.ndarray | None = None) -> Measured:
     """T = 2π/ω̄ of a track's fit, with its u.
 
     Type A: the least-squares covariance (JᵀJ)⁻¹ scaled by the residual's spectral density
@@ -987,14 +1037,15 @@ def period_of(fit: AnharmonicFit, t: np.ndarray, s: np.ndarray,
     The density is the larger of the residual's outside the band the fit empties and the
     radial residual's (``radial``, :meth:`Track.radial`) within it (:func:`_density_at`):
     the camera's shake moves the marker across its arc as much as along it, and across
-    the arc no fit empties the swing's own frequency. A phone's slow shake has most of its
+    the arc no fit of the swing empties its own frequency (the path's shape taken out there,
+    ``radial_shape`` (:meth:`Track.radial_shape`), is allowed for). A phone's slow shake has most of its
     power below the swing's frequency; on a short film the residual's density is taken
     above it, where the shake has died out, and alone would miss it.
     """
     r = s - fit.predict(t)
     density, bins = _density_near(t, r, 1 / fit.period)
     if radial is not None and np.any(radial):
-        across, crossing = _density_at(t, radial, 1 / fit.period)
+        across, crossing = _density_at(t, radial, 1 / fit.period, radial_shape)
         if across > density:
             density, bins = across, crossing
     i = fit.params.index("omega_d")
@@ -1094,6 +1145,22 @@ class Filmed:
         proportion (both rest on the arc's radius). [rad]"""
         return self.amplitude_limit * abs(self.swing.reference_amplitude / self.swing.amplitude)
 
+    @property
+    def corrected_with(self) -> Measured:
+        """The amplitude a finite-amplitude correction of the film's period takes:
+        :attr:`period_amplitude` within :attr:`period_amplitude_limit`, a rectangle, where
+        that stays above zero. An amplitude is not negative: where its limit reaches below
+        zero (a swing of a few px whose arc hardly sags: 1.7° ± 7.8° against a true 6.4° on
+        a 320 × 180 film from the side), all the film says is that it lies in [0, θ + a],
+        and that range is the rectangle, [0, θ + a] about its middle. (Taken at θ, T/F(θ)
+        stays near T/F(0) whatever the swing was, with a u from the folded rectangle that
+        covers too little of the correction: lab 1's T₀ was 2.6 u off.) [rad]"""
+        value, limit = self.period_amplitude, self.period_amplitude_limit
+        if value - limit >= 0:
+            return Measured(value, limit=limit)
+        middle = 0.5 * (value + limit)
+        return Measured(middle, limit=middle)
+
     @cached_property
     def amplitude_limit(self) -> float:
         r"""Limit of error of :attr:`amplitude`. [rad]
@@ -1158,7 +1225,7 @@ def filmed_times(inputs, films: dict[str, dict[str, str]], needed=("t",)):
             if video in entry:
                 where = f"{section}.{video}"
                 track = _track_in(inputs, entry[video], where, entry.get("roi"),
-                                  f"{section}.roi")
+                                  entry.get("colour"), section)
                 swings[video] = Filmed(where, track, swing_of(track, field=where),
                                        entry.get(time_field))
         if not swings:
@@ -1174,21 +1241,23 @@ def filmed_times(inputs, films: dict[str, dict[str, str]], needed=("t",)):
             _compare_stopwatch(film, n)
             if ("amplitude" not in entry and "amplitude" not in changes
                     and _declares(inputs, section, "amplitude")):
-                changes["amplitude"] = Measured(film.period_amplitude,
-                                                limit=film.period_amplitude_limit)
+                changes["amplitude"] = film.corrected_with
                 _check_amplitude(film, f"{section}.amplitude")
         inputs = inputs.changed(section, **changes)
     return inputs, read
 
 
-def _track_in(inputs, film, where: str, roi, roi_field: str) -> Track:
+def _track_in(inputs, film, where: str, roi, colour, section: str) -> Track:
     """:func:`track_marker` of a film named by a measurement file, a region that does not
-    fit the film refused as the file's own field."""
+    fit the film, or a colour that does not swing in it, refused as the file's own field
+    (``roi``, ``colour`` of the section)."""
+    fields = (f"{section}.roi", f"{section}.colour")
     try:
-        return track_marker(film, field=where, roi=roi, roi_field=roi_field)
+        return track_marker(film, field=where, roi=roi, colour=colour, roi_field=fields[0],
+                            colour_field=fields[1])
     except InputError as exc:
-        if exc.field == roi_field:
-            raise inputs.error(exc.problem, exc.fix, roi_field, exc.ru) from None
+        if exc.field in fields:
+            raise inputs.error(exc.problem, exc.fix, exc.field, exc.ru) from None
         raise
 
 
