@@ -672,7 +672,7 @@ def _model(inputs: Inputs):
 def _check_physics(inputs: Inputs, prop) -> None:
     for sec in ("trifilar", "pendulum"):
         if sec in inputs and "amplitude" in inputs[sec]:
-            check_amplitude(inputs[sec]["amplitude"], SPEC.section(sec).label["en"])
+            check_amplitude(inputs[sec]["amplitude"], SPEC.section(sec).label)
     if "analytic" in inputs and min(prop["J_analytic"].value, prop["m_analytic"].value) <= 0:
         holes = [i for i, p in enumerate(inputs["analytic"]) if p["hole"]]
         largest = max(holes, key=lambda i: abs(prop[f"J_part_{i}"].value), default=0)

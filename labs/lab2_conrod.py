@@ -373,7 +373,7 @@ def _checks(inputs: Inputs, prop) -> None:
                            "l_CD is the distance between the prism edges (mm); d_C, d_D are "
                            "diameters", "swinging.l_CD")
     if "amplitude" in sw:
-        check_amplitude(sw["amplitude"], SPEC.section("swinging").label["en"])
+        check_amplitude(sw["amplitude"], SPEC.section("swinging").label)
     kappa = prop["kappa_swinging"].value
     l_C = prop["l_C_swinging"]
     if kappa > KATER_CONDITION_LIMIT or not 0 < l_C.value < sw["l_CD"].value:

@@ -143,6 +143,17 @@ def test_small_amplitude_does_not_warn():
     assert [n.code for n in notices] == ["amplitude_too_large"]
 
 
+def test_amplitude_warning_names_the_method_in_russian():
+    from processing.oscillations.oscillation import check_amplitude
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        check_amplitude(np.radians(12.0), lab.SPEC.section("pendulum").label)
+    (w,) = caught
+    assert str(w.message).startswith(lab.SPEC.section("pendulum").label["en"])
+    assert w.message.ru.startswith(lab.SPEC.section("pendulum").label["ru"])
+
+
 def test_analytic_flywheel_from_parts(make_inputs):
     # rim 150/120 × 40 and web 120/35 × 15, ρ = 7200, minus 6 holes Ø10 at 50 mm
     data = {"body": {"m": 11.8}, "analytic": [

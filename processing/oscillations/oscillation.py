@@ -111,7 +111,8 @@ def period_factor(amplitude, potential, inertia, stiffness):
     return np.where(q0 == 0.0, 1.0, ratio)[()]
 
 
-def check_amplitude(amplitude, method: str, *, limit=np.radians(10.0)) -> None:
+def check_amplitude(amplitude, method: str | dict[str, str], *,
+                    limit=np.radians(10.0)) -> None:
     """Warn (:class:`~processing.diagnostics.AmplitudeTooLargeWarning`) above ``limit``.
 
     Parameters
@@ -120,8 +121,9 @@ def check_amplitude(amplitude, method: str, *, limit=np.radians(10.0)) -> None:
         Amplitude of the swing or twist. [rad] A measured one whose limit of error reaches
         zero (a film whose arc hardly sags: its own warning says so) is not known to be
         above anything, and is not warned of.
-    method : str
-        What swung, for the message (e.g. "trifilar").
+    method : str or dict
+        What swung, for the message (e.g. "trifilar"), or its name by language
+        (``{"en": "Physical pendulum", "ru": "Физический маятник"}``).
     limit : float
         Largest amplitude the method's small-swing formula is meant for. [rad]
     """
@@ -129,6 +131,7 @@ def check_amplitude(amplitude, method: str, *, limit=np.radians(10.0)) -> None:
 
     from processing.diagnostics import AmplitudeTooLargeWarning
 
+    names = {"en": method} if isinstance(method, str) else method
     reach = getattr(amplitude, "limit", 0.0) or 0.0
     amplitude = getattr(amplitude, "value", amplitude)
     if reach >= amplitude:
@@ -137,9 +140,9 @@ def check_amplitude(amplitude, method: str, *, limit=np.radians(10.0)) -> None:
     if deg > lim:
         factor = float(pendulum_period_factor(amplitude)) ** 2 - 1.0
         warnings.warn(AmplitudeTooLargeWarning(
-            f"{method}: amplitude {deg:.1f}° is above {lim:.0f}°; the period was corrected for "
+            f"{names['en']}: amplitude {deg:.1f}° is above {lim:.0f}°; the period was corrected for "
             f"it (uncorrected, J would be about {100 * factor:.1f} % high), but the amplitude "
             f"decays while you time the swings, so the correction is uncertain: swing at 5–8°",
-            f"{method}: амплитуда {deg:.1f}° больше {lim:.0f}°; период исправлен на конечную "
+            f"{names.get('ru', names['en'])}: амплитуда {deg:.1f}° больше {lim:.0f}°; период исправлен на конечную "
             f"амплитуду (без поправки J завышен примерно на {100 * factor:.1f} %), но амплитуда "
             f"затухает за время отсчёта, поэтому поправка неточна: отклоняйте на 5–8°"))
