@@ -457,3 +457,26 @@ def test_sample_photograph():
     found = analyse_decay(rec.time, rec.read())
     assert found.trace.delta == pytest.approx(DECREMENT, rel=0.02)
     assert found.trace.period == pytest.approx(1 / FREQ, rel=2e-3)
+
+
+def test_a_long_train_of_sloping_ticks_is_a_mark_line():
+    """Eighty ticks with sloping sides every 36.6 px along a 3000 px line (a 10 ms marker on
+    a 300 dpi scan): the median spacing, a whole number of pixels, drifts off the far marks
+    by half a spacing, yet the line is a mark line, not a trace dipping off one level."""
+    from scipy import ndimage
+
+    from processing.vision.lines import remove_lines
+
+    rng = np.random.default_rng(1)
+    h, w, row = 120, 3000, 80.0
+    x = np.arange(w, dtype=float)
+    lift = np.zeros(w)
+    for start in 17.0 + 36.59 * np.arange(81):
+        # 3 px rising, 2 px on top, 3 px falling: 18 px up, the whole blurred by 1 px
+        lift = np.maximum(lift, 18 * np.clip(np.minimum(x - start, start + 8 - x) / 3, 0, 1))
+    rows = np.arange(h, dtype=float)[:, None]
+    density = ndimage.gaussian_filter(2.5 * np.exp(-0.5 * ((rows - (row - lift)) / 1.5) ** 2),
+                                      1.0) + rng.normal(0, 0.02, (h, w))
+    density = density.astype(np.float32)
+    lines = remove_lines(density, 0.02)
+    assert [round(line.position) for line in lines] == [80]

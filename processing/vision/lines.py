@@ -369,13 +369,16 @@ def _mark_train(starts: np.ndarray, lengths: np.ndarray, w: int) -> bool:
     spacing = float(np.median(np.diff(starts)))
     if spacing <= 2 * np.median(lengths):
         return False
+    # numbered by the gaps between neighbours, so that a spacing known to a pixel does not
+    # misnumber the far end of a long train; then afresh as the spacing is refined
+    k = np.concatenate([[0.0], np.cumsum(np.maximum(np.round(np.diff(starts) / spacing), 1))])
     origin, on_grid = float(starts[0]), np.ones(starts.size, bool)
-    for _ in range(3):              # numbered afresh as the spacing is refined
-        k = np.round((starts - origin) / spacing)
+    for _ in range(3):
         on_grid = np.abs(starts - origin - spacing * k) < 0.2 * spacing
         if on_grid.sum() < 3:
             return False
         spacing, origin = np.polyfit(k[on_grid], starts[on_grid], 1)
+        k = np.round((starts - origin) / spacing)
     typical = float(np.median(lengths))
     alike = np.abs(lengths - typical) <= max(1.0, 0.1 * typical)
     return bool(np.mean(on_grid & alike) >= TRAIN_SHARE)
