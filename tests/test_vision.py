@@ -480,3 +480,28 @@ def test_a_long_train_of_sloping_ticks_is_a_mark_line():
     density = density.astype(np.float32)
     lines = remove_lines(density, 0.02)
     assert [round(line.position) for line in lines] == [80]
+
+
+def test_a_strip_running_off_a_dark_lidded_scan():
+    """A strip longer than the scanner's bed under a black lid, skewed 2°: cut by the frame
+    on its left and lower sides, its upper and right edges and the lid beyond them in the
+    scan. The lid's border is cut off, so that the paper's edge is read neither as a line
+    nor as a trace: the one trace read is the wave (15 mm from crest to trough), with both
+    mark lines."""
+    from processing.synth.paper_strip import Marks, Scan, Strip, Trace, expose
+
+    strip = Strip(length=0.16, width=0.08, speed=0.4,
+                  traces=(Trace(lambda t: 1.0 + 0.25 * np.sin(2 * np.pi * 9 * t), 0.012, 0.03),),
+                  marks=(Marks(np.arange(0, 0.4, 0.01), 0.005, shape="tick", duration=0.002,
+                               rise=0.3, role="time"),
+                         Marks(np.arange(0.004, 0.4, 0.05), 0.073, shape="tick", direction=-1,
+                               duration=0.0015, size=0.003, rise=0.3, role="tdc")))
+    scan = Scan(dpi=150, skew=2.0, margins=(-0.002, 0.006, -0.0015, 0.008), lid=(30, 30, 32),
+                jpeg=None)
+    scene = expose(strip, scan, seed=7)
+    records = read_paper_records(scene.image, mark_period=0.01, dpi=150)
+    assert len(records) == 1, [r.lines for r in records]
+    rec = records[0]
+    assert rec.marks["tdc"].size >= 7 and rec.marks["time"].size >= 38
+    assert np.nanmax(rec.value) - np.nanmin(rec.value) == pytest.approx(0.015, rel=0.05)
+

@@ -442,8 +442,73 @@ def square_up(grey: np.ndarray, corners: np.ndarray | None, *, turns: int = 0) -
     upright = cv2.warpPerspective(grey, homography, out,
                                   flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
                                   borderMode=cv2.BORDER_REPLICATE)
+    if corners is None:
+        (top, bottom), (left, right) = beyond_the_sheet(upright)
+        upright = np.ascontiguousarray(upright[top:out[1] - bottom, left:out[0] - right])
+        homography = homography @ np.array([[1, 0, left], [0, 1, top], [0, 0, 1.0]])
+        out = (upright.shape[1], upright.shape[0])
     return Sheet(upright, homography, corners is not None, angle, _mean_scale(homography, out),
                  paper, turns % 4)
+
+
+BARE_SHARE = 0.9
+"""Share of a row (or column) of the frame the sheet must fill for the row to be the sheet's,
+where the sheet runs off the frame (:func:`beyond_the_sheet`)."""
+
+
+def beyond_the_sheet(upright: np.ndarray) -> tuple[tuple[int, int], tuple[int, int]]:
+    """Rows and columns at the frame's border that show the desk or the scanner's lid, not
+    the sheet, where the sheet runs off the frame (a strip longer than the scanner's bed, a
+    photograph close up): cut off, so that the sheet's edges are not read as lines or
+    traces on it.
+
+    The frame is split into the bright sheet and a darker ground by Otsu's threshold [1]_ on
+    a reduced copy (closed over 15 px there, so that ink stays the sheet's), if the two
+    stand :data:`SHEET_CONTRAST` grey levels apart; the rows from the top and bottom (the
+    columns from either side) in which the sheet fills less than :data:`BARE_SHARE` are cut,
+    with a margin of 1 % of the frame's height beyond the last of them (the edge's shadow,
+    blurred). A light lid against the sheet is not told apart here: its edge is judged
+    among the lines (:func:`processing.vision.record.judge_lines`).
+
+    Parameters
+    ----------
+    upright : numpy.ndarray
+        The frame squared up (:func:`square_up` without the sheet's corners), uint8.
+
+    Returns
+    -------
+    tuple
+        ((rows cut at the top, at the bottom), (columns cut at the left, at the right)). [px]
+    """
+    h, w = upright.shape
+    f = min(1.0, WORK_SIDE / max(h, w))
+    small = cv2.resize(upright, None, fx=f, fy=f, interpolation=cv2.INTER_AREA) if f < 1 \
+        else upright
+    blur = cv2.GaussianBlur(small, (5, 5), 0)
+    _, mask = cv2.threshold(blur, 0, 255, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
+    mask = cv2.morphologyEx(mask, cv2.MORPH_CLOSE, np.ones((15, 15), np.uint8)) > 0
+    if mask.all() or not mask.any() \
+            or blur[mask].mean() - blur[~mask].mean() < SHEET_CONTRAST:
+        return (0, 0), (0, 0)
+    rows, cols = slice(0, mask.shape[0]), slice(0, mask.shape[1])
+    for _ in range(2):                  # the rows within the sheet's columns, and again
+        rows = _filled(mask[:, cols].mean(axis=1))
+        cols = _filled(mask[rows].mean(axis=0))
+        if rows.stop <= rows.start or cols.stop <= cols.start:
+            return (0, 0), (0, 0)
+    margin = int(math.ceil(0.01 * min(h, w)))
+
+    def cut(k: int, size: int) -> int:
+        return 0 if k == 0 else min(int(math.ceil(k / f)) + margin, size // 4)
+
+    return ((cut(rows.start, h), cut(mask.shape[0] - rows.stop, h)),
+            (cut(cols.start, w), cut(mask.shape[1] - cols.stop, w)))
+
+
+def _filled(share: np.ndarray) -> slice:
+    """From the first to the last place the sheet fills :data:`BARE_SHARE` of."""
+    filled = np.flatnonzero(share >= BARE_SHARE)
+    return slice(int(filled[0]), int(filled[-1]) + 1) if filled.size else slice(0, 0)
 
 
 def _quarter_turn(size) -> np.ndarray:
