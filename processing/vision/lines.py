@@ -295,9 +295,12 @@ def _without_shoulders(lines: list[Line]) -> list[Line]:
 def _wavy(density: np.ndarray, fit, reach: int, noise: float) -> bool:
     """Whether the stroke along a candidate line wanders to both sides of it: a fifth of its
     column centroids (256 columns, ± ``reach`` rows: its width) lie more than
-    :data:`MAX_WANDER` px above the fitted line and a fifth as far below. A line holds its
-    row in every column (pips beside it pull the centroids to one side only); a trace that
-    oscillates about one level keeps to it only in the block medians. The window spans the
+    :data:`MAX_WANDER` px above the fitted line and a fifth as far below, or the fifths
+    above and below lie more than twice that apart. A line holds its row in every column
+    (pips beside it pull the centroids to one side only, in the few columns of their
+    sides); a trace that oscillates about one level keeps to it only in the block medians,
+    and one that dwells at a level and dips off it by a few pixels (a speed trace of small
+    δ on a photograph) leaves it to one side in a good share of its columns. The window spans the
     candidate's width as the block medians show it, which for a small ripple blurred into
     its own stroke (or a trace dwelling at one level and dipping off it) is the width of the
     rows it dwells on: narrower windows saw too little of its swing to tell it from a line."""
@@ -313,7 +316,7 @@ def _wavy(density: np.ndarray, fit, reach: int, noise: float) -> bool:
         return False
     y = (v * rows).sum(axis=0)[seen] / mass[seen] - centre[seen]
     low, high = np.percentile(y, [20, 80])
-    return bool(low < -MAX_WANDER and high > MAX_WANDER)
+    return bool(low < -MAX_WANDER and high > MAX_WANDER) or high - low > 2 * MAX_WANDER
 
 
 def _absences(density: np.ndarray, fit, width: float, strength: float,
