@@ -54,7 +54,7 @@ BLOCK_COLUMNS = 160
 
 @dataclass(frozen=True)
 class Line(Record):
-    """A straight line across the sheet.
+    """A straight line across the sheet (as a lens draws it: bent by a sag of a few pixels).
 
     Attributes
     ----------
@@ -71,6 +71,9 @@ class Line(Record):
         Share of the blocks it is seen in.
     middle : float
         The column ``position`` refers to. [px]
+    bend : float
+        Rows per column² the line bends by about ``middle`` (a lens's radial distortion bends
+        the straight lines away from the picture's centre; 0 on a flat scan). [1/px]
     """
 
     position: float
@@ -79,10 +82,45 @@ class Line(Record):
     width: float
     share: float
     middle: float
+    bend: float = 0.0
 
     def at(self, x):
         """The line's row at columns ``x``. [px]"""
-        return self.position + self.slope * (np.asarray(x, dtype=float) - self.middle)
+        d = np.asarray(x, dtype=float) - self.middle
+        return self.position + self.slope * d + self.bend * d * d
+
+
+@dataclass(frozen=True)
+class _Course:
+    """A candidate line's row along the sheet: straight, or bent by a lens."""
+
+    middle: float
+    coefficients: tuple[float, float, float]
+    """Bend, slope and row at ``middle``."""
+    residual_sd: float
+
+    def predict(self, x):
+        return np.polyval(self.coefficients, np.asarray(x, dtype=float) - self.middle)
+
+
+MAX_SAG = 0.004
+"""Largest sag of a line bent by the camera's lens, over its length (a phone's residual
+barrel distortion bends a line near the picture's edge by a few pixels in a thousand)."""
+
+
+def _course(x: np.ndarray, rows: np.ndarray, middle: float, length: float) -> _Course:
+    """The straight line through the block centres, or the parabola if the straight one
+    leaves them by more than :data:`MAX_WAVINESS` and the parabola sags by no more than
+    :data:`MAX_SAG` of the length (the parabola is then the line's course)."""
+    fit = fit_line(x, rows)
+    straight = _Course(middle, (0.0, fit.slope, float(fit.predict(middle))), fit.residual_sd)
+    if fit.residual_sd <= MAX_WAVINESS or x.size < 5:
+        return straight
+    c = np.polyfit(x - middle, rows, 2)
+    sd = float(np.sqrt(np.sum((np.polyval(c, x - middle) - rows) ** 2) / (x.size - 3)))
+    if abs(c[0]) * (length / 2) ** 2 > MAX_SAG * length:
+        return straight
+    return _Course(middle, (float(c[0]), float(c[1]), float(c[2])), sd)
 
 
 def _block_medians(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -131,7 +169,7 @@ def remove_lines(density: np.ndarray, noise: float) -> list[Line]:
         rows = np.arange(lo, hi, dtype=float)[:, None]
         weight = np.where(window > 0.5 * tops, window, 0.0)
         centres = (weight * rows).sum(axis=0) / np.maximum(weight.sum(axis=0), 1e-12)
-        fit = fit_line(middles[present], centres[present])
+        fit = _course(middles[present], centres[present], w / 2, w)
         if fit.residual_sd > MAX_WAVINESS:
             continue
         position = float(fit.predict(w / 2))
@@ -145,11 +183,14 @@ def remove_lines(density: np.ndarray, noise: float) -> list[Line]:
             continue                    # a trace at rest between events, not a line
         if dipping > DIPPING:
             continue                    # a trace dwelling at one level and dipping off it
+        if absent <= 1 and _wavy(density, fit, max(2, int(round(width))), noise,
+                                 kept_row=True):
+            continue                    # the same, its dips within its stroke's reach
         if any(abs(position - other.position) < max(3.0, width + other.width)
                for other in lines):
             continue                    # a shoulder of a stronger line (its pips, blurred)
-        lines.append(Line(position, fit.slope, float(np.median(tops[present])), width,
-                          float(present.mean()), w / 2))
+        lines.append(Line(position, fit.coefficients[1], float(np.median(tops[present])),
+                          width, float(present.mean()), w / 2, fit.coefficients[0]))
     lines = _without_shoulders(sorted(lines, key=lambda line: line.position))
     lines = _without_combs(density, lines, noise)
     _subtract(density, med, middles, lines)
@@ -292,15 +333,18 @@ def _without_shoulders(lines: list[Line]) -> list[Line]:
         and abs(other.position - line.position) < 6 * other.width + 10 for other in lines)]
 
 
-def _wavy(density: np.ndarray, fit, reach: int, noise: float) -> bool:
+def _wavy(density: np.ndarray, fit, reach: int, noise: float, *,
+          kept_row: bool = False) -> bool:
     """Whether the stroke along a candidate line wanders to both sides of it: a fifth of its
     column centroids (256 columns, ± ``reach`` rows: its width) lie more than
-    :data:`MAX_WANDER` px above the fitted line and a fifth as far below, or the fifths
-    above and below lie more than twice that apart. A line holds its row in every column
-    (pips beside it pull the centroids to one side only, in the few columns of their
-    sides); a trace that oscillates about one level keeps to it only in the block medians,
-    and one that dwells at a level and dips off it by a few pixels (a speed trace of small
-    δ on a photograph) leaves it to one side in a good share of its columns. The window spans the
+    :data:`MAX_WANDER` px above the fitted line and a fifth as far below; or, where the
+    stroke never leaves the line's row (``kept_row``), the fifths above and below lie more
+    than twice that apart. A line holds its row in every column (pips beside it pull the
+    centroids to one side only, and lift the line off its row where they stand); a trace
+    that oscillates about one level keeps to it only in the block medians, and one that
+    dwells at a level and dips off it by a few pixels (a speed trace of small δ on a
+    photograph) keeps inking its row while it wanders to one side in a good share of its
+    columns. The window spans the
     candidate's width as the block medians show it, which for a small ripple blurred into
     its own stroke (or a trace dwelling at one level and dipping off it) is the width of the
     rows it dwells on: narrower windows saw too little of its swing to tell it from a line."""
@@ -316,7 +360,9 @@ def _wavy(density: np.ndarray, fit, reach: int, noise: float) -> bool:
         return False
     y = (v * rows).sum(axis=0)[seen] / mass[seen] - centre[seen]
     low, high = np.percentile(y, [20, 80])
-    return bool(low < -MAX_WANDER and high > MAX_WANDER) or high - low > 2 * MAX_WANDER
+    if kept_row:
+        return bool(high - low > 2 * MAX_WANDER)
+    return bool(low < -MAX_WANDER and high > MAX_WANDER)
 
 
 def _absences(density: np.ndarray, fit, width: float, strength: float,
@@ -415,7 +461,7 @@ def _subtract(density: np.ndarray, med: np.ndarray, middles: np.ndarray,
         return
     rows = set()
     for line in lines:
-        ends = line.at(np.array([0.0, w - 1.0]))
+        ends = line.at(np.linspace(0.0, w - 1.0, 9))
         span = line.width / 2 + 3
         rows.update(range(max(int(np.floor(ends.min() - span)), 0),
                           min(int(np.ceil(ends.max() + span)) + 1, h)))

@@ -260,12 +260,14 @@ def find_sheet(grey: np.ndarray) -> np.ndarray | None:
     small = cv2.resize(grey, None, fx=min(f, 1.0), fy=min(f, 1.0), interpolation=cv2.INTER_AREA)
     f = small.shape[1] / grey.shape[1]
     blur = cv2.GaussianBlur(small, (5, 5), 0)
-    level, mask = cv2.threshold(blur, 0, 255, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
-    mask = cv2.morphologyEx(mask, cv2.MORPH_CLOSE, np.ones((15, 15), np.uint8))
-    contours, _ = cv2.findContours(mask, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
-    if not contours:
+    otsu, low = _levels(blur)
+    mask, contour = _region(blur, otsu)
+    if _solidity(contour) < SOLID_SHEET:
+        lower = _region(blur, low)
+        if _solidity(lower[1]) > _solidity(contour) + 0.01:
+            mask, contour = lower
+    if contour is None:
         return None
-    contour = max(contours, key=cv2.contourArea)
     h, w = small.shape
     if cv2.contourArea(contour) < MIN_SHEET * h * w:
         return None
@@ -284,6 +286,42 @@ def find_sheet(grey: np.ndarray) -> np.ndarray | None:
     corners = _order(_edges_at_full_size(grey, _order(corners), reach=max(8.0, 3.0 / f)))
     top, left = np.hypot(*(corners[1] - corners[0])), np.hypot(*(corners[3] - corners[0]))
     return np.roll(corners, 1, axis=0) if left > top else corners
+
+
+SOLID_SHEET = 0.98
+"""Share of its convex hull a whole sheet's region fills at least (its outline, traced on the
+reduced copy, rounds its corners a little); less, a shadow has bitten into it, and the
+region at the lower threshold (:func:`_levels`) is taken if it is more solid."""
+
+
+def _levels(blur: np.ndarray) -> tuple[float, float]:
+    """Two thresholds between the sheet and the desk: Otsu's [1]_, and one lower, above the
+    desk's typical level (the median of Otsu's darker class) by :data:`SHEET_CONTRAST` grey
+    levels or half the way to Otsu's if that is more. A phone's shadow over part of the
+    sheet darkens it below Otsu's threshold, though well above the desk; a light desk's
+    grain rises above the lower one."""
+    level, _ = cv2.threshold(blur, 0, 255, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
+    dark = blur[blur <= level]
+    desk = float(np.median(dark)) if dark.size else 0.0
+    return float(level), min(float(level), desk + max(SHEET_CONTRAST, 0.5 * (level - desk)))
+
+
+def _region(blur: np.ndarray, level: float):
+    """The pixels brighter than ``level`` (closed over 15 px) and the outline of their
+    largest region (None if there is none)."""
+    mask = np.where(blur > level, 255, 0).astype(np.uint8)
+    mask = cv2.morphologyEx(mask, cv2.MORPH_CLOSE, np.ones((15, 15), np.uint8))
+    contours, _ = cv2.findContours(mask, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    return mask, (max(contours, key=cv2.contourArea) if contours else None)
+
+
+def _solidity(contour) -> float:
+    """The region's area over its convex hull's: 1 for a whole sheet; less where a shadow
+    bit into it or the desk's grain joined it."""
+    if contour is None:
+        return -1.0
+    hull = cv2.contourArea(cv2.convexHull(contour))
+    return cv2.contourArea(contour) / hull if hull > 0 else 0.0
 
 
 def _quadrilateral(contour) -> np.ndarray | None:
