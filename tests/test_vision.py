@@ -483,12 +483,15 @@ def test_a_long_train_of_sloping_ticks_is_a_mark_line():
     assert [round(line.position) for line in lines] == [80]
 
 
-def test_a_strip_running_off_a_dark_lidded_scan():
-    """A strip longer than the scanner's bed under a black lid, skewed 2°: cut by the frame
-    on its left and lower sides, its upper and right edges and the lid beyond them in the
-    scan. The lid's border is cut off, so that the paper's edge is read neither as a line
-    nor as a trace: the one trace read is the wave (15 mm from crest to trough), with both
-    mark lines."""
+@pytest.mark.parametrize("skew, margins", [(2.0, (-0.002, 0.006, -0.0015, 0.008)),
+                                           (0.7, (0.006, 0.006, -0.0015, 0.008))])
+def test_a_strip_running_off_a_dark_lidded_scan(skew, margins):
+    """A strip under a black lid, skewed, cut by the frame on its left and lower sides
+    (longer than the scanner's bed) or on its lower side only, the lid beyond its other
+    edges in the scan. The frame's edge is not taken for the sheet's (squared up to it, the
+    sheet was sheared and its lower mark line lost), and the lid's border is cut off, so
+    that the paper's edge is read neither as a line nor as a trace: the one trace read is
+    the wave (15 mm from crest to trough), with both mark lines."""
     from processing.synth.paper_strip import Marks, Scan, Strip, Trace, expose
 
     strip = Strip(length=0.16, width=0.08, speed=0.4,
@@ -497,8 +500,7 @@ def test_a_strip_running_off_a_dark_lidded_scan():
                                rise=0.3, role="time"),
                          Marks(np.arange(0.004, 0.4, 0.05), 0.073, shape="tick", direction=-1,
                                duration=0.0015, size=0.003, rise=0.3, role="tdc")))
-    scan = Scan(dpi=150, skew=2.0, margins=(-0.002, 0.006, -0.0015, 0.008), lid=(30, 30, 32),
-                jpeg=None)
+    scan = Scan(dpi=150, skew=skew, margins=margins, lid=(30, 30, 32), jpeg=None)
     scene = expose(strip, scan, seed=7)
     records = read_paper_records(scene.image, mark_period=0.01, dpi=150)
     assert len(records) == 1, [r.lines for r in records]

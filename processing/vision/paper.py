@@ -275,6 +275,11 @@ def find_sheet(grey: np.ndarray) -> np.ndarray | None:
     touching = (x <= 1) + (y <= 1) + (x + bw >= w - 1) + (y + bh >= h - 1)
     if touching >= 2:
         return None                                   # a scan cropped inside the sheet
+    if ((y <= 1) or (y + bh >= h - 1)) if bw >= bh else ((x <= 1) or (x + bw >= w - 1)):
+        # a long edge runs off the frame: the frame's edge there is not the sheet's, and
+        # squaring up to it would shear the record; the frame is squared up instead, and
+        # the desk beyond the other edges cut off (beyond_the_sheet)
+        return None
     inside = np.zeros_like(mask)
     cv2.drawContours(inside, [contour], -1, 255, -1)
     if cv2.mean(blur, inside)[0] - cv2.mean(blur, 255 - inside)[0] < SHEET_CONTRAST:
