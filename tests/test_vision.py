@@ -3,7 +3,6 @@
 trace and a lab-9 decay reduced as the labs do, crossing traces, the length scales, the
 channel interface, and bad images. Images are small and made here (no binaries checked in).
 """
-import re
 import warnings
 from dataclasses import replace
 from pathlib import Path
@@ -507,33 +506,6 @@ def test_a_strip_running_off_a_dark_lidded_scan(skew, margins):
     rec = records[0]
     assert rec.marks["tdc"].size >= 7 and rec.marks["time"].size >= 38
     assert np.nanmax(rec.value) - np.nanmin(rec.value) == pytest.approx(0.015, rel=0.05)
-
-
-def speed_with_dips(t):
-    """A speed trace's ripple as the converter draws it: rounded crests and sharper dips at
-    each of 40 firings a second, 0.45 mm deep at the 30 mm gain below."""
-    return 1.0 - 0.015 * np.sin(np.pi * 40 * np.asarray(t, dtype=float)) ** 6
-
-
-def test_a_nearly_straight_speed_trace_with_dips_is_not_a_line():
-    """A photographed speed trace whose ripple dips 3 px off its level to one side only: its
-    stroke never leaves the level's row and its centroids wander to one side, so it was
-    taken for a second zero line and lifted off. It is a trace; the zero line is the beam's
-    (30 mm below the level)."""
-    from processing.synth.paper_strip import Marks, Photo, Strip, Trace, expose
-
-    strip = Strip(length=0.16, width=0.08, speed=0.4,
-                  traces=(Trace(speed_with_dips, 0.012, 0.03, zero_line=True),),
-                  marks=(Marks(np.arange(0, 0.4, 0.01), 0.005, shape="tick", duration=0.002,
-                               rise=0.3, role="time"),
-                         Marks(np.arange(0.004, 0.4, 0.05), 0.073, shape="tick", direction=-1,
-                               duration=0.0015, size=0.003, rise=0.3, role="tdc")))
-    scene = expose(strip, Photo(size=(1500, 1000)), seed=8)
-    rec = read_paper_record(scene.image, mark_period=0.01, paper_width=0.08, zero="line")
-    assert re.search(r"\(zero line, taken\)", rec.lines) and rec.lines.count("zero line") == 1
-    level = float(np.nanmedian(rec.value))
-    assert level == pytest.approx(0.03, rel=0.03)
-    assert level - np.nanpercentile(rec.value, 1) == pytest.approx(0.00045, abs=0.00015)
 
 
 def test_a_shadow_over_a_corner_leaves_the_sheet_whole():

@@ -183,9 +183,6 @@ def remove_lines(density: np.ndarray, noise: float) -> list[Line]:
             continue                    # a trace at rest between events, not a line
         if dipping > DIPPING:
             continue                    # a trace dwelling at one level and dipping off it
-        if absent <= 1 and _wavy(density, fit, max(2, int(round(width))), noise,
-                                 kept_row=True):
-            continue                    # the same, its dips within its stroke's reach
         if any(abs(position - other.position) < max(3.0, width + other.width)
                for other in lines):
             continue                    # a shoulder of a stronger line (its pips, blurred)
@@ -333,18 +330,12 @@ def _without_shoulders(lines: list[Line]) -> list[Line]:
         and abs(other.position - line.position) < 6 * other.width + 10 for other in lines)]
 
 
-def _wavy(density: np.ndarray, fit, reach: int, noise: float, *,
-          kept_row: bool = False) -> bool:
+def _wavy(density: np.ndarray, fit, reach: int, noise: float) -> bool:
     """Whether the stroke along a candidate line wanders to both sides of it: a fifth of its
     column centroids (256 columns, ± ``reach`` rows: its width) lie more than
-    :data:`MAX_WANDER` px above the fitted line and a fifth as far below; or, where the
-    stroke never leaves the line's row (``kept_row``), the fifths above and below lie more
-    than twice that apart. A line holds its row in every column (pips beside it pull the
-    centroids to one side only, and lift the line off its row where they stand); a trace
-    that oscillates about one level keeps to it only in the block medians, and one that
-    dwells at a level and dips off it by a few pixels (a speed trace of small δ on a
-    photograph) keeps inking its row while it wanders to one side in a good share of its
-    columns. The window spans the
+    :data:`MAX_WANDER` px above the fitted line and a fifth as far below. A line holds its
+    row in every column (pips beside it pull the centroids to one side only); a trace that
+    oscillates about one level keeps to it only in the block medians. The window spans the
     candidate's width as the block medians show it, which for a small ripple blurred into
     its own stroke (or a trace dwelling at one level and dipping off it) is the width of the
     rows it dwells on: narrower windows saw too little of its swing to tell it from a line."""
@@ -360,8 +351,6 @@ def _wavy(density: np.ndarray, fit, reach: int, noise: float, *,
         return False
     y = (v * rows).sum(axis=0)[seen] / mass[seen] - centre[seen]
     low, high = np.percentile(y, [20, 80])
-    if kept_row:
-        return bool(high - low > 2 * MAX_WANDER)
     return bool(low < -MAX_WANDER and high > MAX_WANDER)
 
 

@@ -275,7 +275,7 @@ def find_sheet(grey: np.ndarray) -> np.ndarray | None:
     touching = (x <= 1) + (y <= 1) + (x + bw >= w - 1) + (y + bh >= h - 1)
     if touching >= 2:
         return None                                   # a scan cropped inside the sheet
-    if ((y <= 1) or (y + bh >= h - 1)) if bw >= bh else ((x <= 1) or (x + bw >= w - 1)):
+    if _runs_off(contour[:, 0, :], (w, h), long_side=max(bw, bh)):
         # a long edge runs off the frame: the frame's edge there is not the sheet's, and
         # squaring up to it would shear the record; the frame is squared up instead, and
         # the desk beyond the other edges cut off (beyond_the_sheet)
@@ -297,6 +297,21 @@ SOLID_SHEET = 0.98
 """Share of its convex hull a whole sheet's region fills at least (its outline, traced on the
 reduced copy, rounds its corners a little); less, a shadow has bitten into it, and the
 region at the lower threshold (:func:`_levels`) is taken if it is more solid."""
+
+
+RUN_OFF = 0.1
+"""Share of the sheet's long side that must lie along the frame's edge for the sheet to run
+off the frame there (a skewed sheet's corner only touches it)."""
+
+
+def _runs_off(outline: np.ndarray, size: tuple[int, int], long_side: float) -> bool:
+    """Whether the sheet's outline (column, row points) runs along one of the frame's edges
+    for :data:`RUN_OFF` of its long side: the sheet runs off the frame there."""
+    w, h = size
+    x, y = outline[:, 0], outline[:, 1]
+    along = [np.unique(x[y <= 1]).size, np.unique(x[y >= h - 2]).size,
+             np.unique(y[x <= 1]).size, np.unique(y[x >= w - 2]).size]
+    return max(along) > RUN_OFF * long_side
 
 
 def _levels(blur: np.ndarray) -> tuple[float, float]:
