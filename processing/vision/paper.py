@@ -264,7 +264,9 @@ def find_sheet(grey: np.ndarray) -> np.ndarray | None:
     mask, contour = _region(blur, otsu)
     if _solidity(contour) < SOLID_SHEET:
         lower = _region(blur, low)
-        if _solidity(lower[1]) > _solidity(contour) + 0.01:
+        # the bite filled in, a whole sheet again (the desk's grain joined to the sheet
+        # leaves it ragged)
+        if _solidity(lower[1]) >= SOLID_SHEET:
             mask, contour = lower
     if contour is None:
         return None
@@ -272,8 +274,7 @@ def find_sheet(grey: np.ndarray) -> np.ndarray | None:
     if cv2.contourArea(contour) < MIN_SHEET * h * w:
         return None
     x, y, bw, bh = cv2.boundingRect(contour)
-    touching = (x <= 1) + (y <= 1) + (x + bw >= w - 1) + (y + bh >= h - 1)
-    if touching >= 2:
+    if _touching(contour, (h, w)) >= 2:
         return None                                   # a scan cropped inside the sheet
     if _runs_off(contour[:, 0, :], (w, h), long_side=max(bw, bh)):
         # a long edge runs off the frame: the frame's edge there is not the sheet's, and
@@ -296,7 +297,14 @@ def find_sheet(grey: np.ndarray) -> np.ndarray | None:
 SOLID_SHEET = 0.98
 """Share of its convex hull a whole sheet's region fills at least (its outline, traced on the
 reduced copy, rounds its corners a little); less, a shadow has bitten into it, and the
-region at the lower threshold (:func:`_levels`) is taken if it is more solid."""
+region at the lower threshold (:func:`_levels`) is taken if it is whole."""
+
+
+def _touching(contour, shape: tuple[int, int]) -> int:
+    """How many of the frame's edges the region's bounding box reaches."""
+    h, w = shape
+    x, y, bw, bh = cv2.boundingRect(contour)
+    return int((x <= 1) + (y <= 1) + (x + bw >= w - 1) + (y + bh >= h - 1))
 
 
 RUN_OFF = 0.1
