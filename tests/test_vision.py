@@ -457,3 +457,131 @@ def test_sample_photograph():
     found = analyse_decay(rec.time, rec.read())
     assert found.trace.delta == pytest.approx(DECREMENT, rel=0.02)
     assert found.trace.period == pytest.approx(1 / FREQ, rel=2e-3)
+
+
+def test_a_long_train_of_sloping_ticks_is_a_mark_line():
+    """Eighty ticks with sloping sides every 36.6 px along a 3000 px line (a 10 ms marker on
+    a 300 dpi scan): the median spacing, a whole number of pixels, drifts off the far marks
+    by half a spacing, yet the line is a mark line, not a trace dipping off one level."""
+    from scipy import ndimage
+
+    from processing.vision.lines import remove_lines
+
+    rng = np.random.default_rng(1)
+    h, w, row = 120, 3000, 80.0
+    x = np.arange(w, dtype=float)
+    lift = np.zeros(w)
+    for start in 17.0 + 36.59 * np.arange(81):
+        # 3 px rising, 2 px on top, 3 px falling: 18 px up, the whole blurred by 1 px
+        lift = np.maximum(lift, 18 * np.clip(np.minimum(x - start, start + 8 - x) / 3, 0, 1))
+    rows = np.arange(h, dtype=float)[:, None]
+    density = ndimage.gaussian_filter(2.5 * np.exp(-0.5 * ((rows - (row - lift)) / 1.5) ** 2),
+                                      1.0) + rng.normal(0, 0.02, (h, w))
+    density = density.astype(np.float32)
+    lines = remove_lines(density, 0.02)
+    assert [round(line.position) for line in lines] == [80]
+
+
+@pytest.mark.parametrize("skew, margins", [(2.0, (-0.002, 0.006, -0.0015, 0.008)),
+                                           (0.7, (0.006, 0.006, -0.0015, 0.008))])
+def test_a_strip_running_off_a_dark_lidded_scan(skew, margins):
+    """A strip under a black lid, skewed, cut by the frame on its left and lower sides
+    (longer than the scanner's bed) or on its lower side only, the lid beyond its other
+    edges in the scan. The frame's edge is not taken for the sheet's (squared up to it, the
+    sheet was sheared and its lower mark line lost), and the lid's border is cut off, so
+    that the paper's edge is read neither as a line nor as a trace: the one trace read is
+    the wave (15 mm from crest to trough), with both mark lines."""
+    from processing.synth.paper_strip import Marks, Scan, Strip, Trace, expose
+
+    strip = Strip(length=0.16, width=0.08, speed=0.4,
+                  traces=(Trace(lambda t: 1.0 + 0.25 * np.sin(2 * np.pi * 9 * t), 0.012, 0.03),),
+                  marks=(Marks(np.arange(0, 0.4, 0.01), 0.005, shape="tick", duration=0.002,
+                               rise=0.3, role="time"),
+                         Marks(np.arange(0.004, 0.4, 0.05), 0.073, shape="tick", direction=-1,
+                               duration=0.0015, size=0.003, rise=0.3, role="tdc")))
+    scan = Scan(dpi=150, skew=skew, margins=margins, lid=(30, 30, 32), jpeg=None)
+    scene = expose(strip, scan, seed=7)
+    records = read_paper_records(scene.image, mark_period=0.01, dpi=150)
+    assert len(records) == 1, [r.lines for r in records]
+    rec = records[0]
+    assert rec.marks["tdc"].size >= 7 and rec.marks["time"].size >= 38
+    assert np.nanmax(rec.value) - np.nanmin(rec.value) == pytest.approx(0.015, rel=0.05)
+
+
+def test_a_shadow_over_a_corner_leaves_the_sheet_whole():
+    """A phone's shadow darkens a corner of the sheet below Otsu's threshold between the
+    lit sheet and a dark desk (still far above the desk): the sheet is found whole, each
+    corner within 3 px."""
+    import cv2
+
+    from processing.vision.paper import find_sheet
+
+    corners = np.array([[300.0, 420.0], [2500.0, 470.0], [2480.0, 1400.0], [280.0, 1350.0]])
+    grey = np.full((1800, 2800), 35, np.uint8)
+    cv2.fillPoly(grey, [corners.astype(np.int32)], 205)
+    rows, cols = np.mgrid[0:1800, 0:2800]
+    shade = np.clip(1 - np.hypot(cols - 2350, rows - 600) / 700, 0, 1) ** 0.5
+    grey = (grey * (1 - 0.6 * shade)).astype(np.uint8)
+    found = find_sheet(grey)
+    assert found is not None
+    assert np.abs(found - corners).max() < 3, found
+
+
+def test_a_line_bent_by_the_lens_is_a_line():
+    """A mark line sagging 3 px over its 2000 px (a phone's barrel distortion near the
+    picture's edge): found as one line, its bend followed, its pips left beside it."""
+    from processing.vision.lines import remove_lines
+
+    rng = np.random.default_rng(2)
+    h, w = 100, 2000
+    x = np.arange(w, dtype=float)
+    course = 60.0 + 3.0 * ((x - w / 2) / (w / 2)) ** 2
+    lift = np.zeros(w)
+    for start in np.arange(10.0, w - 20, 25.3):
+        lift = np.maximum(lift, 8 * np.clip(np.minimum(x - start, start + 6 - x) / 1.5, 0, 1))
+    rows = np.arange(h, dtype=float)[:, None]
+    density = (2.0 * np.exp(-0.5 * ((rows - (course - lift)) / 1.5) ** 2)
+               + rng.normal(0, 0.02, (h, w))).astype(np.float32)
+    lines = remove_lines(density, 0.02)
+    assert len(lines) == 1
+    assert np.abs(lines[0].at(x) - course).max() < 0.5
+    assert density[45:56].max() > 1.0, "the pips' tops stay"
+
+
+def test_tdc_pips_by_the_sheets_edge():
+    """TDC ticks rising towards the sheet's upper edge, their line 5 mm below it: the rows
+    searched end at the pips' tops, their sides fill them, and the pips are still found."""
+    from processing.synth.paper_strip import Marks, Scan, Strip, Trace, expose
+
+    strip = Strip(length=0.16, width=0.08, speed=0.4,
+                  traces=(Trace(lambda t: 1.0 + 0.25 * np.sin(2 * np.pi * 9 * t), 0.012, 0.03),),
+                  marks=(Marks(np.arange(0, 0.4, 0.01), 0.005, shape="tick", duration=0.002,
+                               rise=0.3, role="time"),
+                         Marks(np.arange(0.004, 0.4, 0.05), 0.075, shape="tick", direction=1,
+                               duration=0.002, size=0.003, rise=0.4, role="tdc")))
+    scene = expose(strip, Scan(dpi=150, lid=(30, 30, 32), jpeg=None), seed=9)
+    rec = read_paper_record(scene.image, mark_period=0.01, dpi=150)
+    assert rec.marks["tdc"].size == scene.times("tdc").size
+
+
+def test_sparse_pips_among_a_grids_cross_lines():
+    """Four TDC pips along a line, among the faint cross lines a printed grid leaves every
+    59 px (a tenth as dark as the ink): the cross lines, many and alike, are not taken for
+    the pips, and the four pips are found."""
+    from processing.vision.lines import Line
+    from processing.vision.marks import find_pips
+
+    rng = np.random.default_rng(3)
+    h, w, row = 200, 3000, 150
+    density = rng.normal(0, 0.02, (h, w))
+    density[:, ::59] += 0.3
+    density[:, 1::59] += 0.3
+    starts = np.array([700.0, 1330.0, 1960.0, 2590.0])
+    for a in starts.astype(int):
+        density[row - 36:row - 2, a:a + 3] = 3.0          # the rising side
+        density[row - 36:row - 2, a + 10:a + 13] = 3.0    # the falling side
+        density[row - 38:row - 34, a:a + 13] = 3.0        # the top
+    line = Line(float(row), 0.0, 3.0, 4.0, 1.0, w / 2)
+    pips = find_pips(density.astype(np.float32), line, 0.02, (60.0, 40.0))
+    assert pips is not None and pips.side == -1
+    assert np.abs(pips.rising - starts).max() < 2

@@ -58,7 +58,7 @@ BLOCK_COLUMNS = 160
 
 @dataclass(frozen=True)
 class Line(Record):
-    """A straight line across the sheet.
+    """A straight line across the sheet (as a lens draws it: bent by a sag of a few pixels).
 
     Attributes
     ----------
@@ -75,6 +75,9 @@ class Line(Record):
         Share of the blocks it is seen in.
     middle : float
         The column ``position`` refers to. [px]
+    bend : float
+        Rows per column² the line bends by about ``middle`` (a lens's radial distortion bends
+        the straight lines away from the picture's centre; 0 on a flat scan). [1/px]
     """
 
     position: float
@@ -83,10 +86,45 @@ class Line(Record):
     width: float
     share: float
     middle: float
+    bend: float = 0.0
 
     def at(self, x):
         """The line's row at columns ``x``. [px]"""
-        return self.position + self.slope * (np.asarray(x, dtype=float) - self.middle)
+        d = np.asarray(x, dtype=float) - self.middle
+        return self.position + self.slope * d + self.bend * d * d
+
+
+@dataclass(frozen=True)
+class _Course:
+    """A candidate line's row along the sheet: straight, or bent by a lens."""
+
+    middle: float
+    coefficients: tuple[float, float, float]
+    """Bend, slope and row at ``middle``."""
+    residual_sd: float
+
+    def predict(self, x):
+        return np.polyval(self.coefficients, np.asarray(x, dtype=float) - self.middle)
+
+
+MAX_SAG = 0.004
+"""Largest sag of a line bent by the camera's lens, over its length (a phone's residual
+barrel distortion bends a line near the picture's edge by a few pixels in a thousand)."""
+
+
+def _course(x: np.ndarray, rows: np.ndarray, middle: float, length: float) -> _Course:
+    """The straight line through the block centres, or the parabola if the straight one
+    leaves them by more than :data:`MAX_WAVINESS` and the parabola sags by no more than
+    :data:`MAX_SAG` of the length (the parabola is then the line's course)."""
+    fit = fit_line(x, rows)
+    straight = _Course(middle, (0.0, fit.slope, float(fit.predict(middle))), fit.residual_sd)
+    if fit.residual_sd <= MAX_WAVINESS or x.size < 5:
+        return straight
+    c = np.polyfit(x - middle, rows, 2)
+    sd = float(np.sqrt(np.sum((np.polyval(c, x - middle) - rows) ** 2) / (x.size - 3)))
+    if abs(c[0]) * (length / 2) ** 2 > MAX_SAG * length:
+        return straight
+    return _Course(middle, (float(c[0]), float(c[1]), float(c[2])), sd)
 
 
 def _block_medians(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -101,17 +139,18 @@ def _block_medians(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return med, (edges[:-1] + edges[1:] - 1) / 2
 
 
-def _straight_fit(middles: np.ndarray, centres: np.ndarray, present: np.ndarray):
-    """The straight line through the blocks' centroids where it is seen, or None if they
-    scatter about it by more than :data:`MAX_WAVINESS`. Where a trace runs beside a line
-    (a decay settling on its zero line, a torsiogram crossing it at a shallow angle) the
-    merged strokes pull a block's centroid off: the block farthest off is left out, one at
-    a time, up to :data:`PULLED_SHARE` of the blocks; a trace keeping near one level
-    scatters along its whole length and stays wavy."""
+def _line_course(middles: np.ndarray, centres: np.ndarray, present: np.ndarray,
+                 length: float) -> _Course | None:
+    """The course (:func:`_course`) of a line through the blocks' centroids where it is seen,
+    or None if they scatter about it by more than :data:`MAX_WAVINESS`. Where a trace runs
+    beside a line (a decay settling on its zero line, a torsiogram crossing it at a shallow
+    angle) the merged strokes pull a block's centroid off: the block farthest off is left
+    out, one at a time, up to :data:`PULLED_SHARE` of the blocks; a trace keeping near one
+    level scatters along its whole length and stays wavy."""
     keep = present.copy()
     spare = int(PULLED_SHARE * present.sum())
     while True:
-        fit = fit_line(middles[keep], centres[keep])
+        fit = _course(middles[keep], centres[keep], length / 2, length)
         if fit.residual_sd <= MAX_WAVINESS:
             return fit
         if spare == 0:
@@ -155,7 +194,7 @@ def remove_lines(density: np.ndarray, noise: float) -> list[Line]:
         rows = np.arange(lo, hi, dtype=float)[:, None]
         weight = np.where(window > 0.5 * tops, window, 0.0)
         centres = (weight * rows).sum(axis=0) / np.maximum(weight.sum(axis=0), 1e-12)
-        fit = _straight_fit(middles, centres, present)
+        fit = _line_course(middles, centres, present, w)
         if fit is None:
             continue
         position = float(fit.predict(w / 2))
@@ -172,8 +211,8 @@ def remove_lines(density: np.ndarray, noise: float) -> list[Line]:
         if any(abs(position - other.position) < max(3.0, width + other.width)
                for other in lines):
             continue                    # a shoulder of a stronger line (its pips, blurred)
-        lines.append(Line(position, fit.slope, float(np.median(tops[present])), width,
-                          float(present.mean()), w / 2))
+        lines.append(Line(position, fit.coefficients[1], float(np.median(tops[present])),
+                          width, float(present.mean()), w / 2, fit.coefficients[0]))
     lines = _without_shoulders(sorted(lines, key=lambda line: line.position))
     lines = _without_combs(density, lines, noise)
     _subtract(density, med, middles, lines)
@@ -393,13 +432,16 @@ def _mark_train(starts: np.ndarray, lengths: np.ndarray, w: int) -> bool:
     spacing = float(np.median(np.diff(starts)))
     if spacing <= 2 * np.median(lengths):
         return False
+    # numbered by the gaps between neighbours, so that a spacing known to a pixel does not
+    # misnumber the far end of a long train; then afresh as the spacing is refined
+    k = np.concatenate([[0.0], np.cumsum(np.maximum(np.round(np.diff(starts) / spacing), 1))])
     origin, on_grid = float(starts[0]), np.ones(starts.size, bool)
-    for _ in range(3):              # numbered afresh as the spacing is refined
-        k = np.round((starts - origin) / spacing)
+    for _ in range(3):
         on_grid = np.abs(starts - origin - spacing * k) < 0.2 * spacing
         if on_grid.sum() < 3:
             return False
         spacing, origin = np.polyfit(k[on_grid], starts[on_grid], 1)
+        k = np.round((starts - origin) / spacing)
     typical = float(np.median(lengths))
     alike = np.abs(lengths - typical) <= max(1.0, 0.1 * typical)
     return bool(np.mean(on_grid & alike) >= TRAIN_SHARE)
@@ -433,7 +475,7 @@ def _subtract(density: np.ndarray, med: np.ndarray, middles: np.ndarray,
         return
     rows = set()
     for line in lines:
-        ends = line.at(np.array([0.0, w - 1.0]))
+        ends = line.at(np.linspace(0.0, w - 1.0, 9))
         span = line.width / 2 + 3
         rows.update(range(max(int(np.floor(ends.min() - span)), 0),
                           min(int(np.ceil(ends.max() + span)) + 1, h)))

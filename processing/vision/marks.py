@@ -38,6 +38,10 @@ from .lines import Line
 MIN_PIPS = 2
 """Fewest pips that make a mark line."""
 
+PIP_INK = 0.33
+"""Least density of a pip's stroke over its line's (the same marker draws both, within a
+factor of three)."""
+
 ROOT_SHARE = 0.12
 """Least density of a pip's sides next to its line, as a share of the line's: a marker's
 galvanometer swings out fast, so the sides of a short tick are far fainter than its line and
@@ -140,8 +144,12 @@ def find_pips(density: np.ndarray, line: Line, noise: float,
         peaks, _ = find_peaks(np.concatenate([[-np.inf], profile, [-np.inf]]))
         peaks = peaks - 1
         peaks = peaks[(profile[peaks] >= 8 * noise / math.sqrt(w))
-                      & (profile[peaks] >= TOPS_OVER_SIDES * np.median(profile))]
-        peaks = peaks[offsets[peaks] >= MIN_RISE * line.width + 1]
+                      & (offsets[peaks] >= MIN_RISE * line.width + 1)]
+        standing = profile[peaks] >= TOPS_OVER_SIDES * np.median(profile)
+        if standing.any() or offsets[-1] > 2 * offsets[peaks].max(initial=0.0):
+            peaks = peaks[standing]
+        # else: the rows searched end near the pips' tops (a mark line by the sheet's
+        # edge), so their slanted sides fill most of them: the highest maxima are tried
         for j in peaks[np.argsort(profile[peaks])[::-1]][:3]:
             found = _pips_at(density, strip, offsets, int(j), side, line, noise, centre)
             if found is not None and (best is None or found.count > best.count):
@@ -231,7 +239,11 @@ def _pips_at(density, strip, offsets, j, side, line, noise, centre) -> Pips | No
     cols = np.arange(w)
     half = int(math.ceil(line.width)) + 1
     band = strip[max(j - half, 0):j + half + 1]
-    found = _pulses(band.max(axis=0), noise, line.width)   # one box per pip
+    # a pip is drawn by the line's marker, about as dark as the line: what stays below a
+    # third of it across the band is a printed grid's cross lines, not pips
+    tops = band.max(axis=0)
+    found = _pulses(np.where(tops > PIP_INK * line.strength, tops, 0.0), noise,
+                    line.width)                               # one box per pip
     if found is None or found[0].size < MIN_PIPS:
         return None
     rising, falling = found
@@ -246,7 +258,7 @@ def _pips_at(density, strip, offsets, j, side, line, noise, centre) -> Pips | No
     if inside.size == 0:
         return None
     stroke = float(np.median(band[:, inside].max(axis=0)))
-    if not 0.33 < stroke / line.strength < 3:
+    if not PIP_INK < stroke / line.strength < 1 / PIP_INK:
         return None                                   # not drawn by this line's marker
     first = offsets[j] + 1.5 * line.width + 2                 # clear of the tops' blur
     beyond = np.arange(first, first + max(4.0, offsets[j]))

@@ -260,19 +260,27 @@ def find_sheet(grey: np.ndarray) -> np.ndarray | None:
     small = cv2.resize(grey, None, fx=min(f, 1.0), fy=min(f, 1.0), interpolation=cv2.INTER_AREA)
     f = small.shape[1] / grey.shape[1]
     blur = cv2.GaussianBlur(small, (5, 5), 0)
-    level, mask = cv2.threshold(blur, 0, 255, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
-    mask = cv2.morphologyEx(mask, cv2.MORPH_CLOSE, np.ones((15, 15), np.uint8))
-    contours, _ = cv2.findContours(mask, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
-    if not contours:
+    otsu, low = _levels(blur)
+    mask, contour = _region(blur, otsu)
+    if _solidity(contour) < SOLID_SHEET:
+        lower = _region(blur, low)
+        # the bite filled in, a whole sheet again (the desk's grain joined to the sheet
+        # leaves it ragged)
+        if _solidity(lower[1]) >= SOLID_SHEET:
+            mask, contour = lower
+    if contour is None:
         return None
-    contour = max(contours, key=cv2.contourArea)
     h, w = small.shape
     if cv2.contourArea(contour) < MIN_SHEET * h * w:
         return None
     x, y, bw, bh = cv2.boundingRect(contour)
-    touching = (x <= 1) + (y <= 1) + (x + bw >= w - 1) + (y + bh >= h - 1)
-    if touching >= 2:
+    if _touching(contour, (h, w)) >= 2:
         return None                                   # a scan cropped inside the sheet
+    if _runs_off(contour[:, 0, :], (w, h), long_side=max(bw, bh)):
+        # a long edge runs off the frame: the frame's edge there is not the sheet's, and
+        # squaring up to it would shear the record; the frame is squared up instead, and
+        # the desk beyond the other edges cut off (beyond_the_sheet)
+        return None
     inside = np.zeros_like(mask)
     cv2.drawContours(inside, [contour], -1, 255, -1)
     if cv2.mean(blur, inside)[0] - cv2.mean(blur, 255 - inside)[0] < SHEET_CONTRAST:
@@ -284,6 +292,64 @@ def find_sheet(grey: np.ndarray) -> np.ndarray | None:
     corners = _order(_edges_at_full_size(grey, _order(corners), reach=max(8.0, 3.0 / f)))
     top, left = np.hypot(*(corners[1] - corners[0])), np.hypot(*(corners[3] - corners[0]))
     return np.roll(corners, 1, axis=0) if left > top else corners
+
+
+SOLID_SHEET = 0.98
+"""Share of its convex hull a whole sheet's region fills at least (its outline, traced on the
+reduced copy, rounds its corners a little); less, a shadow has bitten into it, and the
+region at the lower threshold (:func:`_levels`) is taken if it is whole."""
+
+
+def _touching(contour, shape: tuple[int, int]) -> int:
+    """How many of the frame's edges the region's bounding box reaches."""
+    h, w = shape
+    x, y, bw, bh = cv2.boundingRect(contour)
+    return int((x <= 1) + (y <= 1) + (x + bw >= w - 1) + (y + bh >= h - 1))
+
+
+RUN_OFF = 0.1
+"""Share of the sheet's long side that must lie along the frame's edge for the sheet to run
+off the frame there (a skewed sheet's corner only touches it)."""
+
+
+def _runs_off(outline: np.ndarray, size: tuple[int, int], long_side: float) -> bool:
+    """Whether the sheet's outline (column, row points) runs along one of the frame's edges
+    for :data:`RUN_OFF` of its long side: the sheet runs off the frame there."""
+    w, h = size
+    x, y = outline[:, 0], outline[:, 1]
+    along = [np.unique(x[y <= 1]).size, np.unique(x[y >= h - 2]).size,
+             np.unique(y[x <= 1]).size, np.unique(y[x >= w - 2]).size]
+    return max(along) > RUN_OFF * long_side
+
+
+def _levels(blur: np.ndarray) -> tuple[float, float]:
+    """Two thresholds between the sheet and the desk: Otsu's [1]_, and one lower, above the
+    desk's typical level (the median of Otsu's darker class) by :data:`SHEET_CONTRAST` grey
+    levels or half the way to Otsu's if that is more. A phone's shadow over part of the
+    sheet darkens it below Otsu's threshold, though well above the desk; a light desk's
+    grain rises above the lower one."""
+    level, _ = cv2.threshold(blur, 0, 255, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
+    dark = blur[blur <= level]
+    desk = float(np.median(dark)) if dark.size else 0.0
+    return float(level), min(float(level), desk + max(SHEET_CONTRAST, 0.5 * (level - desk)))
+
+
+def _region(blur: np.ndarray, level: float):
+    """The pixels brighter than ``level`` (closed over 15 px) and the outline of their
+    largest region (None if there is none)."""
+    mask = np.where(blur > level, 255, 0).astype(np.uint8)
+    mask = cv2.morphologyEx(mask, cv2.MORPH_CLOSE, np.ones((15, 15), np.uint8))
+    contours, _ = cv2.findContours(mask, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    return mask, (max(contours, key=cv2.contourArea) if contours else None)
+
+
+def _solidity(contour) -> float:
+    """The region's area over its convex hull's: 1 for a whole sheet; less where a shadow
+    bit into it or the desk's grain joined it."""
+    if contour is None:
+        return -1.0
+    hull = cv2.contourArea(cv2.convexHull(contour))
+    return cv2.contourArea(contour) / hull if hull > 0 else 0.0
 
 
 def _quadrilateral(contour) -> np.ndarray | None:
@@ -442,8 +508,73 @@ def square_up(grey: np.ndarray, corners: np.ndarray | None, *, turns: int = 0) -
     upright = cv2.warpPerspective(grey, homography, out,
                                   flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
                                   borderMode=cv2.BORDER_REPLICATE)
+    if corners is None:
+        (top, bottom), (left, right) = beyond_the_sheet(upright)
+        upright = np.ascontiguousarray(upright[top:out[1] - bottom, left:out[0] - right])
+        homography = homography @ np.array([[1, 0, left], [0, 1, top], [0, 0, 1.0]])
+        out = (upright.shape[1], upright.shape[0])
     return Sheet(upright, homography, corners is not None, angle, _mean_scale(homography, out),
                  paper, turns % 4)
+
+
+BARE_SHARE = 0.9
+"""Share of a row (or column) of the frame the sheet must fill for the row to be the sheet's,
+where the sheet runs off the frame (:func:`beyond_the_sheet`)."""
+
+
+def beyond_the_sheet(upright: np.ndarray) -> tuple[tuple[int, int], tuple[int, int]]:
+    """Rows and columns at the frame's border that show the desk or the scanner's lid, not
+    the sheet, where the sheet runs off the frame (a strip longer than the scanner's bed, a
+    photograph close up): cut off, so that the sheet's edges are not read as lines or
+    traces on it.
+
+    The frame is split into the bright sheet and a darker ground by Otsu's threshold [1]_ on
+    a reduced copy (closed over 15 px there, so that ink stays the sheet's), if the two
+    stand :data:`SHEET_CONTRAST` grey levels apart; the rows from the top and bottom (the
+    columns from either side) in which the sheet fills less than :data:`BARE_SHARE` are cut,
+    with a margin of 1 % of the frame's height beyond the last of them (the edge's shadow,
+    blurred). A light lid against the sheet is not told apart here: its edge is judged
+    among the lines (:func:`processing.vision.record.judge_lines`).
+
+    Parameters
+    ----------
+    upright : numpy.ndarray
+        The frame squared up (:func:`square_up` without the sheet's corners), uint8.
+
+    Returns
+    -------
+    tuple
+        ((rows cut at the top, at the bottom), (columns cut at the left, at the right)). [px]
+    """
+    h, w = upright.shape
+    f = min(1.0, WORK_SIDE / max(h, w))
+    small = cv2.resize(upright, None, fx=f, fy=f, interpolation=cv2.INTER_AREA) if f < 1 \
+        else upright
+    blur = cv2.GaussianBlur(small, (5, 5), 0)
+    _, mask = cv2.threshold(blur, 0, 255, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
+    mask = cv2.morphologyEx(mask, cv2.MORPH_CLOSE, np.ones((15, 15), np.uint8)) > 0
+    if mask.all() or not mask.any() \
+            or blur[mask].mean() - blur[~mask].mean() < SHEET_CONTRAST:
+        return (0, 0), (0, 0)
+    rows, cols = slice(0, mask.shape[0]), slice(0, mask.shape[1])
+    for _ in range(2):                  # the rows within the sheet's columns, and again
+        rows = _filled(mask[:, cols].mean(axis=1))
+        cols = _filled(mask[rows].mean(axis=0))
+        if rows.stop <= rows.start or cols.stop <= cols.start:
+            return (0, 0), (0, 0)
+    margin = int(math.ceil(0.01 * min(h, w)))
+
+    def cut(k: int, size: int) -> int:
+        return 0 if k == 0 else min(int(math.ceil(k / f)) + margin, size // 4)
+
+    return ((cut(rows.start, h), cut(mask.shape[0] - rows.stop, h)),
+            (cut(cols.start, w), cut(mask.shape[1] - cols.stop, w)))
+
+
+def _filled(share: np.ndarray) -> slice:
+    """From the first to the last place the sheet fills :data:`BARE_SHARE` of."""
+    filled = np.flatnonzero(share >= BARE_SHARE)
+    return slice(int(filled[0]), int(filled[-1]) + 1) if filled.size else slice(0, 0)
 
 
 def _quarter_turn(size) -> np.ndarray:
