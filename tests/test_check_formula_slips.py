@@ -47,6 +47,8 @@ def slipped(sample: Path, slip: str, symbol: str):
 @pytest.mark.parametrize("sample, slip, symbol, name", [
     (LAB1, "period_not_squared", "t, t_p", "J_trifilar"),
     (LAB1, "diameter_for_radius_in_formula", "R₁", "J_trifilar"),
+    (LAB1, "diameters_for_radii_in_formula", "R, r", "J_analytic"),
+    (LAB1, "diameters_for_radii_in_formula", "R, r", "m_analytic"),
     (LAB8, "rpm_as_rad_s_in_formula", "n", "M_r"),
     (LAB8, "radius_for_diameter_in_formula", "r", "M_r"),
     (DYNCALC, "diameter_for_radius_in_formula", "S", "N_i"),
