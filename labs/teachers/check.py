@@ -748,11 +748,13 @@ def _variant_slips(results, reported, variants: Variants, sid: str):
                         for other, k in variants.keys.items()}, sid, worked_out)
     slips = []
     if readings_of:
-        slips.append(Slip("readings_of_variant",
-                          {"en": f"the readings of {readings_of}'s variant, not the "
-                                 f"student's own",
-                           "ru": f"замеры варианта {readings_of}, а не свои"},
+        text = {"en": f"the readings of {readings_of}'s variant, not the student's own",
+                "ru": f"замеры варианта {readings_of}, а не свои"}
+        slips.append(Slip("readings_of_variant", text,
                           reduced={n: r.value for n, r in results.items()}))
+        # a copy with readings edited to hide it: the values are the other variant's own
+        slips.append(Slip("readings_of_variant", text,
+                          reduced=dict(variants.keys[readings_of])))
     if values_of == readings_of:
         values_of = None                # the values follow from the readings
     if values_of:
