@@ -39,9 +39,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from processing.diagnostics import InputError
-from processing.checking.grading import (CONSTANT_SLIPS, FACTOR_SLIPS, TRANSCENDENTAL_SLIPS,
-                                         Z_LIMIT, Policy, Reported, Slip, Verdict, judge,
-                                         written_digits)
+from processing.checking.grading import (CONSTANT_SLIPS, FACTOR_SLIPS, SQUARED_SPEED_SLIPS,
+                                         TRANSCENDENTAL_SLIPS, Z_LIMIT, Policy, Reported, Slip,
+                                         Verdict, judge, written_digits)
 from processing.inputs.reuse import scope
 
 from labs.registry import LABS, lab_module, read_inputs, reduce_loaded
@@ -851,7 +851,8 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
         verdicts = [judged(v.name, slips) if v.verdict == "wrong" else v for v in verdicts]
     for stage in (lambda names: list(TRANSCENDENTAL_SLIPS),
                   lambda names: _input_slips(module, loaded, options, names)
-                  + list(CONSTANT_SLIPS)):
+                  + list(CONSTANT_SLIPS),
+                  lambda names: list(SQUARED_SPEED_SLIPS)):
         # slips inside the formula, for a wrong value nothing else explains: the constants
         # no input makes (cheap), then the inputs, each reduced again
         unexplained = {v.name for v in verdicts if v.verdict == "wrong" and v.slip is None}

@@ -41,12 +41,13 @@ HEAD = {"en": {"title": "Class summary", "id": "id", "student": "student", "lab"
                "mark": "mark", "status": "status", "notes": "notes", "copies": "Copies",
                "ours": "ours", "legend": "Each cell: the verdict, the student's value / ours "
                "(in the column's unit), and the slip that explains a wrong value. Click a "
-               "column's head to sort.", "copy": "copy of"},
+               "column's head to sort.", "copy": "the same readings as"},
         "ru": {"title": "Сводка по группе", "id": "шифр", "student": "студент",
                "lab": "работа", "mark": "оценка", "status": "статус", "notes": "замечания",
                "copies": "Списанные замеры", "ours": "наше", "legend": "В ячейке: вердикт, "
                "значение студента / наше (в единицах столбца) и ошибка, объясняющая неверное "
-               "значение. Щелчок по заголовку столбца сортирует.", "copy": "копия"}}
+               "значение. Щелчок по заголовку столбца сортирует.",
+               "copy": "те же замеры, что у"}}
 
 
 def verdict_word(verdict: str, lang: str) -> str:
