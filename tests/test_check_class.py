@@ -247,6 +247,8 @@ def test_the_class_summary_a_row_per_student_with_marks_units_and_moodle_grades(
     assert c_total["unit"] == "kN/mm" and 0.5 < float(c_total["value"]) < 10
     assert all("e" not in r["value"].lower() and len(r["value"]) < 12 for r in rows
                if r["value"])
+    assert all("e" not in r[c].lower() for r in rows for c in ("reported", "U", "z")), \
+        [r["z"] for r in rows]
     assert by_id["s03"][0]["readings_of"] == "s01" and "s01" in by_id["s03"][0]["copies"]
     assert "s03" in by_id["s01"][0]["copies"]
     (refused,) = by_id["s04"]

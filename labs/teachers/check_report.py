@@ -189,7 +189,7 @@ def _cell(c: Check, v, lang: str) -> Cell:
                                               max(v.reported.digits, 3))
     return Cell(v.name, v.verdict, got, plain(shown(c, v.name, v.value)),
                 unit_of(c, v.name, lang), v.slip.text[lang] if v.slip else "",
-                v.slip.name if v.slip else "", "" if not math.isfinite(v.z) else f"{v.z:.2g}",
+                v.slip.name if v.slip else "", "" if not math.isfinite(v.z) else plain(v.z, 2),
                 plain(_expanded(c, v), 2) if math.isfinite(v.u) else "")
 
 
