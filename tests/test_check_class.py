@@ -84,6 +84,25 @@ def test_values_of_another_variant_over_ones_own_readings_are_named(tmp_path, va
     assert wrong and {v.slip.name for v in wrong} == {"values_of_variant"}
 
 
+def test_a_copy_reporting_the_other_variants_values_names_them_by_its_readings(tmp_path,
+                                                                              variants):
+    """A copy whose readings are another's variant (edited to hide it or not) with the values
+    that variant gives (its key's, not our reduction of the readings handed in): every value
+    wrong is named as the readings of that variant."""
+    keys = read_variants(variants)
+    measurement = handout(variants, "s01")
+    lines = [f'{n} = "{keys.keys["s01"][n]:.4g} {r.unit}"'
+             for n, r in evaluate(measurement, n_samples=0).results.items() if r.key]
+    path = tmp_path / "s03" / measurement.name
+    path.parent.mkdir()
+    path.write_text(measurement.read_text("utf-8") + "\n[reported]\n" + "\n".join(lines) + "\n",
+                    encoding="utf-8")
+    c = check(path, variants=keys, sid="s03")
+    wrong = [v for v in c.verdicts if v.verdict == "wrong"]
+    assert c.readings_of == "s01" and wrong
+    assert {v.slip.name if v.slip else None for v in wrong} == {"readings_of_variant"}, wrong
+
+
 def test_a_perfect_student_reporting_what_the_lab_asks_scores_full(tmp_path, variants):
     keys = read_variants(variants)
     path = hand_in(tmp_path, "s02", handout(variants, "s02"))
@@ -228,6 +247,8 @@ def test_the_class_summary_a_row_per_student_with_marks_units_and_moodle_grades(
     assert c_total["unit"] == "kN/mm" and 0.5 < float(c_total["value"]) < 10
     assert all("e" not in r["value"].lower() and len(r["value"]) < 12 for r in rows
                if r["value"])
+    assert all("e" not in r[c].lower() for r in rows for c in ("reported", "U", "z")), \
+        [r["z"] for r in rows]
     assert by_id["s03"][0]["readings_of"] == "s01" and "s01" in by_id["s03"][0]["copies"]
     assert "s03" in by_id["s01"][0]["copies"]
     (refused,) = by_id["s04"]

@@ -47,6 +47,8 @@ def slipped(sample: Path, slip: str, symbol: str):
 @pytest.mark.parametrize("sample, slip, symbol, name", [
     (LAB1, "period_not_squared", "t, t_p", "J_trifilar"),
     (LAB1, "diameter_for_radius_in_formula", "R₁", "J_trifilar"),
+    (LAB1, "diameters_for_radii_in_formula", "R, r", "J_analytic"),
+    (LAB1, "diameters_for_radii_in_formula", "R, r", "m_analytic"),
     (LAB8, "rpm_as_rad_s_in_formula", "n", "M_r"),
     (LAB8, "radius_for_diameter_in_formula", "r", "M_r"),
     (DYNCALC, "diameter_for_radius_in_formula", "S", "N_i"),
@@ -72,6 +74,21 @@ def test_a_constant_slipped_in_the_arithmetic_is_named(tmp_path, factor, slip):
     found = check(reported(tmp_path, LAB1, [f'J_pendulum_cm = "{value:.4g} kg*m^2"']))
     (v,) = found.verdicts
     assert v.verdict == "wrong" and v.slip.name == slip
+
+
+@pytest.mark.parametrize("factor, slip", [((30 / math.pi) ** 2, "omega_for_n_squared"),
+                                          ((math.pi / 30) ** 2, "n_for_omega_squared")])
+def test_omega_for_n_in_the_flywheels_formula_alone_is_named(tmp_path, factor, slip):
+    """ω put for n only in the flywheel's I = 900·A/(π²·n²·δ) (n stays right in the forces):
+    I and m of the flywheel ×(30/π)², named; the rest of the file right."""
+    ours, _ = slipped(DYNCALC, "diameter_for_radius_in_formula", "S")
+    lines = [f'{n} = "{factor * ours[n].value:.4g} {ours[n].unit}"'
+             for n in ("I_flywheel", "m_flywheel")]
+    found = check(reported(tmp_path, DYNCALC, [*lines, f'M_mean = "{ours["M_mean"].value:.4g} '
+                                                        f'{ours["M_mean"].unit}"']))
+    verdicts = {v.name: v for v in found.verdicts}
+    assert {verdicts[n].slip.name for n in ("I_flywheel", "m_flywheel")} == {slip}
+    assert verdicts["M_mean"].verdict == "right"
 
 
 def test_gauge_for_absolute_pressure_fires_on_the_courseworks_pressures(tmp_path):

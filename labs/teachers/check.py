@@ -39,9 +39,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from processing.diagnostics import InputError
-from processing.checking.grading import (CONSTANT_SLIPS, FACTOR_SLIPS, TRANSCENDENTAL_SLIPS,
-                                         Z_LIMIT, Policy, Reported, Slip, Verdict, judge,
-                                         written_digits)
+from processing.checking.grading import (CONSTANT_SLIPS, FACTOR_SLIPS, SQUARED_SPEED_SLIPS,
+                                         TRANSCENDENTAL_SLIPS, Z_LIMIT, Policy, Reported, Slip,
+                                         Verdict, judge, written_digits)
 from processing.inputs.reuse import scope
 
 from labs.registry import LABS, lab_module, read_inputs, reduce_loaded
@@ -748,11 +748,13 @@ def _variant_slips(results, reported, variants: Variants, sid: str):
                         for other, k in variants.keys.items()}, sid, worked_out)
     slips = []
     if readings_of:
-        slips.append(Slip("readings_of_variant",
-                          {"en": f"the readings of {readings_of}'s variant, not the "
-                                 f"student's own",
-                           "ru": f"замеры варианта {readings_of}, а не свои"},
+        text = {"en": f"the readings of {readings_of}'s variant, not the student's own",
+                "ru": f"замеры варианта {readings_of}, а не свои"}
+        slips.append(Slip("readings_of_variant", text,
                           reduced={n: r.value for n, r in results.items()}))
+        # a copy with readings edited to hide it: the values are the other variant's own
+        slips.append(Slip("readings_of_variant", text,
+                          reduced=dict(variants.keys[readings_of])))
     if values_of == readings_of:
         values_of = None                # the values follow from the readings
     if values_of:
@@ -849,7 +851,8 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
         verdicts = [judged(v.name, slips) if v.verdict == "wrong" else v for v in verdicts]
     for stage in (lambda names: list(TRANSCENDENTAL_SLIPS),
                   lambda names: _input_slips(module, loaded, options, names)
-                  + list(CONSTANT_SLIPS)):
+                  + list(CONSTANT_SLIPS),
+                  lambda names: list(SQUARED_SPEED_SLIPS)):
         # slips inside the formula, for a wrong value nothing else explains: the constants
         # no input makes (cheap), then the inputs, each reduced again
         unexplained = {v.name for v in verdicts if v.verdict == "wrong" and v.slip is None}

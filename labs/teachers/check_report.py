@@ -41,12 +41,13 @@ HEAD = {"en": {"title": "Class summary", "id": "id", "student": "student", "lab"
                "mark": "mark", "status": "status", "notes": "notes", "copies": "Copies",
                "ours": "ours", "legend": "Each cell: the verdict, the student's value / ours "
                "(in the column's unit), and the slip that explains a wrong value. Click a "
-               "column's head to sort.", "copy": "copy of"},
+               "column's head to sort.", "copy": "the same readings as"},
         "ru": {"title": "Сводка по группе", "id": "шифр", "student": "студент",
                "lab": "работа", "mark": "оценка", "status": "статус", "notes": "замечания",
                "copies": "Списанные замеры", "ours": "наше", "legend": "В ячейке: вердикт, "
                "значение студента / наше (в единицах столбца) и ошибка, объясняющая неверное "
-               "значение. Щелчок по заголовку столбца сортирует.", "copy": "копия"}}
+               "значение. Щелчок по заголовку столбца сортирует.",
+               "copy": "те же замеры, что у"}}
 
 
 def verdict_word(verdict: str, lang: str) -> str:
@@ -188,7 +189,7 @@ def _cell(c: Check, v, lang: str) -> Cell:
                                               max(v.reported.digits, 3))
     return Cell(v.name, v.verdict, got, plain(shown(c, v.name, v.value)),
                 unit_of(c, v.name, lang), v.slip.text[lang] if v.slip else "",
-                v.slip.name if v.slip else "", "" if not math.isfinite(v.z) else f"{v.z:.2g}",
+                v.slip.name if v.slip else "", "" if not math.isfinite(v.z) else plain(v.z, 2),
                 plain(_expanded(c, v), 2) if math.isfinite(v.u) else "")
 
 

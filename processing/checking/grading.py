@@ -224,6 +224,23 @@ CONSTANT_SLIPS = TRANSCENDENTAL_SLIPS + (
 and g = 10 are tried last, after the slips of the inputs (:mod:`processing.checking.input_slips`),
 which name the input a factor 2 came from."""
 
+SQUARED_SPEED_SLIPS = (
+    Slip("omega_for_n_squared", {"en": "ω in rad/s put for n in min⁻¹ in a square (×(30/π)²: "
+                                       "e.g. the flywheel's I = 900·A/(π²·n²·δ) with ω)",
+                                 "ru": "в квадрат подставлена ω в рад/с вместо n в мин⁻¹ "
+                                       "(×(30/π)²: например, I маховика = 900·A/(π²·n²·δ) "
+                                       "с ω)"},
+         lambda x: x * (30 / math.pi) ** 2, _not_angle),
+    Slip("n_for_omega_squared", {"en": "n in min⁻¹ put for ω in rad/s in a square (×(π/30)²)",
+                                 "ru": "в квадрат подставлена n в мин⁻¹ вместо ω в рад/с "
+                                       "(×(π/30)²)"},
+         lambda x: x * (math.pi / 30) ** 2, _not_angle),
+)
+"""A speed squared in the wrong unit inside one formula only (the flywheel's n², while the
+forces take n right): tried after every other slip, since n taken as rad/s in every formula it
+enters (an input's slip, :mod:`processing.checking.input_slips`) gives the same factor on a
+result that only ω² reaches, and names the input."""
+
 
 @dataclass(frozen=True)
 class Verdict:

@@ -45,7 +45,10 @@ class InputSlip:
         section's other values, for the count of a stopwatch's periods), or None.
     together : bool
         Made on every fitting field of a section at once (T for T² in every period of the
-        formula), not on one field at a time.
+        formula; every radius of a body measured as a diameter), not on one field at a time;
+        where only one field fits, only if ``alone`` (else the one-field slip says it).
+    alone : bool
+        A ``together`` slip is made on a section with a single fitting field too.
     """
 
     name: str
@@ -53,6 +56,7 @@ class InputSlip:
     fits: Callable[[Field], bool]
     change: Callable[[Measured, dict], Measured | None]
     together: bool = False
+    alone: bool = True
 
 
 @cache
@@ -126,6 +130,16 @@ INPUT_SLIPS = (
                "ru": "{symbol} уменьшен вдвое в формуле: радиус вместо диаметра (радиус "
                      "кривошипа вместо хода)"},
               _radius_or_diameter, _scaled(0.5)),
+    InputSlip("diameters_for_radii_in_formula",
+              {"en": "{symbol} all doubled inside the formula: diameters for radii (J ×16 "
+                     "and m ×4 of a body of revolution)",
+               "ru": "{symbol} все удвоены в формуле: диаметры вместо радиусов (J ×16 и m ×4 "
+                     "тела вращения)"},
+              _radius_or_diameter, _scaled(2.0), together=True, alone=False),
+    InputSlip("radii_for_diameters_in_formula",
+              {"en": "{symbol} all halved inside the formula: radii for diameters",
+               "ru": "{symbol} все уменьшены вдвое в формуле: радиусы вместо диаметров"},
+              _radius_or_diameter, _scaled(0.5), together=True, alone=False),
     InputSlip("period_not_squared",
               {"en": "T used for T² (the period of {symbol} not squared)",
                "ru": "T вместо T² (период по {symbol} не возведён в квадрат)"},
@@ -147,7 +161,10 @@ def slipped_inputs(inputs: Inputs) -> Iterator[tuple[InputSlip, str, Inputs]]:
             continue
         for slip in INPUT_SLIPS:
             fields = [f for f in section.fields if slip.fits(f)]
-            groups = [fields] if slip.together and fields else [[f] for f in fields]
+            if slip.together:
+                groups = [fields] if len(fields) > 1 or (fields and slip.alone) else []
+            else:
+                groups = [[f] for f in fields]
             for group in groups:
                 changed = _changed(inputs, section.name, group, slip)
                 if changed is not None:
