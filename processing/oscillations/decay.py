@@ -639,18 +639,37 @@ OUT_OF_REACH = 1e150
 finite, so that the solver's norms stay finite, and larger than any record's."""
 
 
+TOLERANCES = {"ftol": 1e-14, "xtol": 1e-12, "gtol": 1e-12}
+"""Stopping tolerances of the projection's Levenberg–Marquardt solve (:func:`fit_damped_sine`),
+tighter than :func:`scipy.optimize.least_squares`' 1e-8 as no joint refinement follows it:
+a step that would lower |r|² by less than ``ftol``·|r|² (the parameters within
+(10⁻¹⁴ν)^½ of their standard uncertainties of the minimum, |r|²/ν being the cost of one u:
+10⁻⁶ u for a valve's hundred samples), or a kept step shorter than ``xtol`` relative to the
+scaled parameters."""
+MAX_STEPS = 200
+"""Steps of :meth:`_Projection.minimise` before it gives up (to scipy's solver)."""
+
+
 class _Projection:
     """Variable projection of the damped sine's fit: for the nonlinear parameters
     p = (δ, ω_d[, γ/``gamma_unit``]) the residual r = P⊥x left by the linear least squares of
-    the amplitude terms and the baseline (A = QR, P⊥ = I − QQᵀ, c = A⁺x), and its exact
-    Jacobian, Golub and Pereyra's −P⊥(∂A/∂p)c − (A⁺)ᵀ(∂A/∂p)ᵀr (Hansen, Pereyra & Scherer
+    the amplitude terms and the baseline (A = QR, P⊥ = I − QQᵀ, c = R⁻¹Qᵀx), and its exact
+    Jacobian, Golub and Pereyra's −P⊥(∂A/∂p)c − Q R⁻ᵀ(∂A/∂p)ᵀr (Hansen, Pereyra & Scherer
     [2]_, ch. 9): one QR per step instead of a difference quotient's extra solves. The last
     point's solution is kept: a solver asks for the residual and the Jacobian at the same
-    point."""
+    point.
+
+    Only the two oscillating columns A₀ = e cos ω_dτ, A₁ = e sin ω_dτ (e = exp(−δω_dτ/2π −
+    γτ²)) depend on p, and their derivatives are A₀, A₁ times τ/2π, τ and τ²
+    (:func:`_column_derivatives`): (∂A/∂p)c and (∂A/∂p)ᵀr are formed from the oscillation
+    y = c₀A₀ + c₁A₁, its quadrature c₁A₀ − c₀A₁ and the moments Σ τᵏ A_i r, without a
+    column per parameter (the records are short: a valve's ringing is a hundred samples, so
+    the cost is in the number of array operations, not in their size)."""
 
     def __init__(self, tau, base, x, gamma_unit: float | None = None):
         self.tau, self.base, self.x = tau, base, x
         self.gamma_unit = gamma_unit
+        self.powers = np.stack([tau / (2 * np.pi), tau, tau * tau])
         self._key = None
 
     def solve(self, p):
@@ -671,23 +690,99 @@ class _Projection:
                 return self._solved
             Q, R = np.linalg.qr(A)
             qx = Q.T @ self.x
-            c = np.linalg.lstsq(R, qx, rcond=None)[0]
+            Ri = _inverse(R)
+            c = Ri @ qx
             r = self.x - Q @ qx
-            dA = _column_derivatives(self.tau, A, d, w, curved)
+            rate, tau, tau2 = self.powers
+            y = A[:, :2] @ c[:2]
+            D = [-w * rate * y, -d * rate * y + tau * (c[1] * A[:, 0] - c[0] * A[:, 1])]
+            m = self.powers @ (A[:, :2] * r[:, None])      # Σ τᵏ A_i r: rows rate, τ, τ²
+            V = np.zeros((A.shape[1], len(p)))
+            V[:2, 0] = -w * m[0]
+            V[:2, 1] = -d * m[0] + np.array([-m[1, 1], m[1, 0]])
             if curved:
-                dA[2] = dA[2] * self.gamma_unit
-            D = np.column_stack([a @ c[:2] for a in dA])
-            V = np.zeros((A.shape[1], len(dA)))
-            V[:2] = np.column_stack([a.T @ r for a in dA])
-            J = Q @ (Q.T @ D) - D - Q @ np.linalg.lstsq(R.T, V, rcond=None)[0]
+                D.append(-self.gamma_unit * tau2 * y)
+                V[:2, 2] = -self.gamma_unit * m[2]
+            D = np.column_stack(D)
+            J = Q @ (Q.T @ D - Ri.T @ V) - D
             self._key, self._solved = key, (c, r, J)
         return self._solved
+
+    def minimise(self, p0, scale) -> tuple[np.ndarray, bool]:
+        """The p of least |r(p)|², by Levenberg–Marquardt steps from ``p0``.
+
+        Each step solves (JₛᵀJₛ + μ diag JₛᵀJₛ) h = −Jₛᵀr in the variables scaled by
+        ``scale`` (Jₛ = J diag ``scale``; μ starts at 10⁻⁶ of the largest diagonal term, a
+        near Gauss–Newton step: the starting values are close), is kept where it lowers
+        |r|², and μ follows the gain ratio ϱ of the actual to the predicted decrease
+        L = hᵀ(μ diag·h − Jₛᵀr): μ·max(1/3, 1 − (2ϱ − 1)³) after a kept step, μ·ν (ν
+        doubling) after a refused one (Madsen, Nielsen & Tingleff, Methods for non-linear
+        least squares problems, DTU, 2004, alg. 3.16). It stops where L or a kept step
+        falls below :data:`TOLERANCES` (converged), or after :data:`MAX_STEPS` (not: the
+        caller falls back to scipy's MINPACK solver). Two or three parameters: a
+        hand-written step costs less than a general solver's set-up.
+        """
+        xtol, ftol = TOLERANCES["xtol"], TOLERANCES["ftol"]
+        scale = np.asarray(scale, dtype=float)
+        p = np.asarray(p0, dtype=float)
+        _, r, J = self.solve(p)
+        cost = float(r @ r)
+        mu, nu = None, 2.0
+        for _ in range(MAX_STEPS):
+            Js = J * scale
+            H, g = Js.T @ Js, Js.T @ r
+            diag = np.maximum(np.diag(H), np.finfo(float).tiny)
+            mu = 1e-6 * float(np.max(diag)) if mu is None else mu
+            try:
+                h = np.linalg.solve(H + mu * np.diag(diag), -g)
+            except np.linalg.LinAlgError:
+                return p, False
+            predicted = float(h @ (mu * diag * h - g))
+            if predicted <= ftol * cost:
+                return p, True
+            trial = p + scale * h
+            _, r_new, J_new = self.solve(trial)
+            cost_new = float(r_new @ r_new)
+            if cost_new < cost:
+                gain = (cost - cost_new) / predicted
+                small = np.linalg.norm(h) <= xtol * (np.linalg.norm(p / scale) + xtol)
+                p, r, J, cost = trial, r_new, J_new, cost_new
+                if small:
+                    return p, True
+                mu *= max(1.0 / 3.0, 1.0 - (2.0 * gain - 1.0) ** 3)
+                nu = 2.0
+            else:
+                mu *= nu
+                nu *= 2.0
+        return p, False
 
     def residual(self, p):
         return self.solve(p)[1]
 
     def jacobian(self, p):
         return self.solve(p)[2]
+
+
+def _inverse(R) -> np.ndarray:
+    """R⁻¹ of the small upper triangular R of a QR; the pseudo-inverse where R is singular
+    (a column the others repeat)."""
+    try:
+        out = np.linalg.inv(R)
+    except np.linalg.LinAlgError:
+        return np.linalg.pinv(R)
+    return out if np.all(np.isfinite(out)) else np.linalg.pinv(R)
+
+
+def _projected(problem: _Projection, guess, scale) -> tuple[np.ndarray, bool]:
+    """The projection's minimum from ``guess`` (:meth:`_Projection.minimise`, or scipy's
+    MINPACK Levenberg–Marquardt where that does not converge), and whether it converged."""
+    found, converged = problem.minimise(guess, scale)
+    if converged:
+        return found, True
+    best = optimize.least_squares(problem.residual, guess, jac=problem.jacobian,
+                                  x_scale=np.abs(scale), method="lm", **TOLERANCES)
+    problem.solve(best.x)
+    return best.x, bool(best.success)
 
 
 def fit_damped_sine(time, x, *, start: float | None = None, period: float | None = None,
@@ -723,9 +818,11 @@ def fit_damped_sine(time, x, *, start: float | None = None, period: float | None
     Notes
     -----
     δ and ω_d are found by variable projection (the amplitude terms and the baseline are
-    linear and solved for at each step), then every parameter is refined by
-    :func:`scipy.optimize.least_squares` with the analytic Jacobian J; the covariance is
-    s²(JᵀJ)⁻¹ with s² = Σr²/(n − p).
+    linear and solved for at each step): its minimum is the joint least squares' minimum
+    over every parameter (Golub and Pereyra; Hansen, Pereyra & Scherer [2]_, ch. 9), so the
+    joint problem is solved again by :func:`scipy.optimize.least_squares` only where the
+    projection did not converge. The covariance is s²(JᵀJ)⁻¹, J the analytic Jacobian of
+    the joint model over every parameter at the minimum, s² = Σr²/(n − p).
 
     Examples
     --------
@@ -753,17 +850,14 @@ def fit_damped_sine(time, x, *, start: float | None = None, period: float | None
     guess = [0.3 if delta is None else float(delta), 2 * np.pi / T0]
 
     plain = _Projection(tau, base, x)
-    best = optimize.least_squares(plain.residual, guess, jac=plain.jacobian,
-                                  x_scale=[1.0, guess[1]], method="lm")
-    d0, w0 = best.x
+    (d0, w0), converged = _projected(plain, guess, [1.0, guess[1]])
     g0 = 0.0
-    coef = plain.solve(best.x)[0]
+    coef = plain.solve([d0, w0])[0]
     if curved_envelope:
         curved = _Projection(tau, base, x, 1.0 / (span * span))
-        best = optimize.least_squares(curved.residual, [d0, w0, 0.0], jac=curved.jacobian,
-                                      x_scale=[1.0, w0, 1.0], method="lm")
-        d0, w0, g0 = best.x[0], best.x[1], best.x[2] * curved.gamma_unit
-        coef = curved.solve(best.x)[0]
+        found, converged = _projected(curved, [d0, w0, 0.0], [1.0, w0, 1.0])
+        d0, w0, g0 = found[0], found[1], found[2] * curved.gamma_unit
+        coef = curved.solve(found)[0]
     names = ["delta", "omega_d"] + (["gamma"] if curved_envelope else []) + ["a", "b"] + \
         [f"c{j}" for j in range(order + 1)]
 
@@ -792,17 +886,21 @@ def fit_damped_sine(time, x, *, start: float | None = None, period: float | None
         return np.column_stack(swing + [A])
 
     p0 = np.concatenate([[d0, w0], [g0] if curved_envelope else [], coef])
-    sol = optimize.least_squares(residual, p0, jac=jacobian, method="lm",
-                                 x_scale=np.abs(p0) + 1e-12 * np.max(np.abs(p0)))
-    if not sol.success:
-        raise RuntimeError(f"fit_damped_sine: the fit did not converge ({sol.message})")
-    d, w, g, lin = unpack(sol.x)
-    r = sol.fun
-    dof = r.size - sol.x.size
+    if converged:
+        params = p0
+    else:
+        sol = optimize.least_squares(residual, p0, jac=jacobian, method="lm",
+                                     x_scale=np.abs(p0) + 1e-12 * np.max(np.abs(p0)))
+        if not sol.success:
+            raise RuntimeError(f"fit_damped_sine: the fit did not converge ({sol.message})")
+        params = sol.x
+    d, w, g, lin = unpack(params)
+    r = residual(params)
+    dof = r.size - params.size
     if dof < 1:
         raise RuntimeError("fit_damped_sine: fewer samples than parameters")
     s2 = float(r @ r) / dof
-    J = jacobian(sol.x)
+    J = jacobian(params)
     try:
         normal = np.linalg.inv(J.T @ J)
     except np.linalg.LinAlgError:
@@ -919,6 +1017,11 @@ the truth in 72–78 % of those records); at 300 δ's and T's held it in 95 % an
 records (90–97.5 % for each kind of drift), with a median U/|error| of 3.1 and 5.2."""
 
 
+WARM_START = 0.1
+"""A baseline's fit starts from the previous baseline's δ and T when that T lies within this
+share of the period given (:func:`fit_baselines`); from the period given otherwise."""
+
+
 @dataclass(frozen=True)
 class BaselineChoice(Record):
     """A record's trace fitted on each baseline of :data:`BASELINE_ORDERS`, the one the data
@@ -997,9 +1100,16 @@ def fit_baselines(time, x, *, start: float, period: float, exclude=None) -> Base
     """
     fits = []
     for order in BASELINE_ORDERS:
+        # each baseline starts from the previous one's δ and T where that fit found the
+        # oscillation sought (T within WARM_START of ``period``): a baseline's degree moves
+        # them little, so the solve takes a few steps instead of a dozen
+        warm = fits and abs(fits[-1].period / period - 1.0) < WARM_START \
+            and math.isfinite(fits[-1].delta)
+        guess = {"period": fits[-1].period, "delta": fits[-1].delta} if warm else \
+            {"period": period}
         try:
-            fits.append(fit_damped_sine(time, x, start=start, period=period,
-                                        baseline_order=order, exclude=exclude))
+            fits.append(fit_damped_sine(time, x, start=start, baseline_order=order,
+                                        exclude=exclude, **guess))
         except RuntimeError:
             continue
     if not fits:

@@ -177,15 +177,29 @@ def noise_ratio(residual, sample_rate: float, frequencies, spacing: float) -> np
     f = np.fft.rfftfreq(r.size, 1.0 / sample_rate)
     fk = np.asarray(frequencies, dtype=float)
     df = sample_rate / r.size
-    nearest = np.min(np.abs(f[:, None] - fk[None, :]), axis=1) < 0.5 * df
-    free = ~nearest & (f > 0)
+    free = f > 0
+    free[_bins_within(f, fk, 0.5 * df, df, strict=True)] = False
     white = np.median(power[free & (f >= fk.min() - 0.5 * spacing)]) / np.log(2)
     ratio = np.ones(fk.size)
     for j, centre in enumerate(fk):
-        near = free & (np.abs(f - centre) <= 0.5 * spacing)
-        if near.any() and white > 0:
+        near = _bins_within(f, centre, 0.5 * spacing, df)
+        near = near[free[near]]
+        if near.size and white > 0:
             ratio[j] = power[near].mean() / white
     return ratio
+
+
+def _bins_within(f, centre, half: float, df: float, *, strict: bool = False) -> np.ndarray:
+    """Indices of the bins f (uniform, spacing ``df``, from 0) within ``half`` of any of
+    ``centre``: abs(f − centre) < ``half`` (``strict``) or ≤ it. Only the bins the distance
+    can reach are compared (one more either side against rounding), not every bin with
+    every centre. [Hz]"""
+    centre = np.atleast_1d(np.asarray(centre, dtype=float))
+    reach = int(np.ceil(half / df)) + 1
+    first = np.rint(centre / df).astype(int)
+    index = np.clip(first[:, None] + np.arange(-reach, reach + 1)[None, :], 0, f.size - 1)
+    gap = np.abs(f[index] - centre[:, None])
+    return np.unique(index[gap < half if strict else gap <= half])
 
 
 def order_fit(time, angle, x, *, step: float = 0.5, max_order: float = 12.0,
