@@ -284,3 +284,26 @@ def test_the_background_beyond_the_sheets_edge_is_no_trace():
     with pytest.raises(NoTraceError):
         _on_sheet(Traces(found.run[:1], row[:1], found.u[:1], found.confidence[:1],
                          found.width[:1], found.spread[:1]), 960)
+
+
+def test_a_trace_read_with_confidence_in_scattered_columns_only_is_no_trace():
+    """A 'trace' whose confident columns are single ones scattered along the sheet (the
+    follower's steps through the noise of a heavily blurred, noisy scene) leaves no record
+    once the bits at its ends are cut off: it is set aside, and a sheet with nothing else is
+    refused, not read as a one-column record."""
+    from processing.vision.record import _on_sheet
+    from processing.vision.traces import NoTraceError, Traces
+
+    cols = 300
+    beam = 400 + 30 * np.sin(np.arange(cols) / 20)
+    confidence = np.zeros((2, cols))
+    confidence[0, [10, 150, 290]] = 1.0
+    confidence[1] = 1.0
+    row = np.vstack([np.full(cols, 200.0), beam])
+    found = Traces(np.zeros((2, cols), int), row, np.full((2, cols), 0.1), confidence,
+                   np.array([6.0, 6.0]), np.array([1.5, 1.5]))
+    kept = _on_sheet(found, 960)
+    assert kept.count == 1 and kept.row[0] == pytest.approx(beam)
+    with pytest.raises(NoTraceError):
+        _on_sheet(Traces(found.run[:1], row[:1], found.u[:1], confidence[:1],
+                         found.width[:1], found.spread[:1]), 960)

@@ -499,10 +499,17 @@ def read_paper_records(source, *, traces: int | None = None, mark_period=None,
     return records
 
 
+MIN_SPAN = 0.05
+"""A 'trace' whose record (:func:`_ends`: its confident stretch, bits cut off at its ends
+left out) spans less than this share of the sheet's columns is a follower's few steps
+through the noise, not a beam's record."""
+
+
 def _on_sheet(found: Traces, h: int) -> Traces:
     """The traces on the paper: a 'trace' whose stroke reaches the squared-up sheet's top or
     bottom border (``h`` rows) in most of its columns is the background beyond the sheet's
-    edge (a dark lid or table left inside the sheet's outline), not a beam's record.
+    edge (a dark lid or table left inside the sheet's outline), not a beam's record; nor is
+    one whose record spans less than :data:`MIN_SPAN` of the sheet.
 
     Raises
     ------
@@ -513,7 +520,8 @@ def _on_sheet(found: Traces, h: int) -> Traces:
         rows = found.row[j][np.isfinite(found.row[j])]
         reach = float(found.width[j])
         border = (rows < reach) | (rows > h - 1 - reach)
-        if not np.mean(border) > 0.5:
+        first, last = _ends(found.row[j], found.confidence[j], reach)
+        if not np.mean(border) > 0.5 and last - first + 1 >= MIN_SPAN * found.row.shape[1]:
             keep.append(j)
     if not keep:
         raise NoTraceError("no trace stands out of the paper inside the sheet's edges",
