@@ -287,8 +287,9 @@ def find_sheet(grey: np.ndarray) -> np.ndarray | None:
     cv2.drawContours(inside, [contour], -1, 255, -1)
     if cv2.mean(blur, inside)[0] - cv2.mean(blur, 255 - inside)[0] < SHEET_CONTRAST:
         return _on_a_lid(blur, f)
-    corners = _quadrilateral(contour) if _solidity(contour) >= SOLID_SHEET \
-        else _straight_sides(contour, (h, w))
+    corners = None if _solidity(contour) >= SOLID_SHEET else _straight_sides(mask, contour)
+    if corners is None:
+        corners = _quadrilateral(contour)
     if corners is None:
         return None
     corners = _refine_sides(contour[:, 0, :].astype(np.float64), corners) / f
@@ -467,7 +468,11 @@ SIDE_VOTES = 0.15
 the Hough transform) to be taken for a side of a bitten sheet (:func:`_straight_sides`)."""
 
 
-def _straight_sides(contour, shape: tuple[int, int]) -> np.ndarray | None:
+SIDES_HOLD = 0.95
+"""Share of a bitten sheet's region the quadrilateral of its straight sides must hold."""
+
+
+def _straight_sides(mask: np.ndarray, contour) -> np.ndarray | None:
     """Corners of a sheet whose region a shadow has bitten into, from the straight runs of
     its outline.
 
@@ -479,9 +484,10 @@ def _straight_sides(contour, shape: tuple[int, int]) -> np.ndarray | None:
     strongest line and the strongest one roughly parallel to it (within 20°, a fifth of
     the region's size away) are one pair of sides, the strongest two across them the
     other; the corners are where they meet. None if either pair is not found, or the
-    quadrilateral does not hold the region (its area less than the region's).
+    quadrilateral does not hold :data:`SIDES_HOLD` of the region (the desk's grain joined
+    to it may run outside).
     """
-    h, w = shape
+    h, w = mask.shape
     outline = np.zeros((h, w), np.uint8)
     cv2.drawContours(outline, [contour], -1, 255, 1)
     x, y, bw, bh = cv2.boundingRect(contour)
@@ -515,9 +521,12 @@ def _straight_sides(contour, shape: tuple[int, int]) -> np.ndarray | None:
         return None
     corners = np.array([_meet(a, b) for a in sides_a for b in sides_b])
     corners = _order(corners)
-    if cv2.contourArea(corners.astype(np.float32)) < cv2.contourArea(contour):
-        return None
-    return corners
+    region = np.zeros_like(mask)
+    cv2.drawContours(region, [contour], -1, 255, -1)
+    quad = np.zeros_like(mask)
+    cv2.fillPoly(quad, [np.round(corners).astype(np.int32)], 255)
+    held = np.count_nonzero(region & quad) / max(np.count_nonzero(region), 1)
+    return corners if held >= SIDES_HOLD else None
 
 
 def _distance(a, b) -> float:
