@@ -585,3 +585,62 @@ def test_sparse_pips_among_a_grids_cross_lines():
     pips = find_pips(density.astype(np.float32), line, 0.02, (60.0, 40.0))
     assert pips is not None and pips.side == -1
     assert np.abs(pips.rising - starts).max() < 2
+
+
+def _sheet_on(ground: np.ndarray, corners: np.ndarray, paper: float, seed: int) -> np.ndarray:
+    """A sheet of grey level ``paper`` with ``corners`` on ``ground``, its edges' thin
+    shadow on the upper and right sides, a wave whose mean drifts up by 4° over the sheet
+    (no straight line on it) and a row of dots, with noise: uint8."""
+    import cv2
+
+    grey = ground.astype(np.float32)
+    cv2.fillPoly(grey, [corners.astype(np.int32)], paper)
+    cv2.polylines(grey, [corners[[3, 0, 1, 2]].astype(np.int32)], False, paper - 60, 3)
+    (x0, y0), (x1, y1) = corners[3], corners[2]
+    x = np.arange(x0 + 40, x1 - 40)
+    slope = (y1 - y0) / (x1 - x0)
+    wave = y0 - 0.5 * (y0 - corners[0, 1]) - (x - x0) * (slope + np.tan(np.radians(4))) \
+        + 60 * np.sin(x / 25)
+    cv2.polylines(grey, [np.column_stack([x, wave]).astype(np.int32)], False, 40, 4)
+    for xd in np.arange(x0 + 60, x1 - 60, 45):
+        cv2.circle(grey, (int(xd), int(y0 - 40 + (xd - x0) * slope)), 4, 40, -1)
+    grey += np.random.default_rng(seed).normal(0, 1.5, grey.shape)
+    return np.clip(grey, 0, 255).astype(np.uint8)
+
+
+@pytest.mark.parametrize("paper", [216.0, 250.0])
+def test_a_sheet_on_a_light_lid_is_found_and_not_turned_by_its_trace(paper):
+    """A scan under a light lid (242), the paper a little darker (216) or brighter (250),
+    its edges a faint step with the paper's thin shadow on two sides: no threshold between
+    sheet and lid finds it, yet its four sides are found (each corner within 8 px, none
+    outside the sheet: the square-up's margin of 12 px takes the rest), and the squared-up sheet is not turned after the wave's drift (the record
+    has no straight line to turn it by)."""
+    from processing.vision.paper import find_sheet, square_up
+
+    corners = np.array([[60.0, 70.0], [1940.0, 40.0], [1955.0, 960.0], [75.0, 990.0]])
+    grey = _sheet_on(np.full((1040, 2020), 242.0), corners, paper, seed=3)
+    found = find_sheet(grey)
+    assert found is not None
+    assert np.abs(found - corners).max() < 8, found
+    inward = (found - corners) * np.sign(corners.mean(axis=0) - corners)
+    assert (inward > -1).all(), found                # the lid and the shadow left outside
+    assert abs(square_up(grey, found).skew) < 0.3
+
+
+def test_a_deep_shadow_biting_a_corner_off_the_sheet():
+    """A phone's shadow so deep over a corner that the sheet there sinks below both
+    thresholds between the sheet and a striped desk (its region bitten, not whole at
+    either): the sheet's sides are taken from the straight runs of its outline, each
+    corner within 3 px."""
+
+    from processing.vision.paper import find_sheet
+
+    rows, cols = np.mgrid[0:800, 0:1200].astype(np.float32)
+    desk = 110 + 15 * np.sin((cols + 0.4 * rows) / 4.5)
+    corners = np.array([[210.0, 160.0], [1025.0, 195.0], [1022.0, 627.0], [180.0, 590.0]])
+    grey = _sheet_on(desk, corners, 210.0, seed=5).astype(np.float32)
+    shade = np.clip(1 - np.hypot(cols - 850, rows - 675) / 300, 0, 1) ** 0.4
+    grey = np.clip(grey * (1 - 0.6 * shade), 0, 255).astype(np.uint8)
+    found = find_sheet(grey)
+    assert found is not None
+    assert np.abs(found - corners).max() < 3, found

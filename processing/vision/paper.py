@@ -3,8 +3,10 @@ light.
 
 A photograph shows the sheet on a darker desk, at a slant; a flatbed scan may be cropped
 inside the sheet. :func:`find_sheet` finds the sheet's four edges (Otsu's threshold on a
-reduced copy, the largest bright region, a straight line fitted to each side) or reports that
-the sheet fills the frame. :func:`square_up` maps the sheet onto an upright rectangle with one
+reduced copy, the largest bright region, a straight line fitted to each side; where a shadow
+bit a corner off the region, its outline's straight runs; on a light scanner lid, which no
+threshold splits from the paper, the step from the lid's level to the paper's along each
+side of the frame) or reports that the sheet fills the frame. :func:`square_up` maps the sheet onto an upright rectangle with one
 perspective warp that also takes out the residual skew (:func:`skew_angle`: the angle that
 sharpens the row profile of the ink most, which the long straight lines of the record
 decide). :func:`flatten` turns grey levels into optical density above the local paper
@@ -268,14 +270,14 @@ def find_sheet(grey: np.ndarray) -> np.ndarray | None:
         # leaves it ragged)
         if _solidity(lower[1]) >= SOLID_SHEET:
             mask, contour = lower
-    if contour is None:
-        return None
     h, w = small.shape
-    if cv2.contourArea(contour) < MIN_SHEET * h * w:
-        return None
+    if contour is None or cv2.contourArea(contour) < MIN_SHEET * h * w:
+        return _on_a_lid(blur, f)
     x, y, bw, bh = cv2.boundingRect(contour)
     if _touching(contour, (h, w)) >= 2:
-        return None                                   # a scan cropped inside the sheet
+        # the bright region fills the frame: a scan cropped inside the sheet, or a sheet on
+        # a light lid
+        return _on_a_lid(blur, f)
     if _runs_off(contour[:, 0, :], (w, h), long_side=max(bw, bh)):
         # a long edge runs off the frame: the frame's edge there is not the sheet's, and
         # squaring up to it would shear the record; the frame is squared up instead, and
@@ -284,14 +286,123 @@ def find_sheet(grey: np.ndarray) -> np.ndarray | None:
     inside = np.zeros_like(mask)
     cv2.drawContours(inside, [contour], -1, 255, -1)
     if cv2.mean(blur, inside)[0] - cv2.mean(blur, 255 - inside)[0] < SHEET_CONTRAST:
-        return None
-    corners = _quadrilateral(contour)
+        return _on_a_lid(blur, f)
+    corners = None if _solidity(contour) >= SOLID_SHEET else _straight_sides(mask, contour)
+    if corners is None:
+        corners = _quadrilateral(contour)
     if corners is None:
         return None
     corners = _refine_sides(contour[:, 0, :].astype(np.float64), corners) / f
     corners = _order(_edges_at_full_size(grey, _order(corners), reach=max(8.0, 3.0 / f)))
     top, left = np.hypot(*(corners[1] - corners[0])), np.hypot(*(corners[3] - corners[0]))
     return np.roll(corners, 1, axis=0) if left > top else corners
+
+
+LID_STEP = 5.0
+"""Grey levels a light lid must differ from the sheet by, at least, for the sheet's edge
+against it to be taken (:func:`_on_a_lid`); a sheet and a lid of one level are told apart
+only among the lines (:func:`processing.vision.record.judge_lines`)."""
+
+LID_SLICES = 24
+"""Slices along each side of the frame in which the sheet's edge against a lid is sought."""
+
+LID_AGREE = 0.6
+"""Share of the slices whose edge must lie on one straight line for the side to be taken."""
+
+
+def _on_a_lid(blur: np.ndarray, f: float) -> np.ndarray | None:
+    """The sheet's corners (as :func:`find_sheet` gives them) on a lid that shows a band of
+    its own level along all four sides of the frame, or None.
+
+    A light lid differs from the paper by a few grey levels only (brighter or darker), and
+    the sheet's edge on it is a faint step or the thin shadow the paper's thickness throws:
+    no threshold splits the two. Along each side of the frame, in each of
+    :data:`LID_SLICES` slices across it (their mean along the side), the paper's level is
+    read in the inner half of a band a quarter of the frame deep; the edge is the first
+    place from the border where three pixels in a row are at the paper's level (within
+    :data:`LID_STEP` grey levels or 5 σ of the slices' noise: not the flank of the shadow
+    on the lid, which stays outside), and the band outside it must be off the paper's level
+    by as much (a step, not a line on the paper). The side is the straight line through the
+    slices' edges (Theil–Sen's median slope, then a least-squares fit to the edges within
+    2 px of it) if :data:`LID_AGREE` of them lie on it and step the same way, within
+    :data:`SKEW_RANGE` of the frame's side. Where any side shows no such band (a scan cut
+    inside the sheet there, a lid of the paper's own level), None: the frame is squared up
+    as before (:func:`beyond_the_sheet`, and the lid's edge judged among the lines).
+
+    Parameters
+    ----------
+    blur : numpy.ndarray
+        The reduced, smoothed darkness image.
+    f : float
+        Its size over the full image's.
+    """
+    h, w = blur.shape
+    image = blur.astype(np.float32)
+    sides = []
+    # each side seen from the frame's border inward (rows), along the side (columns): the
+    # top, bottom, left and right
+    for view in (image, image[::-1], image.T, image.T[::-1]):
+        side = _lid_edge(view)
+        if side is None:
+            return None
+        sides.append(side)
+    (a_t, b_t), (a_b, b_b), (a_l, b_l), (a_r, b_r) = sides
+    # as lines p + s·d in (column, row): top y = a + b·x, bottom y = h − 1 − a − b·x,
+    # left x = a + b·y, right x = w − 1 − a − b·y
+    lines = [(np.array([0.0, a_t]), np.array([1.0, b_t])),
+             (np.array([w - 1.0 - a_r, 0.0]), np.array([-b_r, 1.0])),
+             (np.array([0.0, h - 1.0 - a_b]), np.array([1.0, -b_b])),
+             (np.array([a_l, 0.0]), np.array([b_l, 1.0]))]
+    corners = []
+    for i in range(4):
+        (p, d), (q, e) = lines[i - 1], lines[i]
+        m = np.array([d, -e]).T
+        if abs(np.linalg.det(m)) < 1e-6:
+            return None
+        corners.append(p + np.linalg.solve(m, q - p)[0] * d)
+    corners = _order(np.array(corners))
+    if cv2.contourArea(corners.astype(np.float32)) < MIN_SHEET * h * w:
+        return None
+    top, left = np.hypot(*(corners[1] - corners[0])), np.hypot(*(corners[3] - corners[0]))
+    corners = corners / f
+    return np.roll(corners, 1, axis=0) if left > top else corners
+
+
+def _lid_edge(view: np.ndarray) -> tuple[float, float] | None:
+    """The sheet's edge against a lid along the top of ``view`` as (a, b): the edge lies
+    a + b·x rows below the border at column x; None if there is none (:func:`_on_a_lid`)."""
+    h, w = view.shape
+    depth = h // 4
+    bounds = np.linspace(0.1 * w, 0.9 * w, LID_SLICES + 1).astype(int)
+    profiles = np.array([view[:depth, s:e].mean(axis=1) for s, e in zip(bounds, bounds[1:])])
+    steps = np.diff(profiles, axis=1)
+    noise = 1.4826 * float(np.median(np.abs(steps - np.median(steps)))) / math.sqrt(2)
+    limit = max(LID_STEP, 5 * noise)
+    x, d, sign = [], [], []
+    for k, p in enumerate(profiles):
+        paper = float(np.median(p[depth // 2:]))
+        at = np.abs(p - paper) <= limit
+        edge = int(np.argmax(at[:-2] & at[1:-1] & at[2:]))    # not a flank passing through
+        if edge < 4 or edge > 0.8 * depth:
+            continue
+        lid = float(np.median(p[:edge - 3]))       # the shadow on the lid left out
+        if abs(lid - paper) <= limit:
+            continue                                 # a line on the paper, not a step
+        x.append(0.5 * (bounds[k] + bounds[k + 1] - 1))
+        d.append(float(edge))
+        sign.append(paper > lid)
+    if len(x) < LID_AGREE * LID_SLICES:
+        return None
+    x, d, sign = np.array(x), np.array(d), np.array(sign)
+    i, j = np.triu_indices(x.size, 1)
+    b = float(np.median((d[j] - d[i]) / (x[j] - x[i])))          # Theil–Sen: outliers
+    a = float(np.median(d - b * x))                                # (a stroke) left out
+    keep = np.abs(d - (a + b * x)) <= 2.0
+    same = max(sign[keep].sum(), (~sign[keep]).sum())
+    if same < LID_AGREE * LID_SLICES or abs(b) > math.tan(math.radians(SKEW_RANGE)):
+        return None
+    b, a = np.polyfit(x[keep], d[keep], 1)
+    return float(a), float(b)
 
 
 SOLID_SHEET = 0.98
@@ -350,6 +461,85 @@ def _solidity(contour) -> float:
         return -1.0
     hull = cv2.contourArea(cv2.convexHull(contour))
     return cv2.contourArea(contour) / hull if hull > 0 else 0.0
+
+
+SIDE_VOTES = 0.15
+"""Share of the region's long side that a straight run of its outline must span (votes in
+the Hough transform) to be taken for a side of a bitten sheet (:func:`_straight_sides`)."""
+
+
+SIDES_HOLD = 0.95
+"""Share of a bitten sheet's region the quadrilateral of its straight sides must hold."""
+
+
+def _straight_sides(mask: np.ndarray, contour) -> np.ndarray | None:
+    """Corners of a sheet whose region a shadow has bitten into, from the straight runs of
+    its outline.
+
+    The bite (a phone's or a hand's shadow over a corner, deeper than any threshold between
+    the sheet and the desk reaches) takes the corner and parts of two sides away, but what
+    remains of each side is straight and long, and the bite's outline is curved. The
+    outline is drawn one pixel wide and its straight lines found by the Hough transform
+    (0.5° and 1 px steps, at least :data:`SIDE_VOTES` of the region's long side): the
+    strongest line and the strongest one roughly parallel to it (within 20°, a fifth of
+    the region's size away) are one pair of sides, the strongest two across them the
+    other; the corners are where they meet. None if either pair is not found, or the
+    quadrilateral does not hold :data:`SIDES_HOLD` of the region (the desk's grain joined
+    to it may run outside).
+    """
+    h, w = mask.shape
+    outline = np.zeros((h, w), np.uint8)
+    cv2.drawContours(outline, [contour], -1, 255, 1)
+    x, y, bw, bh = cv2.boundingRect(contour)
+    found = cv2.HoughLines(outline, 1, math.pi / 360, max(10, int(SIDE_VOTES * max(bw, bh))))
+    if found is None:
+        return None
+    lines = found[:, 0, :]                       # (ρ, θ), strongest first
+    first = lines[0]
+
+    def across(a: float, b: float) -> float:
+        d = abs(a - b) % math.pi
+        return min(d, math.pi - d)
+
+    def pair(candidates, size: float):
+        chosen = [candidates[0]]
+        for rho, theta in candidates[1:]:
+            if across(theta, chosen[0][1]) < math.radians(20) and \
+                    abs(_distance(chosen[0], (rho, theta))) > 0.2 * size:
+                chosen.append((rho, theta))
+                return chosen
+        return None
+
+    along = [tuple(v) for v in lines if across(v[1], first[1]) < math.radians(20)]
+    other = [tuple(v) for v in lines if across(v[1], first[1]) > math.radians(60)]
+    if not other:
+        return None
+    size_a = bh if abs(math.cos(first[1])) < 0.7 else bw       # across the first side
+    size_b = bw if size_a == bh else bh
+    sides_a, sides_b = pair(along, size_a), pair(other, size_b)
+    if sides_a is None or sides_b is None:
+        return None
+    corners = np.array([_meet(a, b) for a in sides_a for b in sides_b])
+    corners = _order(corners)
+    region = np.zeros_like(mask)
+    cv2.drawContours(region, [contour], -1, 255, -1)
+    quad = np.zeros_like(mask)
+    cv2.fillPoly(quad, [np.round(corners).astype(np.int32)], 255)
+    held = np.count_nonzero(region & quad) / max(np.count_nonzero(region), 1)
+    return corners if held >= SIDES_HOLD else None
+
+
+def _distance(a, b) -> float:
+    """How far apart two nearly parallel lines (ρ, θ) lie. [px]"""
+    (r1, t1), (r2, t2) = a, b
+    return r2 - r1 if math.cos(t1 - t2) > 0 else -r2 - r1
+
+
+def _meet(a, b) -> np.ndarray:
+    """Where two lines (ρ, θ) cross: (column, row)."""
+    (r1, t1), (r2, t2) = a, b
+    m = np.array([[math.cos(t1), math.sin(t1)], [math.cos(t2), math.sin(t2)]])
+    return np.linalg.solve(m, np.array([r1, r2]))
 
 
 def _quadrilateral(contour) -> np.ndarray | None:
@@ -495,7 +685,8 @@ def square_up(grey: np.ndarray, corners: np.ndarray | None, *, turns: int = 0) -
     density, _ = flatten(small, reduction=1)
     limit = SKEW_RANGE if corners is None else SKEW_RANGE_SHEET
     m = int(math.ceil(margin * f))
-    angle = skew_angle(density[m:small.shape[0] - m, m:small.shape[1] - m], limit)
+    angle = skew_angle(density[m:small.shape[0] - m, m:small.shape[1] - m], limit,
+                       sharp=corners is not None)
     a = math.radians(angle)
     cx, cy = (size[0] - 1) / 2, (size[1] - 1) / 2
     # upright pixel → skewed sheet pixel: rotate by the skew about the centre
@@ -593,13 +784,27 @@ def _mean_scale(homography: np.ndarray, size) -> float:
     return float(math.sqrt(abs(ax * by - ay * bx)))
 
 
-def skew_angle(density: np.ndarray, limit: float) -> float:
+PEAK_SPAN = 0.5
+"""Turn either side of the best angle at which a straight line's peak of the skew score has
+fallen off (:func:`skew_angle`). [deg]"""
+
+PEAK_DROP = 0.9
+"""Largest share of the best skew score that the score :data:`PEAK_SPAN` either side may
+keep for the best angle to be a straight line's peak."""
+
+
+def skew_angle(density: np.ndarray, limit: float, *, sharp: bool = False) -> float:
     """The rotation (counter-clockwise, degrees) that makes the ink's rows sharpest.
 
     The ink pixels (density above 4 σ of the paper's) are projected onto the rows of the
     image turned by each trial angle; the angle whose row histogram has the largest sum of
     squares wins (long straight lines then fall into single rows). Searched over ± ``limit``
-    in 0.1° steps, then refined by a parabola through the best three.
+    in 0.1° steps, then refined by a parabola through the best three. With ``sharp`` (a
+    sheet squared up by its edges, which already lie along the time base), the best angle
+    is taken only where it is a straight line's peak: half a degree off it the score falls
+    below :data:`PEAK_DROP` of its height. A record without long straight lines (a trace
+    whose mean drifts, dots and dashes for marks) scores a broad hump whose top follows
+    the trace's drift, not the paper: the edges' own angle is kept.
 
     Parameters
     ----------
@@ -607,11 +812,14 @@ def skew_angle(density: np.ndarray, limit: float) -> float:
         Optical density (:func:`flatten`).
     limit : float
         Largest angle searched. [deg]
+    sharp : bool
+        Take only a straight line's sharp peak.
 
     Returns
     -------
     float
-        [deg]; 0 when no angle sharpens the profile by 2 % over none.
+        [deg]; 0 when no angle sharpens the profile by 2 % over none (or, with ``sharp``,
+        the best is no sharp peak).
     """
     noise = _noise(density)
     rows, cols = np.nonzero(density > 4 * noise)
@@ -632,6 +840,8 @@ def skew_angle(density: np.ndarray, limit: float) -> float:
     if scores[k] < 1.02 * score(0.0):
         return 0.0
     best = angles[k]
+    if sharp and max(score(best - PEAK_SPAN), score(best + PEAK_SPAN)) > PEAK_DROP * scores[k]:
+        return 0.0
     if 0 < k < len(angles) - 1:
         s0, s1, s2 = scores[k - 1], scores[k], scores[k + 1]
         den = s0 - 2 * s1 + s2

@@ -768,8 +768,12 @@ def _mark_lines(density, lines: list[Line], noise: float):
     # (a faint 'line' along their tops is not), else the nearer (their sides rise from it)
     found = [p for p in found if not any(
         q is not p and abs(_top_row(p) - _top_row(q)) < 3 and _owns(q, p) for q in found)]
+    # a row of marks without a line (dots): where a line as dark as the marks runs through
+    # it, its pips were sought from the line (its own bumps and the stroke beside it are none)
+    inked = [line.position for line in lines if line.strength >= MARK_INK * darkest]
     found += [p for p in find_mark_rows(density, noise) if all(
-        p.band[1] <= q.band[0] or p.band[0] >= q.band[1] for q in found)]
+        p.band[1] <= q.band[0] or p.band[0] >= q.band[1] for q in found)
+        and not any(p.band[0] <= y < p.band[1] for y in inked)]
     chosen: list[Pips] = []
     for pips in sorted(found, key=lambda p: (_regular_marks(p), p.line.strength), reverse=True):
         if all(pips.band[1] <= c.band[0] or pips.band[0] >= c.band[1] for c in chosen):
