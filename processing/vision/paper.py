@@ -94,6 +94,20 @@ FIX_RU = "дайте фотографию или скан записи в PNG, J
 """How to give a picture of a record, in Russian."""
 
 
+def _meeting(sides: list[tuple[np.ndarray, np.ndarray]]) -> np.ndarray | None:
+    """Where each of four sides (a point and a direction, in (column, row), in order round
+    the sheet) meets the one before it: the four corners, or None if two neighbours run
+    parallel."""
+    corners = []
+    for i in range(4):
+        (p, d), (q, e) = sides[i - 1], sides[i]
+        m = np.array([d, -e]).T
+        if abs(np.linalg.det(m)) < 1e-6:
+            return None
+        corners.append(p + np.linalg.solve(m, q - p)[0] * d)
+    return np.array(corners)
+
+
 def load_image(path, *, field: str | None = None) -> tuple[np.ndarray, float]:
     """Read a photograph or scan as its darkness channel, at most :data:`WORK_PIXELS` large.
 
@@ -353,14 +367,10 @@ def _on_a_lid(blur: np.ndarray, f: float) -> np.ndarray | None:
              (np.array([w - 1.0 - a_r, 0.0]), np.array([-b_r, 1.0])),
              (np.array([0.0, h - 1.0 - a_b]), np.array([1.0, -b_b])),
              (np.array([a_l, 0.0]), np.array([b_l, 1.0]))]
-    corners = []
-    for i in range(4):
-        (p, d), (q, e) = lines[i - 1], lines[i]
-        m = np.array([d, -e]).T
-        if abs(np.linalg.det(m)) < 1e-6:
-            return None
-        corners.append(p + np.linalg.solve(m, q - p)[0] * d)
-    corners = _order(np.array(corners))
+    corners = _meeting(lines)
+    if corners is None:
+        return None
+    corners = _order(corners)
     if cv2.contourArea(corners.astype(np.float32)) < MIN_SHEET * h * w:
         return None
     top, left = np.hypot(*(corners[1] - corners[0])), np.hypot(*(corners[3] - corners[0]))
@@ -619,14 +629,8 @@ def _edges_at_full_size(grey: np.ndarray, corners: np.ndarray, reach: float) -> 
         vx, vy, x0, y0 = cv2.fitLine(np.array(found, np.float32), cv2.DIST_HUBER, 0, 0.01,
                                      0.01)[:, 0]
         lines.append((np.array([x0, y0], np.float64), np.array([vx, vy], np.float64)))
-    out = []
-    for i in range(4):
-        (p, d), (q, e) = lines[i - 1], lines[i]
-        m = np.array([d, -e]).T
-        if abs(np.linalg.det(m)) < 1e-6:
-            return corners
-        out.append(p + np.linalg.solve(m, q - p)[0] * d)
-    return np.array(out)
+    out = _meeting(lines)
+    return corners if out is None else out
 
 
 def _order(corners: np.ndarray) -> np.ndarray:
