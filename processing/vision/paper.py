@@ -577,15 +577,8 @@ def _refine_sides(points: np.ndarray, corners: np.ndarray) -> np.ndarray:
             return corners
         vx, vy, x0, y0 = cv2.fitLine(near.astype(np.float32), cv2.DIST_HUBER, 0, 0.01, 0.01)[:, 0]
         lines.append((np.array([x0, y0], np.float64), np.array([vx, vy], np.float64)))
-    out = []
-    for i in range(4):
-        (p, d), (q, e) = lines[i - 1], lines[i]
-        m = np.array([d, -e]).T
-        if abs(np.linalg.det(m)) < 1e-6:
-            return corners
-        s = np.linalg.solve(m, q - p)
-        out.append(p + s[0] * d)
-    return np.array(out)
+    out = _meeting(lines)
+    return corners if out is None else out
 
 
 def _edges_at_full_size(grey: np.ndarray, corners: np.ndarray, reach: float) -> np.ndarray:
