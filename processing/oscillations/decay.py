@@ -642,8 +642,8 @@ finite, so that the solver's norms stay finite, and larger than any record's."""
 TOLERANCES = {"ftol": 1e-14, "xtol": 1e-12, "gtol": 1e-12}
 """Stopping tolerances of the projection's Levenberg–Marquardt solve (:func:`fit_damped_sine`),
 tighter than :func:`scipy.optimize.least_squares`' 1e-8 as no joint refinement follows it:
-a step that would lower |r|² by less than ``ftol``·|r|² (the parameters within
-(10⁻¹⁴ν)^½ of their standard uncertainties of the minimum, |r|²/ν being the cost of one u:
+a step that would lower ‖r‖² by less than ``ftol``·‖r‖² (the parameters within
+(10⁻¹⁴ν)^½ of their standard uncertainties of the minimum, ‖r‖²/ν being the cost of one u:
 10⁻⁶ u for a valve's hundred samples), or a kept step shorter than ``xtol`` relative to the
 scaled parameters."""
 MAX_STEPS = 200
@@ -819,7 +819,7 @@ def fit_damped_sine(time, x, *, start: float | None = None, period: float | None
     -----
     δ and ω_d are found by variable projection (the amplitude terms and the baseline are
     linear and solved for at each step): its minimum is the joint least squares' minimum
-    over every parameter (Golub and Pereyra; Hansen, Pereyra & Scherer [2]_, ch. 9), so the
+    over every parameter (Golub and Pereyra; Hansen, Pereyra & Scherer 2013, ch. 9), so the
     joint problem is solved again by :func:`scipy.optimize.least_squares` only where the
     projection did not converge. The covariance is s²(JᵀJ)⁻¹, J the analytic Jacobian of
     the joint model over every parameter at the minimum, s² = Σr²/(n − p).

@@ -716,8 +716,8 @@ def beyond_the_sheet(upright: np.ndarray) -> tuple[tuple[int, int], tuple[int, i
     photograph close up): cut off, so that the sheet's edges are not read as lines or
     traces on it.
 
-    The frame is split into the bright sheet and a darker ground by Otsu's threshold [1]_ on
-    a reduced copy (closed over 15 px there, so that ink stays the sheet's), if the two
+    The frame is split into the bright sheet and a darker ground by Otsu's threshold (Otsu
+    1979) on a reduced copy (closed over 15 px there, so that ink stays the sheet's), if the two
     stand :data:`SHEET_CONTRAST` grey levels apart; the rows from the top and bottom (the
     columns from either side) in which the sheet fills less than :data:`BARE_SHARE` are cut,
     with a margin of 1 % of the frame's height beyond the last of them (the edge's shadow,
