@@ -1240,19 +1240,19 @@ def check_class(files, folders=(), *, policy: PolicyFile | None = None,
             try:
                 if variants is not None:
                     sid = student_key(variants, sid, _meta_id(path), path, keys)
-                checks.append(check(path, policy=policy, confine=bool(folders), variants=variants,
-                                    sid=sid))
+                checks.append(check(path, policy=policy, confine=bool(folders),
+                                    variants=variants, sid=sid))
+                continue
             except InputError as exc:
                 refused[str(path)], problems[str(path)] = exc.text(lang), exc
-                ids.update({str(path): sid} if sid else {})
             except Exception as exc:
                 if crash is None:
                     raise
                 refused[str(path)] = problems[str(path)] = crash(exc, str(path))
-                ids.update({str(path): sid} if sid else {})
-
+            ids.update({str(path): sid} if sid else {})
     unknown_expected(checks, policy)
     return ClassCheck(checks, refused, copies(checks), policy, variants, ids, problems)
+
 
 def read_class(folder: str | Path, *, policy: str | Path | None = None,
                keys: str | Path | None = None, roster: str | Path | None = None,
