@@ -291,3 +291,32 @@ def test_a_class_is_checked_with_one_blas_thread(monkeypatch, tmp_path):
     result = ck.check_class([tmp_path / "a.toml"])
     assert seen == [[1] * len(before)] and list(result.refused) == [str(tmp_path / "a.toml")]
     assert blas_threads() == before
+
+
+@pytest.mark.parametrize("written, says", [
+    ('"1,84 кгм2"', "кгм"), ('"1.84 кН/мм/мм"', "dimension|unit"), ('"abc kN/mm"', "abc"),
+    ('{ value = "1.84 kN/mm", u = "-1 kN/mm" }', "standard uncertainty")])
+def test_a_value_that_cannot_be_read_is_unreadable_and_the_rest_of_the_class_judged(
+        tmp_path, capsys, variants, written, says):
+    """In a class, one value a student wrote in a unit we cannot read (кгм: a kilogram-force
+    metre, or кг·м² run together?), a unit of another quantity, no number or a negative u
+    is *unreadable*, with what to fix, earns nothing, and the submission's other values are
+    judged; alone, the same file is refused with that message."""
+    s01 = hand_in(tmp_path / "class", "s01", handout(variants, "s01"))
+    text = s01.read_text("utf-8")
+    assert '\nc_total = "' in text
+    s01.write_text("\n".join(f"c_total = {written}" if line.startswith("c_total =") else line
+                             for line in text.splitlines()) + "\n", encoding="utf-8")
+    out = tmp_path / "summary"
+    code, printed, _ = run(capsys, "check", tmp_path / "class", "--keys", variants, "--out", out)
+    assert code == 0 and "unreadable" in printed and "Fix:" in printed
+    rows = {r["name"]: r for r in csv.DictReader((out / "summary.csv").open(encoding="utf-8"))
+            if r["id"] == "s01"}
+    assert rows["c_total"]["verdict"] == "unreadable" and rows["c_total"]["slip_text"]
+    others = [r["verdict"] for n, r in rows.items() if n != "c_total"]
+    assert others and set(others) <= {"right", "rounded"}
+    assert rows["c_total"]["mark"] == str(len(rows) - 1) and rows["c_total"]["out_of"] == \
+        str(len(rows))
+    assert_one_clear_error(*run(capsys, "check", s01), s01,
+                           "reported.c_total" + (".u" if "u =" in written else ""), says,
+                           tmp_path / "nothing")

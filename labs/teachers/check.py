@@ -109,7 +109,9 @@ def _verdict_dict(v: Verdict) -> dict:
             "reported_u": None if v.reported is None else num(v.reported.u),
             "value": num(v.value), "u": num(v.u), "z": num(v.z), "relative": num(v.relative),
             "slip": None if v.slip is None else v.slip.name,
-            "slip_text": None if v.slip is None else v.slip.text}
+            "slip_text": None if v.slip is None else v.slip.text,
+            **({} if v.problem is None else {"problem": {"en": v.problem.text("en"),
+                                                         "ru": v.problem.text("ru")}})}
 
 
 POLICY_RULES = ("rel_tol", "sig_figs", "expected", "student_u", "points", "partial")
@@ -357,8 +359,13 @@ REPORTED_KEYS = ("value", "u")
 """The keys of a reported value written as a table."""
 
 
-def _reported(path: str, table, results) -> dict[str, Reported]:
-    """The ``[reported]`` table in SI, each value's unit checked against the result's."""
+def _reported(path: str, table, results,
+              unreadable: dict[str, InputError] | None = None) -> dict[str, Reported]:
+    """The ``[reported]`` table in SI, each value's unit checked against the result's.
+
+    A value that cannot be read (its number, its unit, its u) raises, or, given
+    ``unreadable``, is left out and its error put there under its name: the class's other
+    values are judged all the same."""
     if table is not None and not isinstance(table, dict):
         raise InputError(f"'reported' must be a table, got {table!r}",
                          "write the values you got under a line [reported], named as in the "
@@ -383,8 +390,13 @@ def _reported(path: str, table, results) -> dict[str, Reported]:
                              _close(name, list(results), "the results are"), file=path,
                              field=field, ru=(f"'{name}' — не результат этой работы",
                                               _close(name, list(results), "результаты", "ru")))
-        value, u = _entry(path, field, entry)
-        out[name] = _quantity(path, field, value, u, results[name].unit)
+        try:
+            value, u = _entry(path, field, entry)
+            out[name] = _quantity(path, field, value, u, results[name].unit)
+        except InputError as exc:
+            if unreadable is None:
+                raise
+            unreadable[name] = exc
     return out
 
 
@@ -768,7 +780,7 @@ def _variant_slips(results, reported, variants: Variants, sid: str):
 @scope()
 def check(path: str | Path, *, policy: str | Path | None = None, confine: bool = False,
           key: dict[str, float] | None = None, variants: Variants | None = None,
-          sid: str | None = None, **options) -> Check:
+          sid: str | None = None, strict: bool = True, **options) -> Check:
     """Reduce a submission and judge every reported value.
 
     Parameters
@@ -788,6 +800,10 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
         student's variant (our reduction agrees with that key, not with the student's) are
         judged against the student's own key, and the reported values that are another
         variant's are named so (:func:`_variant_slips`).
+    strict : bool
+        Refuse the submission for a reported value that cannot be read (a student's single
+        file: the message says what to fix). False (a class): that value is *unreadable*,
+        with the message, and the others are judged.
     **options
         For the lab's ``reduce``.
 
@@ -814,7 +830,9 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
     module, loaded, notices = read_inputs(path, data=data, confine=confine)
     options = {"n_samples": CHECK_SAMPLES, **_results_only(module), **options}
     result = reduce_loaded(module, loaded, notices, **options)
-    reported = _reported(str(path), table, result.results) if table or tables is None else {}
+    unreadable = None if strict else {}
+    reported = _reported(str(path), table, result.results, unreadable) \
+        if table or tables is None else {}
     policy = policy if isinstance(policy, PolicyFile) else read_policy(policy)
     knows = lab_knows(result.lab, result.results)
     rules = policy.for_lab(result.lab, knows)
@@ -823,7 +841,7 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
     if key and not policy.expects(result.lab, knows):
         rules = Policy(rules.rel_tol, rules.sig_figs, tuple(
             n for n in asked(result.lab, result.results) if n in key), rules.student_u)
-    names = list(reported) + [n for n in rules.expected if n not in reported]
+    names = list(dict.fromkeys([*reported, *(unreadable or ()), *rules.expected]))
     reference = {n: (r.value, r.u, r.unit, r.estimate.k) for n, r in result.results.items()}
     readings_of = values_of = None
     own_slips = []
@@ -838,6 +856,8 @@ def check(path: str | Path, *, policy: str | Path | None = None, confine: bool =
 
     def judged(name: str, slips) -> Verdict:
         value, u, unit, k = reference.get(name, (math.nan, math.nan, "", Z_LIMIT))
+        if unreadable and name in unreadable:
+            return Verdict(name, "unreadable", None, value, u, problem=unreadable[name])
         return judge(name, reported.get(name), value, u, unit, rules, slips, k=k)
 
     verdicts = [judged(n, own_slips + list(FACTOR_SLIPS)) for n in names]
@@ -1127,7 +1147,8 @@ def copies(checks: list[Check]) -> list[Copy]:
     return out
 
 
-CREDIT = {"right": 1.0, "rounded": None, "over-precise": None, "wrong": 0.0, "missing": 0.0}
+CREDIT = {"right": 1.0, "rounded": None, "over-precise": None, "wrong": 0.0, "missing": 0.0,
+          "unreadable": 0.0}
 """Share of a value's points each verdict earns (None: the policy's ``partial``)."""
 
 
@@ -1241,7 +1262,7 @@ def check_class(files, folders=(), *, policy: PolicyFile | None = None,
                 if variants is not None:
                     sid = student_key(variants, sid, _meta_id(path), path, keys)
                 checks.append(check(path, policy=policy, confine=bool(folders),
-                                    variants=variants, sid=sid))
+                                    variants=variants, sid=sid, strict=False))
                 continue
             except InputError as exc:
                 refused[str(path)], problems[str(path)] = exc.text(lang), exc

@@ -30,11 +30,13 @@ from processing.units import convert, unit_text
 from .check import Check, ClassCheck, Copy, mark
 
 COLOURS = {"right": "#c8e6c9", "rounded": "#fff9c4", "over-precise": "#fff9c4",
-           "wrong": "#ffcdd2", "missing": "#e0e0e0", "refused": "#ffab91", "absent": "#eeeeee"}
+           "wrong": "#ffcdd2", "missing": "#e0e0e0", "unreadable": "#ffcc80",
+           "refused": "#ffab91", "absent": "#eeeeee"}
 
 WORDS = {"ru": {"right": "верно", "rounded": "верно, но округлено", "over-precise":
                 "верно, но лишние знаки", "wrong": "неверно", "missing": "нет",
-                "refused": "не принят", "absent": "не сдано", "checked": "проверено"},
+                "unreadable": "не прочитано", "refused": "не принят", "absent": "не сдано",
+                "checked": "проверено"},
          "en": {"absent": "not handed in", "checked": "checked"}}
 
 HEAD = {"en": {"title": "Class summary", "id": "id", "student": "student", "lab": "lab",
@@ -110,13 +112,25 @@ def terminal(check: Check, lang: str = "en") -> str:
                 f"{plain(_expanded(check, v), 2)} {unit}").rstrip()
         z = "" if not math.isfinite(v.z) else f"  z = {v.z:+.1f}"
         line = f"  {v.name:{width}}  {verdict_word(v.verdict, lang):14} {got:>12}  vs  {ours}{z}"
-        if v.slip is not None:
-            line += f"\n  {'':{width}}  → {v.slip.text[lang]}"
+        if why(v, lang):
+            line += f"\n  {'':{width}}  → {why(v, lang)}"
         lines.append(line)
     for t in check.tables:
         lines.append(f"  {_table_name(t)} ({t.file}): {verdict_word(t.verdict, lang)} — "
                      f"{table_detail(t, lang)}")
     return "\n".join(lines)
+
+
+def why(v, lang: str = "en") -> str:
+    """What explains a verdict in words: the slip of a wrong value, or why an unreadable
+    value could not be read and the fix; "" for none."""
+    if v.slip is not None:
+        return v.slip.text[lang]
+    if v.problem is None:
+        return ""
+    e = v.problem
+    problem, fix = e.ru if lang == "ru" and e.ru else (e.problem, e.fix)
+    return f"{problem}. {'Как исправить' if lang == 'ru' and e.ru else 'Fix'}: {fix}"
 
 
 def _expanded(check: Check, v) -> float:
@@ -188,8 +202,7 @@ def _cell(c: Check, v, lang: str) -> Cell:
     got = "" if v.reported is None else plain(shown(c, v.name, v.reported.value),
                                               max(v.reported.digits, 3))
     return Cell(v.name, v.verdict, got, plain(shown(c, v.name, v.value)),
-                unit_of(c, v.name, lang), v.slip.text[lang] if v.slip else "",
-                v.slip.name if v.slip else "", "" if not math.isfinite(v.z) else plain(v.z, 2),
+                unit_of(c, v.name, lang), why(v, lang), v.slip.name if v.slip else "", "" if not math.isfinite(v.z) else plain(v.z, 2),
                 plain(_expanded(c, v), 2) if math.isfinite(v.u) else "")
 
 

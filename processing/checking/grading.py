@@ -36,7 +36,9 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from functools import cache
 
-VERDICTS = ("right", "rounded", "over-precise", "wrong", "missing")
+from processing.diagnostics import InputError
+
+VERDICTS = ("right", "rounded", "over-precise", "wrong", "missing", "unreadable")
 """Every verdict, best first."""
 
 OVER_PRECISE = 1e-3
@@ -261,6 +263,8 @@ class Verdict:
         (r − x)/|x|.
     slip : Slip or None
         The slip that explains a wrong value.
+    problem : InputError or None
+        Why an *unreadable* value could not be read, and the fix.
     """
 
     name: str
@@ -271,6 +275,7 @@ class Verdict:
     z: float = math.nan
     relative: float = math.nan
     slip: Slip | None = None
+    problem: InputError | None = None
 
 
 def counted_u(r: Reported, u: float, policy: Policy) -> float:
