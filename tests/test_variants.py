@@ -1,6 +1,10 @@
 """Variants for a class: one synthetic measurement per student with its answer key, for every
 lab with a scene; labs 1 and 2's scenes reduce back to their truth."""
+import html
 import json
+import re
+import tomllib
+from pathlib import Path
 
 import pytest
 
@@ -8,6 +12,7 @@ from labs import lab1_inertia as lab1
 from labs import lab2_conrod as lab2
 from labs.cli.main import main
 from labs.registry import LABS, evaluate
+from labs.teachers.sheet import reading_sheet
 from labs.teachers.variants import read_roster, student_seed
 from processing.diagnostics import InputError
 
@@ -89,3 +94,26 @@ def test_design_variants_differ_and_their_keys_are_the_calculation(tmp_path, lab
     result = evaluate(a["toml"], n_samples=500)
     for name, value in key_a.items():
         assert result[name].value == pytest.approx(value, rel=1e-9, abs=1e-12), name
+
+
+MEASUREMENTS = sorted(p for p in (Path(__file__).parents[1] / "sample_data").glob("*/*.toml"))
+
+
+@pytest.mark.parametrize("path", MEASUREMENTS, ids=lambda p: f"{p.parent.name}/{p.name}")
+def test_the_sheet_of_readings_holds_every_number_of_the_file_under_its_name_and_unit(path):
+    """A student's sheet reads like the manual: each section under its name in both
+    languages, each reading with its symbol and unit, and every number the measurement file
+    holds (its values, ± limits, tables' cells, recordings' names) on the sheet as written."""
+    doc = tomllib.loads(path.read_text(encoding="utf-8"))
+    spec = LABS[doc["lab"]].SPEC
+    sheet = reading_sheet(doc, spec)
+    shown = html.unescape(re.sub(r"<[^>]+>", " ", sheet))
+    written = [n for name, value in doc.items() if name not in ("lab", "meta")
+               for n in re.findall(r"(?<![\w.])[-+]?\d+(?:[.,]\d+)?(?:[eE][-+]?\d+)?(?![\w.])",
+                                   json.dumps(value, ensure_ascii=False))]
+    assert written and all(n in shown for n in written), [n for n in written if n not in shown]
+    for name in doc:
+        section = next((s for s in spec.sections if s.name == name), None)
+        if section is not None:
+            assert section.label["en"] in shown and section.label["ru"] in shown, name
+    assert spec.title["ru"] in shown and "<table>" in sheet

@@ -12,6 +12,9 @@ from pathlib import Path
 from processing.diagnostics import InputError
 from processing.inputs.toml_writer import dumps
 
+from labs.registry import lab_module
+from labs.teachers.sheet import all_sheets, reading_sheet
+
 
 MAX_ID = 64
 """Longest student id [characters]: it names the student's folder (a file system allows
@@ -152,12 +155,14 @@ and what the teacher keeps (``keys/<id>/answer_key.json``)."""
 def write_variants(write, out_dir: str | Path, roster: str | Path, seed: int,
                    **options) -> dict[str, dict[str, Path]]:
     """``write(folder, seed, **options)`` (a lab's ``write_synthetic``) once per student of
-    the roster: the handout in ``out_dir/handouts/<id>/`` — the measurement file, its ``[meta]
-    student`` the student's name and ``id`` the student's id, its recordings, and ``readings.html``,
-    a printable sheet of its readings (:func:`reading_sheet`) — and the answer key in
+    the roster: the handout in ``out_dir/handouts/<id>/`` — the measurement file, its
+    ``[meta] student`` the student's name and ``id`` the student's id, its recordings, and
+    ``readings.html``, a printable sheet of its readings
+    (:func:`labs.teachers.sheet.reading_sheet`) — and the answer key in
     ``out_dir/keys/<id>/answer_key.json``; every sheet in one document to print,
-    ``out_dir/handouts/readings.html`` (:func:`all_sheets`). No handout names its key, nor the seed
-    the key could be made again from (the measurement file is ``<lab>_<id>.toml``)."""
+    ``out_dir/handouts/readings.html`` (:func:`labs.teachers.sheet.all_sheets`). No handout
+    names its key, nor the seed the key could be made again from (the measurement file is
+    ``<lab>_<id>.toml``)."""
     students = read_roster(roster)
     written = {}
     for sid, name in students:
@@ -174,61 +179,10 @@ def write_variants(write, out_dir: str | Path, roster: str | Path, seed: int,
         files["answer"].replace(key)
         files["answer"] = key
         files["sheet"] = files["toml"].parent / "readings.html"
-        files["sheet"].write_text(reading_sheet(doc), encoding="utf-8")
+        files["sheet"].write_text(reading_sheet(doc, lab_module(doc["lab"]).SPEC),
+                                  encoding="utf-8")
         written[sid] = files
     sheets = Path(out_dir) / HANDOUTS / "readings.html"
     sheets.write_text(all_sheets([f["sheet"].read_text(encoding="utf-8")
                                   for f in written.values()]), encoding="utf-8")
     return written
-
-
-def all_sheets(pages: list[str]) -> str:
-    """Every student's sheet of readings (:func:`reading_sheet`) in one document to print, a
-    page each."""
-    head = re.search(r"<head>.*</head>", pages[0], re.S).group(0) if pages else "<head></head>"
-    bodies = [re.search(r"<body>(.*)</body>", p, re.S).group(1) for p in pages]
-    return ("<!DOCTYPE html><html>" + head.replace("</style>", "section{break-after:page}"
-                                                    "</style>")
-            + "<body>" + "".join(f"<section>{b}</section>" for b in bodies) + "</body></html>")
-
-
-def reading_sheet(doc: dict) -> str:
-    """A printable page of a measurement file's readings (HTML, both languages): the lab,
-    the student, each section's values, and its tables as written; the files it names
-    (recordings) are listed by name."""
-    from html import escape
-
-    from labs.catalogue import CATALOGUE
-
-    entry = CATALOGUE.get(doc.get("lab", ""))
-    title = f"{entry.title['en']} / {entry.title['ru']}" if entry else doc.get("lab", "")
-    meta = doc.get("meta", {})
-    body = [f"<h1>{escape(title)}</h1>",
-            f"<p>{escape(meta.get('student', ''))} ({escape(meta.get('id', ''))})</p>"]
-
-    def section(name: str, table: dict) -> str:
-        rows, pre = [], []
-        for key, value in table.items():
-            if isinstance(value, str) and "\n" in value.strip():
-                pre.append(f"<h3>{escape(key)}</h3><pre>{escape(value.strip())}</pre>")
-            elif isinstance(value, dict):
-                pre.append(section(f"{name}.{key}", value))
-            else:
-                shown = ", ".join(map(str, value)) if isinstance(value, list) else str(value)
-                rows.append(f"<tr><th>{escape(key)}</th><td>{escape(shown)}</td></tr>")
-        table_html = f"<table>{''.join(rows)}</table>" if rows else ""
-        return f"<h2>[{escape(name)}]</h2>{table_html}{''.join(pre)}"
-
-    for name, value in doc.items():
-        if name in ("lab", "meta"):
-            continue
-        items = value if isinstance(value, list) else [value]
-        for k, item in enumerate(items, start=1):
-            label = f"{name} {k}" if isinstance(value, list) and len(value) > 1 else name
-            body.append(section(label, item) if isinstance(item, dict) else
-                        f"<p>{escape(name)} = {escape(str(item))}</p>")
-    return ("<!DOCTYPE html><html><head><meta charset='utf-8'><title>"
-            f"{escape(title)}</title><style>body{{font-family:sans-serif}}"
-            "table{border-collapse:collapse}td,th{border:1px solid #999;padding:2px 8px;"
-            "text-align:left}pre{font-size:11pt}@media print{h2{break-after:avoid}}</style>"
-            f"</head><body>{''.join(body)}</body></html>")
