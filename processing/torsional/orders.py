@@ -123,7 +123,8 @@ class OrderFit(Record):
         z = np.exp(1j * s * theta)
         total = np.zeros(theta.shape, complex)
         for c in d[::-1]:
-            total = (total + c) * z
+            total += c
+            total *= z
         return total.real
 
     def variance(self, rows, *, white: bool = False) -> np.ndarray:
