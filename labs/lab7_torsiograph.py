@@ -390,12 +390,10 @@ def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
     trace_field = "channel" if "channel" in entry else "signal"
     revs = revolutions(tdc_times, per_revolution=settings["tdc_per_revolution"])
     cycles = trace.size / rate * revs.angular_speed / (2 * np.pi) / (strokes // 2)
-    analyse = analyse_trace if cycles >= MIN_CYCLES - CYCLE_SLACK else read_oscillations
     try:
-        result = analyse(time, trace, tdc_times, natural_frequency=settings["f_c"].value,
-                         damping_ratio=settings["zeta"].value,
-                         per_revolution=settings["tdc_per_revolution"], strokes=strokes,
-                         blur=_blur(trace_channel))
+        result = _analysed(cycles >= MIN_CYCLES - CYCLE_SLACK, time, trace, tdc_times,
+                           settings["f_c"].value, settings["zeta"].value,
+                           settings["tdc_per_revolution"], strokes, _blur(trace_channel))
     except InputError as exc:
         raise refuse(f"channel '{trace_channel.name}': {exc.problem}", exc.fix,
                      trace_field) from None
@@ -420,6 +418,18 @@ def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
                      limit=revs.angular_speed / (rate * span))
     return Recorded(i + 1, entry["load"], Path(path), result, float(cycles), speed,
                     trace_channel)
+
+
+@by_content(shared=True)
+def _analysed(orders: bool, time, trace, tdc_times, f_c: float, zeta: float,
+              per_revolution: int, strokes: int, blur: float) -> Torsiogram:
+    """A trace analysed with its ``orders`` (:func:`analyse_trace`), or where too short for
+    them its single oscillations alone (:func:`read_oscillations`): a function of its samples,
+    its marks and the torsiograph's settings alone (a slip of the tachometer's n, checked
+    against the analysed speed, finds it done)."""
+    analyse = analyse_trace if orders else read_oscillations
+    return analyse(time, trace, tdc_times, natural_frequency=f_c, damping_ratio=zeta,
+                   per_revolution=per_revolution, strokes=strokes, blur=blur)
 
 
 def _blur(channel) -> float:
