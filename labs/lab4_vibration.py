@@ -33,12 +33,12 @@ from __future__ import annotations
 
 import re
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
-from labs import catalogue, lab4_vibration_report as report
+from labs import catalogue, lab4_vibration_report as lab_report
 from processing.vibration.band_rms import (BANDS, QUANTITIES, BandRMS, band_rms, band_signals,
                                            level_db, peaks)
 from processing.crank.balance import phasor_sum
@@ -163,7 +163,7 @@ SPEC = LabSpec(
                   unit="kg", limit="1 kg", required=False, symbol="m_дв", example=140,
                   plausible=("10 kg", "5000 kg")),
         )),
-        Section("sensor", bi("Accelerometer", "Вибродатчик"), help=report.SENSOR_HELP,
+        Section("sensor", bi("Accelerometer", "Вибродатчик"), help=lab_report.SENSOR_HELP,
                 fields=(
             Field("sensitivity", bi("sensitivity with its limit, e.g. \"10.2 mV/(m/s^2) "
                                     "± 2 %\" or \"100 mV/g ± 2 %\"",
@@ -189,7 +189,7 @@ SPEC = LabSpec(
             Field("direction", bi("direction of measurement", "направление измерения"),
                   kind="choice", choices=DIRECTIONS),
         )),
-        Section("record", bi("Record", "Запись"), many=True, help=report.RECORD_HELP,
+        Section("record", bi("Record", "Запись"), many=True, help=lab_report.RECORD_HELP,
                 fields=(
             Field("signal", bi("the record: CSV, WAV or HDF5 file", "файл записи: CSV, WAV "
                                "или HDF5"), kind="file", example="n2000.csv"),
@@ -220,7 +220,7 @@ SPEC = LabSpec(
                   required=False),
         )),
         Section("reading", bi("Meter reading", "Показания виброметра"), many=True,
-                help=report.READING_HELP, fields=(
+                help=lab_report.READING_HELP, fields=(
             Field("point", bi("number of the point (1, 2, … in the order of [[point]])",
                               "номер точки"), kind="count"),
             Field("n", bi("speed", "частота вращения"), **ENGINE_SPEED, limit="10 rpm",
@@ -453,12 +453,32 @@ def _channel(p: int, name: str, x: np.ndarray, rate: float, timing, strokes: int
     return Channel(0, p + 1, name, rms, pp, fit)
 
 
+@by_content(lambda i, entry, names: (i, names, *(entry.get(k) for k in
+                                                  ("signal", "tdc_channel", "sample_rate"))),
+            shared=True)
+def _read(i: int, entry: dict, names: list[str]):
+    """Record ``i``'s accelerometer channels ``names`` read (in volts) and checked, their
+    sample rate, and its TDC channel (None without): a function of the recording, the
+    channels named and the sample rate alone (a slip of the tachometer's n finds it done)."""
+    where = f"record[{i}]"
+    accelerometers, tdc = _open(entry, names, where)
+    rate = accelerometers[0].sample_rate
+    data = [c.read().astype(float) * c.volts_per_code for c in accelerometers]
+    for name, x in zip(names, data):
+        check_record(x, rate, file=str(entry["signal"]), field=f"{where}.channels", channel=name,
+                     least_duration=LEAST_DURATION, purpose={"en": "the meter's band reading", "ru": "показания прибора в полосе"},
+                     broadband=True)
+    return rate, data, tdc
+
+
 @by_content(lambda inputs, i, entry, points, phases: (i, entry, points, phases,
-                                                      inputs["engine"]["strokes"]))
+                                                      inputs["engine"]["strokes"]),
+            shared=True)
 def _record(inputs: Inputs, i: int, entry: dict, points: int, phases) -> Recorded:
     """Record ``i``'s channels read and analysed: a function of its entry, the engine's
     strokes, the points and the cylinders' phases alone (a slip of the engine's R or m_j finds
-    it done)."""
+    it done). Shared by the reductions that reuse it: each takes its own :func:`_sweep_copy`
+    to number and compare."""
     where = f"record[{i}]"
     path = entry["signal"]
 
@@ -474,13 +494,7 @@ def _record(inputs: Inputs, i: int, entry: dict, points: int, phases) -> Recorde
     if stated is not None and not 1 <= stated <= len(phases):
         raise inputs.error(f"cut_cylinder = {stated}: the engine has {len(phases)} cylinders",
                            f"give a cylinder 1…{len(phases)}", f"{where}.cut_cylinder")
-    accelerometers, tdc = _open(entry, names, where)
-    rate = accelerometers[0].sample_rate
-    data = [c.read().astype(float) * c.volts_per_code for c in accelerometers]
-    for name, x in zip(names, data):
-        check_record(x, rate, file=str(path), field=f"{where}.channels", channel=name,
-                     least_duration=LEAST_DURATION, purpose={"en": "the meter's band reading", "ru": "показания прибора в полосе"},
-                     broadband=True)
+    rate, data, tdc = _read(i, entry, names)
     strokes = inputs["engine"]["strokes"]
     timing = _timing(entry, tdc, rate, data[0].size, strokes, refuse, where)
     if isinstance(timing, Timing):
@@ -494,6 +508,12 @@ def _record(inputs: Inputs, i: int, entry: dict, points: int, phases) -> Recorde
              for p, (name, x) in enumerate(zip(names, data))]
     return Recorded(i + 1, Path(path), entry["ignition"], speed, chans, entry["tdc"] == "cycle",
                     stated, unmarked=None if isinstance(timing, Timing) else timing, rate=rate)
+
+
+def _sweep_copy(r: Recorded) -> Recorded:
+    """The record as :func:`_record` analysed it, with its own channels and ignition-cut
+    findings for a reduction to number and fill (the analyses themselves shared, unchanged)."""
+    return replace(r, channels=[replace(c) for c in r.channels], cut={}, healthy=None)
 
 
 def _check_speed(entry: dict, w: float, refuse, where: str) -> None:
@@ -513,7 +533,7 @@ def _check_speed(entry: dict, w: float, refuse, where: str) -> None:
                       "check n, the TDC channel, tdc = \"cycle\" or \"revolution\" and the "
                       "recorder's sample rate", "n")
 
-    check_tachometer(w, n, refused, lambda: report.speed_disagrees(where, w, n.value))
+    check_tachometer(w, n, refused, lambda: lab_report.speed_disagrees(where, w, n.value))
 
 
 # ------------------------------------------------------------------------ the sweep
@@ -527,7 +547,7 @@ def _cut_cylinders(recorded: list[Recorded], phases) -> None:
         near = [h for h in healthy if abs(h.speed.value / r.speed.value - 1) <= SAME_SPEED
                 and h.cycle_marks == r.cycle_marks]
         if not near:
-            warnings.warn(report.no_healthy(r.number, r.speed.value))
+            warnings.warn(lab_report.no_healthy(r.number, r.speed.value))
             continue
         h = min(near, key=lambda h: abs(h.speed.value - r.speed.value))
         r.healthy = h.number
@@ -746,7 +766,7 @@ def _check_records(inputs: Inputs, recorded: list[Recorded], readings: list[Read
     floor = [(c.number, q, c.rms.floor[q] / c.rms[q]) for r in recorded for c in r.channels
              for q in QUANTITIES if c.rms[q] > 0 and c.rms.floor[q] > FLOOR_SHARE * c.rms[q]]
     if floor:
-        warnings.warn(report.on_floor(floor, FLOOR_SHARE))
+        warnings.warn(lab_report.on_floor(floor, FLOOR_SHARE))
 
 
 def _check_cut(recorded: list[Recorded]) -> None:
@@ -756,13 +776,14 @@ def _check_cut(recorded: list[Recorded]) -> None:
         if r.ignition != "cut" or v is None:
             continue
         if not v.found:
-            warnings.warn(report.cut_not_found(r.number, v.rise))
+            warnings.warn(lab_report.cut_not_found(r.number, v.rise))
         elif r.cut_stated is not None and v.cylinder != r.cut_stated:
-            warnings.warn(report.cut_disagrees(r.number, v.cylinder, r.cut_stated,
-                                               v.confidence))
+            warnings.warn(lab_report.cut_disagrees(r.number, v.cylinder, r.cut_stated,
+                                                   v.confidence))
 
 
-def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20034) -> LabResult:
+def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20034,
+           report: bool = True) -> LabResult:
     """Reduce lab 4's records and meter readings.
 
     Parameters
@@ -771,6 +792,9 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20034) -> LabR
         A validated measurement file (:func:`processing.measurement.load` with :data:`SPEC`).
     n_samples, seed : int
         Monte Carlo draws and their seed.
+    report : bool
+        Also the report's tables, figures and conclusion (False: the results, comparisons
+        and warnings alone, what a check and its slips read).
 
     Returns
     -------
@@ -794,15 +818,15 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20034) -> LabR
     phases = _check_inputs(inputs)
     points = len(inputs["point"])
     with collect_notices() as notices:
-        recorded = [_record(inputs, i, e, points, phases)
+        recorded = [_sweep_copy(_record(inputs, i, e, points, phases))
                     for i, e in enumerate(inputs.sections.get("record", []))]
         unmarked = [(r.number, r.unmarked) for r in recorded if not r.marked]
         if unmarked:
-            warnings.warn(report.no_marks(unmarked))
+            warnings.warn(lab_report.no_marks(unmarked))
         slow = [(r.number, r.rate) for r in recorded
                 if r.rate / 2 < max(b.high for b in BANDS.values())]
         if slow:
-            warnings.warn(report.band_beyond_nyquist(slow))
+            warnings.warn(lab_report.band_beyond_nyquist(slow))
         j = 0
         for r in recorded:
             for c in r.channels:
@@ -811,7 +835,7 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20034) -> LabR
         if inputs["engine"]["strokes"] == 4:
             _cut_cylinders(recorded, phases)
         elif any(r.ignition == "cut" for r in recorded):
-            warnings.warn(report.two_stroke_cut())
+            warnings.warn(lab_report.two_stroke_cut())
         readings = _pair_readings(inputs, recorded, points)
         _check_records(inputs, recorded, readings)
         _check_cut(recorded)
@@ -821,21 +845,23 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20034) -> LabR
         reference = inputs["meter"]["db_reference"] if "meter" in inputs else "iso1683"
         prop = propagate(_model(recorded, readings, crank_angles, forces, reference),
                          _flat(inputs, recorded, readings), n_samples=n_samples, seed=seed)
-        declared = report.result_names(recorded, readings, forces, "mass" in engine,
-                                       inputs["point"])
+        declared = lab_report.result_names(recorded, readings, forces, "mass" in engine,
+                                           inputs["point"])
         results = result_values(prop, declared)
-        results.update(report.cut_results(recorded))
+        results.update(lab_report.cut_results(recorded))
         pairs = [(f"{q}_rms_{rd.number}", f"{q}_meter_{rd.number}") for rd in readings
                  if rd.paired for q in QUANTITIES]
         comparisons = compare(prop, pairs)
         _check_meter(comparisons, results, inputs)
         flag_estimates({k: v for k, v in results.items() if not k.startswith("cut_")}, [])
+    if not report:
+        return LabResult.of(inputs, results, comparisons=comparisons, warnings=notices)
     parts = dict(recorded=recorded, readings=readings, results=results, points=inputs["point"],
                  phases=phases, reference=reference, comparisons=comparisons)
     return LabResult.of(inputs, results, comparisons=comparisons,
-                        tables=report.tables(**parts), figures=report.figures(**parts),
-                        formulas=report.FORMULAS, references=report.REFERENCES,
-                        warnings=notices, conclusion=report.conclusion(**parts))
+                        tables=lab_report.tables(**parts), figures=lab_report.figures(**parts),
+                        formulas=lab_report.FORMULAS, references=lab_report.REFERENCES,
+                        warnings=notices, conclusion=lab_report.conclusion(**parts))
 
 
 def _check_meter(comparisons, results, inputs: Inputs) -> None:
@@ -845,7 +871,7 @@ def _check_meter(comparisons, results, inputs: Inputs) -> None:
     off = [(c.a, c.b, results[c.a].value / results[c.b].value - 1) for c in comparisons
            if abs(results[c.a].value / results[c.b].value - 1) > limit]
     if off:
-        warnings.warn(report.meter_disagrees(off, limit))
+        warnings.warn(lab_report.meter_disagrees(off, limit))
 
 
 # ------------------------------------------------------------------------ slips
@@ -907,8 +933,6 @@ def bench_variant(seed: int):
     chart : str
         The chart's sensitivity as the file gives it, without its limit.
     """
-    from dataclasses import replace
-
     from processing.synth.engine import Engine
     from processing.synth.engine_mount import Block
 

@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-from labs import lab7_torsiograph_report as report
+from labs import lab7_torsiograph_report as lab_report
 from processing.diagnostics import InputError, collect_notices
 from processing.crank.dynamics import firing_phases
 from processing.speed.edges import detect_edges
@@ -149,7 +149,7 @@ SPEC = LabSpec(
                   kind="text", required=False),
         )),
         Section("torsiograph", bi("Torsiograph and recorder", "Торсиограф и регистратор"),
-                help=report.TORSIOGRAPH_HELP, fields=(
+                help=lab_report.TORSIOGRAPH_HELP, fields=(
             Field("f_c", bi("natural frequency of the torsiograph's inertia mass",
                             "частота собственных колебаний инерционной массы торсиографа"),
                   unit="Hz", limit="0.1 Hz", symbol="f_c", example=7.5,
@@ -164,7 +164,7 @@ SPEC = LabSpec(
                   **MARK_PERIOD, required=False, symbol="T_отм"),
         )),
         Section("calibration", bi("Static calibration", "Статическая тарировка"),
-                help=report.CALIBRATION_HELP, fields=(
+                help=lab_report.CALIBRATION_HELP, fields=(
             Field("R", bi("lever radius", "длина рычага"), unit="mm", limit="0.5 mm",
                   symbol="R", example=200, plausible=("10 mm", "2000 mm")),
             Field("h", bi("micrometer rises", "подъёмы микрометрического винта"), unit="mm",
@@ -178,7 +178,7 @@ SPEC = LabSpec(
         )),
         Section("chain", bi("Equivalent torsional system (optional)",
                             "Эквивалентная крутильная система (необязательно)"),
-                help=report.CHAIN_HELP, fields=(
+                help=lab_report.CHAIN_HELP, fields=(
             Field("J", bi("moments of inertia of the discs, from the nose",
                           "моменты инерции масс, начиная с носка"), unit="kg*m^2",
                   symbol="J", example="[0.05, 0.035, 0.035, 0.035, 0.035, 1.3]", series=True,
@@ -189,7 +189,7 @@ SPEC = LabSpec(
                   plausible=("1e3 N*m/rad", "1e8 N*m/rad")),
         )),
         Section("record", bi("Record", "Торсиограмма"), many=True,
-                help=report.RECORD_HELP, fields=(
+                help=lab_report.RECORD_HELP, fields=(
             Field("signal", bi("torsiograph record: CSV, WAV or HDF5 file, or a photograph or "
                                "scan of the paper torsiogram ([image])",
                                "запись торсиографа: файл CSV, WAV или HDF5 или снимок "
@@ -390,12 +390,10 @@ def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
     trace_field = "channel" if "channel" in entry else "signal"
     revs = revolutions(tdc_times, per_revolution=settings["tdc_per_revolution"])
     cycles = trace.size / rate * revs.angular_speed / (2 * np.pi) / (strokes // 2)
-    analyse = analyse_trace if cycles >= MIN_CYCLES - CYCLE_SLACK else read_oscillations
     try:
-        result = analyse(time, trace, tdc_times, natural_frequency=settings["f_c"].value,
-                         damping_ratio=settings["zeta"].value,
-                         per_revolution=settings["tdc_per_revolution"], strokes=strokes,
-                         blur=_blur(trace_channel))
+        result = _analysed(cycles >= MIN_CYCLES - CYCLE_SLACK, time, trace, tdc_times,
+                           settings["f_c"].value, settings["zeta"].value,
+                           settings["tdc_per_revolution"], strokes, _blur(trace_channel))
     except InputError as exc:
         raise refuse(f"channel '{trace_channel.name}': {exc.problem}", exc.fix,
                      trace_field) from None
@@ -420,6 +418,18 @@ def _record(inputs: Inputs, i: int, entry: dict) -> Recorded:
                      limit=revs.angular_speed / (rate * span))
     return Recorded(i + 1, entry["load"], Path(path), result, float(cycles), speed,
                     trace_channel)
+
+
+@by_content(shared=True)
+def _analysed(orders: bool, time, trace, tdc_times, f_c: float, zeta: float,
+              per_revolution: int, strokes: int, blur: float) -> Torsiogram:
+    """A trace analysed with its ``orders`` (:func:`analyse_trace`), or where too short for
+    them its single oscillations alone (:func:`read_oscillations`): a function of its samples,
+    its marks and the torsiograph's settings alone (a slip of the tachometer's n, checked
+    against the analysed speed, finds it done)."""
+    analyse = analyse_trace if orders else read_oscillations
+    return analyse(time, trace, tdc_times, natural_frequency=f_c, damping_ratio=zeta,
+                   per_revolution=per_revolution, strokes=strokes, blur=blur)
 
 
 def _blur(channel) -> float:
@@ -577,7 +587,7 @@ def _check_speed(entry: dict, result: Torsiogram, where: str, path) -> None:
                           "[torsiograph] (marks per crankshaft revolution) and the recorder's "
                           "sample rate", file=str(path), field=f"{where}.n")
 
-    check_tachometer(w, n, refused, lambda: report.speed_disagrees(where, w, n.value))
+    check_tachometer(w, n, refused, lambda: lab_report.speed_disagrees(where, w, n.value))
 
 
 # ------------------------------------------------------------------------ calibration
@@ -817,7 +827,7 @@ def _chain_model(x: dict, chain: Chain) -> dict:
     out = {f"f_model_{m}": f_m
            for m, f_m in enumerate(np.moveaxis(modes.frequency, -1, 0), 1)}
     for m, k in chain.criticals:
-        phase_sum, n_crit = report.critical_names(m, k)
+        phase_sum, n_crit = lab_report.critical_names(m, k)
         out[phase_sum] = relative_phase_sum(k, chain.phases,
                                             chain.crank_amplitudes(modes.shape, m))
         out[n_crit] = critical_speed(out[f"f_model_{m}"], k)
@@ -858,7 +868,8 @@ def _check_inputs(inputs: Inputs) -> None:
                                "brake)", "chain.c")
 
 
-def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20037) -> LabResult:
+def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20037,
+           report: bool = True) -> LabResult:
     """Reduce lab 7's calibration and records to the scale, the records' amplitudes and the
     resonances; or, with the chain alone (before the test), its modes and critical speeds.
 
@@ -869,6 +880,9 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20037) -> LabR
         record paths are relative to the file.
     n_samples, seed : int
         Monte Carlo draws and their seed.
+    report : bool
+        Also the report's tables, figures and conclusion (False: the results, comparisons
+        and warnings alone, what a check and its slips read).
 
     Returns
     -------
@@ -897,16 +911,18 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20037) -> LabR
         modes = None
         if chain is not None:
             modes = natural_modes(inputs["chain"]["J"].readings, inputs["chain"]["c"].readings)
-        pairs = report.model_pairs(found, modes)
+        pairs = lab_report.model_pairs(found, modes)
         comparisons = compare(prop, pairs)
-        declared = report.result_names(recorded, found, modes,
-                                       chain.criticals if chain else ())
+        declared = lab_report.result_names(recorded, found, modes,
+                                           chain.criticals if chain else ())
         results = result_values(prop, declared)
         if recorded:
-            results.update(report.record_results(recorded, found, results,
-                                                 settings["f_c"].value))
+            results.update(lab_report.record_results(recorded, found, results,
+                                                     settings["f_c"].value))
             _warn(inputs, recorded, found, edges, results)
         flag_estimates(results, comparisons)
+    if not report:
+        return LabResult.of(inputs, results, comparisons=comparisons, warnings=notices)
     engine = inputs["engine"]
     majors = major_orders(engine["cylinders"], strokes=engine["strokes"],
                           firing_order=firing_order(inputs), max_order=24.0)
@@ -915,11 +931,11 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20037) -> LabR
                  calibration=(inputs["calibration"], cal_fit) if recorded else None,
                  f_c=settings["f_c"].value if recorded else None)
     return LabResult.of(inputs, results, comparisons=comparisons,
-                        tables=report.tables(**parts),
-                        figures=report.figures(**parts) + read_figures(
+                        tables=lab_report.tables(**parts),
+                        figures=lab_report.figures(**parts) + read_figures(
                             [r.channel for r in recorded]),
-                        formulas=report.FORMULAS, references=report.REFERENCES,
-                        warnings=notices, conclusion=report.conclusion(**parts))
+                        formulas=lab_report.FORMULAS, references=lab_report.REFERENCES,
+                        warnings=notices, conclusion=lab_report.conclusion(**parts))
 
 
 def _warn(inputs: Inputs, recorded, found, edges, results) -> None:
@@ -928,19 +944,19 @@ def _warn(inputs: Inputs, recorded, found, edges, results) -> None:
     low = [(r.number, r.trace.lowest_frequency(CARRYING_SHARE) / f_c) for r in recorded]
     low = [(i, ratio) for i, ratio in low if ratio < RESPONSE_RATIO]
     if low:
-        warnings.warn(report.response_warning(low, RESPONSE_RATIO))
+        warnings.warn(lab_report.response_warning(low, RESPONSE_RATIO))
     short = [(r.number, r.cycles) for r in recorded
              if r.trace.fit is not None and r.cycles < FEW_CYCLES - CYCLE_SLACK]
     if short:
-        warnings.warn(report.short_warning(short, FEW_CYCLES))
+        warnings.warn(lab_report.short_warning(short, FEW_CYCLES))
     bare = [(r.number, r.cycles) for r in recorded if r.trace.fit is None]
     if bare:
-        warnings.warn(report.orders_left_out(bare, MIN_CYCLES))
+        warnings.warn(lab_report.orders_left_out(bare, MIN_CYCLES))
     vague = [(r.number, results[f"phi_max_{r.number}"]) for r in recorded]
     vague = [(i, phi.estimate.U / phi.value) for i, phi in vague
              if not phi.estimate.U < phi.value]
     if vague:
-        warnings.warn(report.amplitude_in_noise(vague))
+        warnings.warn(lab_report.amplitude_in_noise(vague))
     drifting = []
     for r in recorded:
         phi = results[f"phi_max_{r.number}"]
@@ -948,22 +964,22 @@ def _warn(inputs: Inputs, recorded, found, edges, results) -> None:
                                                   or not np.isfinite(r.trace.frequency)):
             drifting.append((r.number, r.trace.drift_ratio, phi.u / phi.value))
     if drifting:
-        warnings.warn(report.drift_warning(drifting))
+        warnings.warn(lab_report.drift_warning(drifting))
     unread = [r.number for r in recorded if not np.isfinite(r.trace.frequency)]
     if unread:
-        warnings.warn(report.unread_warning(unread))
+        warnings.warn(lab_report.unread_warning(unread))
     step = 0.5 if inputs["engine"]["strokes"] == 4 else 1.0
     peaks = {f.peak: f.resonance.order for f in found}
     mixed = [(r.number, r.trace.K, peaks[r.number]) for r in recorded
              if r.number in peaks and abs(r.trace.K - peaks[r.number]) > step / 2]
     if mixed:
-        warnings.warn(report.mixed_warning(mixed))
+        warnings.warn(lab_report.mixed_warning(mixed))
     for f in found:
         if not f.resonance.resolved:
-            warnings.warn(report.unresolved_warning(f))
+            warnings.warn(lab_report.unresolved_warning(f))
     for load, edge in edges:
         if edge.side == "high":
-            warnings.warn(report.edge_warning(load, edge))
+            warnings.warn(lab_report.edge_warning(load, edge))
 
 
 # ------------------------------------------------------------------------ slips

@@ -316,11 +316,12 @@ def result_values(prop: Propagation, declared: Mapping[str, tuple]) -> dict[str,
     def marker(rest, kind):
         return next((r for r in rest if isinstance(r, kind)), None)
 
-    return {name: ResultValue(name, prop[name], _si(disp), label, symbol,
+    estimates = prop.estimates([name for name in declared if name in prop])
+    return {name: ResultValue(name, estimates[name], _si(disp), label, symbol,
                               disp, signed=SIGNED in rest, positive=STRICTLY_POSITIVE in rest,
                               within=marker(rest, Within), key=KEY in rest,
                               typical=marker(rest, Typical))
-            for name, (label, symbol, disp, *rest) in declared.items() if name in prop}
+            for name, (label, symbol, disp, *rest) in declared.items() if name in estimates}
 
 
 def computed(estimates: Mapping[str, Estimate | float],

@@ -214,9 +214,19 @@ class Propagation:
 
     def __getitem__(self, name: str) -> Estimate:
         if name not in self._cache:
-            self._cache[name] = self._estimate(
-                self._nominal[name], self._jac[name], self._mc[name], self._mc_lin[name])
+            self.estimates([name])
         return self._cache[name]
+
+    def estimates(self, names) -> dict[str, Estimate]:
+        """The estimates of the outputs ``names``, their linear parts found together (a
+        lab's hundreds of outputs in a few array operations, not one by one)."""
+        todo = [n for n in dict.fromkeys(names) if n not in self._cache]
+        if todo:
+            jac = np.array([self._jac[n] for n in todo]).reshape(len(todo), self._u.size)
+            found = self._estimates([self._nominal[n] for n in todo], jac,
+                                    [self._mc[n] for n in todo], [self._mc_lin[n] for n in todo])
+            self._cache.update(zip(todo, found))
+        return {n: self._cache[n] for n in names}
 
     def names(self) -> list[str]:
         return list(self._nominal)
@@ -227,16 +237,31 @@ class Propagation:
 
     def difference(self, a: str, b: str) -> Estimate:
         """Estimate of output ``a`` minus output ``b``, correlations included."""
-        return self._estimate(self._nominal[a] - self._nominal[b], self._jac[a] - self._jac[b],
-                              self._mc[a] - self._mc[b], self._mc_lin[a] - self._mc_lin[b])
+        return self._estimates([self._nominal[a] - self._nominal[b]],
+                               (self._jac[a] - self._jac[b])[None, :],
+                               [self._mc[a] - self._mc[b]],
+                               [self._mc_lin[a] - self._mc_lin[b]])[0]
 
-    def _estimate(self, value, jac, mc, mc_lin) -> Estimate:
+    def _estimates(self, values, jac: np.ndarray, mcs, mc_lins) -> list[Estimate]:
+        """Estimates of outputs of ``values`` and sensitivities the rows of ``jac``: u and
+        the Welch–Satterthwaite ν of all at once, then each one's budget and Monte Carlo
+        interval."""
         c = np.abs(jac) * self._u
-        u = math.sqrt(float(c @ c))
+        u = np.sqrt([row @ row for row in c])
         finite = self._finite_dof
-        denom = float(np.sum(c[finite] ** 4 / self._dof[finite]))
-        dof = u**4 / denom if denom > 0 else math.inf
-        contrib = {self._inputs[i]: float(c[i]) for i in np.flatnonzero(c)}
+        denom = np.sum(c[:, finite] ** 4 / self._dof[finite], axis=1)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            dof = np.where(denom > 0, u ** 4 / denom, math.inf)
+        contrib = [{} for _ in values]
+        rows, cols = np.nonzero(c)
+        for row, col, share in zip(rows.tolist(), cols.tolist(), c[rows, cols].tolist()):
+            contrib[row][self._inputs[col]] = share
+        return [self._estimate(float(value), ui, nu, budget, mc, mc_lin)
+                for value, ui, nu, budget, mc, mc_lin
+                in zip(values, u.tolist(), dof.tolist(), contrib, mcs, mc_lins)]
+
+    @staticmethod
+    def _estimate(value, u, dof, contrib, mc, mc_lin) -> Estimate:
         if mc.size == 0:
             return Estimate(value, u, dof, contrib, (value, value), 0.0, False)
         ok = np.isfinite(mc)
@@ -300,27 +325,33 @@ def propagate(model: Callable[..., Mapping[str, np.ndarray]],
     p = len(uncertain)
     rng = np.random.default_rng(seed)
     args = {}
+    certain = inputs.keys() - set(uncertain)
     for k, v in inputs.items():
-        if k not in uncertain:
+        if k in certain:
             args[k] = v.value if isinstance(v, Measured) else v
-    steps = {}
-    for i, k in enumerate(uncertain):
-        m = inputs[k]
-        h = rel_step * m.u
-        steps[k] = h
-        col = np.full(1 + 2 * p, m.value)
-        col[1 + 2 * i] += h
-        col[2 + 2 * i] -= h
-        args[k] = np.concatenate([col, m.sample(rng, n_samples)])
+    # one row per uncertain input: its best estimate, ± its step in its own two columns,
+    # then its draws
+    length = 1 + 2 * p + n_samples
+    best = np.array([inputs[k].value for k in uncertain], dtype=float)
+    h = rel_step * np.array([inputs[k].u for k in uncertain])
+    rows = np.empty((p, length))
+    rows[:, :1 + 2 * p] = best[:, None]
+    rows[np.arange(p), 1 + 2 * np.arange(p)] += h
+    rows[np.arange(p), 2 + 2 * np.arange(p)] -= h
+    if n_samples:
+        for row, k in zip(rows, uncertain):
+            row[1 + 2 * p:] = inputs[k].sample(rng, n_samples)
+    args.update(zip(uncertain, rows))
     with np.errstate(all="ignore"):
         out = model(**args)
-    length = 1 + 2 * p + n_samples
     nominal, jac, mc, mc_lin = {}, {}, {}, {}
-    h = np.array([steps[k] for k in uncertain])
-    deltas = np.array([args[k][1 + 2 * p:] - inputs[k].value for k in uncertain]).reshape(
-        p, n_samples)
+    deltas = rows[:, 1 + 2 * p:] - best[:, None]
     for name, y in out.items():
-        y = np.broadcast_to(np.asarray(y, dtype=float), (length,)) if p else np.asarray(y, float).reshape(-1)
+        y = np.asarray(y, dtype=float)
+        if not p:
+            y = y.reshape(-1)
+        elif y.shape != (length,):
+            y = np.broadcast_to(y, (length,))
         nominal[name] = float(y[0])
         jac[name] = (y[1:1 + 2 * p:2] - y[2:2 + 2 * p:2]) / (2 * h)
         mc[name] = np.asarray(y[1 + 2 * p:])

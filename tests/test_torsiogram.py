@@ -164,6 +164,22 @@ def test_noise_ratio_sees_a_disturbance_near_an_order():
     assert r[0] > 100 and r[2] < 2
 
 
+def test_noise_ratio_is_the_mean_of_the_free_bins_near_each_order():
+    # against every bin compared with every order: the bins within half the spacing of it,
+    # less the bin nearest each order, over the white level (the last order near Nyquist)
+    rng = np.random.default_rng(4)
+    rate, size = 500.0, 3001
+    r = rng.standard_normal(size) + 3 * np.sin(2 * np.pi * 61.7 * np.arange(size) / rate)
+    orders = 12.35 * np.arange(1, 21)
+    power = np.abs(np.fft.rfft(r - r.mean())) ** 2
+    f = np.fft.rfftfreq(size, 1 / rate)
+    df = rate / size
+    free = (f > 0) & np.all(np.abs(f[:, None] - orders[None, :]) >= 0.5 * df, axis=1)
+    white = np.median(power[free & (f >= orders[0] - 6.175)]) / np.log(2)
+    expected = [power[free & (np.abs(f - fk) <= 6.175)].mean() / white for fk in orders]
+    assert noise_ratio(r, rate, orders, 12.35) == pytest.approx(expected, rel=1e-12)
+
+
 # ----------------------------------------------------------------------------- one record
 
 @pytest.mark.parametrize("rpm", [800, 1500, 2000])

@@ -49,6 +49,24 @@ def test_difference_of_correlated_outputs_cancels_shared_input():
     assert p["a"].u > 0.9
 
 
+def test_outputs_estimated_together_as_one_by_one():
+    # result_values asks for all outputs at once: each estimate is the one a single output
+    # gets, its budget (u, ν, contributions) and Monte Carlo interval alike
+    inputs = {"x": Measured.from_readings([1.0, 1.1, 0.95]), "y": Measured(2.0, limit=0.2),
+              "z": Measured(3.0, u_b=0.1), "k": 4.0}
+
+    def model(x, y, z, k):
+        return {"a": x * y, "b": y / z + k, "c": x * 0 + 5.0, "d": z ** 2}
+
+    for n_samples in (0, 500):
+        together = propagate(model, inputs, n_samples=n_samples).estimates(["a", "b", "c", "d"])
+        alone = propagate(model, inputs, n_samples=n_samples)
+        for name, e in together.items():
+            assert e == alone[name]
+        assert set(together["a"].contributions) == {"x", "y"}
+        assert together["c"].u == 0.0 and together["c"].contributions == {}
+
+
 def test_strongly_nonlinear_model_is_flagged_and_linear_is_not():
     p = propagate(lambda x: {"inv": 1.0 / x, "lin": 3.0 * x},
                   {"x": Measured(1.0, u_b=0.3)})

@@ -255,8 +255,9 @@ def assess(x, rate: float) -> RecordQuality:
     (True, 0.5, False)
     """
     x = np.asarray(x, dtype=float)
-    distinct = np.unique(x[: min(x.size, 1 << 16)])
-    step = float(np.diff(distinct).min()) if distinct.size > 1 else 0.0
+    gaps = np.diff(np.sort(x[: min(x.size, 1 << 16)]))
+    gaps = gaps[gaps > 0]           # between distinct values
+    step = float(gaps.min()) if gaps.size else 0.0
     return RecordQuality(int(x.size), x.size / rate, clipped_share(x),
                          float(np.ptp(x)) if x.size else 0.0, step, roughness(x))
 

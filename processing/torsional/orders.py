@@ -123,7 +123,8 @@ class OrderFit(Record):
         z = np.exp(1j * s * theta)
         total = np.zeros(theta.shape, complex)
         for c in d[::-1]:
-            total = (total + c) * z
+            total += c
+            total *= z
         return total.real
 
     def variance(self, rows, *, white: bool = False) -> np.ndarray:
@@ -178,28 +179,32 @@ def noise_ratio(residual, sample_rate: float, frequencies, spacing: float) -> np
     fk = np.asarray(frequencies, dtype=float)
     df = sample_rate / r.size
     free = f > 0
-    free[_bins_within(f, fk, 0.5 * df, df, strict=True)] = False
+    fitted, within = _bins_within(f, fk, 0.5 * df, df, strict=True)
+    free[fitted[within]] = False
     white = np.median(power[free & (f >= fk.min() - 0.5 * spacing)]) / np.log(2)
-    ratio = np.ones(fk.size)
-    for j, centre in enumerate(fk):
-        near = _bins_within(f, centre, 0.5 * spacing, df)
-        near = near[free[near]]
-        if near.size and white > 0:
-            ratio[j] = power[near].mean() / white
-    return ratio
+    if not white > 0:
+        return np.ones(fk.size)
+    near, within = _bins_within(f, fk, 0.5 * spacing, df)
+    within &= free[near]
+    count = within.sum(axis=1)
+    mean = np.where(within, power[near], 0.0).sum(axis=1) / np.maximum(count, 1)
+    return np.where(count > 0, mean / white, 1.0)
 
 
-def _bins_within(f, centre, half: float, df: float, *, strict: bool = False) -> np.ndarray:
-    """Indices of the bins f (uniform, spacing ``df``, from 0) within ``half`` of any of
-    ``centre``: abs(f − centre) < ``half`` (``strict``) or ≤ it. Only the bins the distance
-    can reach are compared (one more either side against rounding), not every bin with
-    every centre. [Hz]"""
+def _bins_within(f, centre, half: float, df: float, *,
+                 strict: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """The bins f (uniform, spacing ``df``, from 0) within ``half`` of each of ``centre``:
+    abs(f − centre) < ``half`` (``strict``) or ≤ it. Only the bins the distance can reach are
+    compared (one more either side against rounding), not every bin with every centre: a row
+    of candidate indices per centre (clipped to the bins) and a mask of those within, each
+    bin once in its row. [Hz]"""
     centre = np.atleast_1d(np.asarray(centre, dtype=float))
     reach = int(np.ceil(half / df)) + 1
     first = np.rint(centre / df).astype(int)
-    index = np.clip(first[:, None] + np.arange(-reach, reach + 1)[None, :], 0, f.size - 1)
+    candidate = first[:, None] + np.arange(-reach, reach + 1)[None, :]
+    index = np.clip(candidate, 0, f.size - 1)
     gap = np.abs(f[index] - centre[:, None])
-    return np.unique(index[gap < half if strict else gap <= half])
+    return index, (candidate == index) & (gap < half if strict else gap <= half)
 
 
 def order_fit(time, angle, x, *, step: float = 0.5, max_order: float = 12.0,
@@ -266,8 +271,9 @@ def order_fit(time, angle, x, *, step: float = 0.5, max_order: float = 12.0,
     A[:, :m], A[:, m:2 * m] = powers.real, powers.imag
     A[:, 2 * m:] = drift_cols = np.polynomial.legendre.legvander(u, drift_degree)
     # the normal equations: their inverse is the covariance's anyway, and the columns
-    # (sines, cosines and Legendre polynomials over the record) are near orthogonal
-    normal = np.linalg.pinv(A.T @ A)
+    # (sines, cosines and Legendre polynomials over the record) are near orthogonal; AᵀA is
+    # symmetric, so its pseudo-inverse comes from its eigenvalues (half an SVD's cost)
+    normal = np.linalg.pinv(A.T @ A, hermitian=True)
     coef = normal @ (A.T @ x)
     fitted_orders = A[:, :2 * m] @ coef[:2 * m]
     drift = drift_cols @ coef[2 * m:]

@@ -284,18 +284,19 @@ def extrema(x, threshold: float) -> tuple[np.ndarray, np.ndarray]:
     turn = np.flatnonzero(np.sign(d[1:]) * np.sign(d[:-1]) < 0) + 1
     if turn.size == 0:
         return np.empty(0, int), np.empty(0, int)
-    values = x[turn]
-    kinds = np.where(d[turn - 1] > 0, 1, -1)
+    # the zig-zag walks the turning points as Python numbers (numpy scalars cost a
+    # microsecond an operation, and a long record turns thousands of times)
+    turns = zip(turn.tolist(), np.where(d[turn - 1] > 0, 1, -1).tolist(), x[turn].tolist())
     kept_i, kept_k = [], []
-    best_i, best_k = turn[0], kinds[0]
-    for i, k, v in zip(turn[1:], kinds[1:], values[1:]):
+    best_i, best_k, best_v = next(turns)
+    for i, k, v in turns:
         if k == best_k:
-            if (v - x[best_i]) * k > 0:
-                best_i = i
-        elif (x[best_i] - v) * best_k >= threshold:
+            if (v - best_v) * k > 0:
+                best_i, best_v = i, v
+        elif (best_v - v) * best_k >= threshold:
             kept_i.append(best_i)
             kept_k.append(best_k)
-            best_i, best_k = i, k
+            best_i, best_k, best_v = i, k, v
     return np.asarray(kept_i, dtype=int), np.asarray(kept_k, dtype=int)
 
 

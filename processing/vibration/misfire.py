@@ -157,8 +157,9 @@ def find_cut_cylinder(healthy: OrderFit, suspect: OrderFit, phases, *, cycle_mar
     angle = np.linspace(0, span, 721 if cycle_marks else 361)[:-1]
     k = order[use]
     rng = np.random.default_rng(seed)
-    draws = d + np.einsum("kij,nkj->nki", np.linalg.cholesky(cov + 1e-30 * np.eye(2)),
-                          rng.standard_normal((DRAWS, d.shape[0], 2)))
+    chol = np.linalg.cholesky(cov + 1e-30 * np.eye(2))
+    noise = rng.standard_normal((DRAWS, d.shape[0], 2))
+    draws = d + (chol[:, :, 0] * noise[:, :, :1] + chol[:, :, 1] * noise[:, :, 1:])  # L z
     envelope = _envelope(draws, k, angle)
     sector = 4 * np.pi / i
     owner = np.floor(np.mod(angle[None, :] - phases[:, None], span) / sector) == 0

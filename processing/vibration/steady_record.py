@@ -16,6 +16,8 @@ References
 """
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 DECIMATION_TAPS = 24
@@ -57,6 +59,17 @@ def mean_cycle(signal, angle, cycle: float) -> np.ndarray:
     return np.interp(grid.ravel(), angle, signal).reshape(count, points).mean(axis=0)
 
 
+@lru_cache(maxsize=16)
+def _taps(q: int) -> np.ndarray:
+    """The anti-alias filter of :func:`decimate` by ``q`` (the records of a sweep share a few
+    factors)."""
+    from scipy.signal import firwin
+
+    taps = firwin(DECIMATION_TAPS * q + 1, 0.8 / q, window=("kaiser", 9.0))
+    taps.flags.writeable = False
+    return taps
+
+
 def decimate(time, angle, x, rate: float, highest: float):
     """Time, angle and record at the least rate that keeps ``highest`` below a quarter of it.
 
@@ -88,13 +101,12 @@ def decimate(time, angle, x, rate: float, highest: float):
     >>> round(float(t2[1] - t2[0]), 9), round(float(np.abs(y).max()), 4)
     (0.00125, 1.0)
     """
-    from scipy.signal import firwin, resample_poly
+    from scipy.signal import resample_poly
 
     q = max(1, int(rate / (4 * highest)))
     if q == 1:
         return np.asarray(time), np.asarray(angle), np.asarray(x)
-    taps = firwin(DECIMATION_TAPS * q + 1, 0.8 / q, window=("kaiser", 9.0))
-    y = resample_poly(np.asarray(x, dtype=float), 1, q, window=taps)
+    y = resample_poly(np.asarray(x, dtype=float), 1, q, window=_taps(q))
     cut = DECIMATION_TAPS // 2 + 1
     keep = slice(cut, y.size - cut)
     return np.asarray(time)[::q][keep], np.asarray(angle)[::q][keep], y[keep]
