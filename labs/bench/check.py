@@ -46,7 +46,8 @@ from processing.checking.input_slips import INPUT_SLIPS
 from processing.inputs.reuse import scope
 from processing.measurement import load, read_toml
 
-from labs.teachers.check import CHECK_SAMPLES, Check, _input_slips, _lab_slips, check, copies
+from labs.teachers.check import (BLAS_THREADS, CHECK_SAMPLES, Check, _input_slips, _lab_slips,
+                                 check, copies)
 from labs.registry import LABS, evaluate
 
 LABS_CHECKED = ("lab1", "lab2", "lab3", "lab4", "lab5", "lab6", "lab7", "lab8", "lab9", "dyncalc")
@@ -357,15 +358,19 @@ def _formula_detail(formula: pd.DataFrame) -> str:
 
 
 def _checked(files: list[str], lab_of: dict[str, str]) -> tuple[dict, dict]:
-    """Every file checked, and the CPU time of each check but each lab's first: that one
-    pays the imports and the per-process caches a class pays once, not a submission's cost
-    (NaN for it). [s]"""
+    """Every file checked as ``dynlab check`` checks a class (numpy's BLAS on
+    :data:`~labs.teachers.check.BLAS_THREADS` thread: one core), and the CPU time of each
+    check but each lab's first: that one pays the imports and the per-process caches a class
+    pays once, not a submission's cost (NaN for it). [s]"""
+    from threadpoolctl import threadpool_limits
+
     judged, seconds, warm = {}, {}, set()
-    for f in files:
-        start = time.process_time()
-        judged[f] = check(f)
-        seconds[f] = time.process_time() - start if lab_of[f] in warm else math.nan
-        warm.add(lab_of[f])
+    with threadpool_limits(limits=BLAS_THREADS):
+        for f in files:
+            start = time.process_time()
+            judged[f] = check(f)
+            seconds[f] = time.process_time() - start if lab_of[f] in warm else math.nan
+            warm.add(lab_of[f])
     return judged, seconds
 
 
