@@ -37,12 +37,13 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import NamedTuple
 
 import numpy as np
 from scipy.signal import savgol_coeffs
 
-from processing.oscillations.decay import BaselineChoice, DampedSineFit, fit_baselines
+from processing.oscillations.decay import BaselineChoice, DampedSineFit, fit_baselines_each
 from processing.oscillations.savgol import savgol
 from processing.result import Record
 from processing.inputs.reuse import by_content
@@ -282,18 +283,19 @@ def valve_events(time, force, preload: float, *, noise: float,
         return []
     longest = max(b - a for a, b in runs)
     runs = [r for r in _merge(runs, GAP_SHARE * longest) if r[1] - r[0] > 0.5 * longest]
-    events = []
-    for a, b in runs:
-        if a == 0 or b == y.size - 1:
-            continue
-        events.append(_event(t, y, smooth, a, b, preload, noise, s_noise, period,
-                             resolution, cut))
-    return [e for e in events if e is not None]
+    found = [_event(t, y, smooth, a, b, preload, noise, s_noise, resolution, cut)
+             for a, b in runs if a != 0 and b != y.size - 1]
+    found = [f for f in found if f is not None]
+    oscillations = free_oscillations(t, y, [(start, e.closing) for e, start in found], period,
+                                     exclude=cut)
+    return [replace(e, oscillation=osc) for (e, _), osc in zip(found, oscillations)]
 
 
-def _event(t, y, smooth, a, b, preload, noise, s_noise, period, resolution: float,
-           cut: np.ndarray) -> ValveEvent | None:
-    """One event over the loaded samples a…b (``cut``: the clipped samples)."""
+def _event(t, y, smooth, a, b, preload, noise, s_noise, resolution: float,
+           cut: np.ndarray) -> tuple[ValveEvent, float] | None:
+    """One event over the loaded samples a…b (``cut``: the clipped samples), its free
+    oscillation not yet sought, and where that starts: the opening, or the end of the last
+    loss of contact. [s]"""
     seg = slice(a, b + 1)
     above = np.flatnonzero(y[seg] > preload) + a
     if above.size == 0:
@@ -319,10 +321,6 @@ def _event(t, y, smooth, a, b, preload, noise, s_noise, period, resolution: floa
         k_min = int(np.argmin(smooth[inside])) + up + 1
         t_min, P_min = _vertex(t, smooth, k_min)
         u_min = s_noise
-    try:
-        osc = free_oscillation(t, y, start, closing, period, exclude=cut)
-    except RuntimeError:
-        osc = None
 
     def clipped_at(k):
         reach = SMOOTH_WINDOW // 2 + 1
@@ -330,7 +328,7 @@ def _event(t, y, smooth, a, b, preload, noise, s_noise, period, resolution: floa
 
     return ValveEvent(opening, closing, noise / slope_up, noise / slope_down,
                       (float(t[a]), float(t[b])), P_max, P_min, s_noise, u_min, t_max, t_min,
-                      loss, loss_start, osc, clipped_at(k_max), clipped_at(k_min))
+                      loss, loss_start, None, clipped_at(k_max), clipped_at(k_min)), start
 
 
 def _vertex(t, y, k: int) -> tuple[float, float]:
@@ -370,16 +368,15 @@ def oscillation_period(time, force) -> float:
 
 
 @by_content(shared=True)
-def _fitted(t: np.ndarray, y: np.ndarray, t0: float, T: float,
-            cut: np.ndarray) -> BaselineChoice:
-    """:func:`processing.oscillations.decay.fit_baselines` of a stretch (start ``t0``, period
-    ``T``, samples ``cut`` left out), each stretch fitted once inside a
-    :func:`processing.inputs.reuse.scope`: the fit is a function of the samples alone, so the
-    fit made before of the same samples (a trace's stretch met again by the other valve's
-    calibration, or by a check's slip that leaves the trace as it was) is the one a new fit
-    would give."""
+def _fitted(stretches: tuple[_Stretch, ...]) -> list[BaselineChoice | None]:
+    """:func:`processing.oscillations.decay.fit_baselines_each` of stretches (:func:`_stretch`),
+    fitted together,
+    once inside a :func:`processing.inputs.reuse.scope`: the fits are a function of the
+    samples alone, so the fits made before of the same stretches (a trace's met again by the
+    other valve's calibration, or by a check's slip that leaves the trace as it was) are the
+    ones new fits would give."""
     with np.errstate(over="ignore", invalid="ignore"):
-        return fit_baselines(t, y, start=t0, period=T, exclude=cut)
+        return fit_baselines_each([s[:5] for s in stretches])
 
 
 def free_oscillation(time, force, start: float, stop: float,
@@ -423,6 +420,60 @@ def free_oscillation(time, force, start: float, stop: float,
     >>> round(free_oscillation(t, x, 0.0, 0.04).frequency, 3)
     450.0
     """
+    stretch = _stretch(time, force, start, stop, period, exclude)
+    models = _fitted((stretch,))[0]
+    if models is None:
+        raise RuntimeError("free_oscillation: no baseline's fit converged")
+    return _oscillation(stretch, models)
+
+
+def free_oscillations(time, force, spans, period: float | None = None, *,
+                      exclude=None) -> list[FreeOscillation | None]:
+    """:func:`free_oscillation` over each (start, stop) of ``spans`` (the openings of one
+    trace), the stretches fitted together; None where it raises."""
+    stretches = []
+    for start, stop in spans:
+        try:
+            stretches.append(_stretch(time, force, start, stop, period, exclude))
+        except RuntimeError:
+            stretches.append(None)
+    fitted = iter(_fitted(tuple(s for s in stretches if s is not None)))
+    out = []
+    for stretch in stretches:
+        models = next(fitted) if stretch is not None else None
+        try:
+            out.append(_oscillation(stretch, models) if models is not None else None)
+        except RuntimeError:
+            out.append(None)
+    return out
+
+
+class _Stretch(NamedTuple):
+    """The stretch :func:`free_oscillation` fits."""
+
+    time: np.ndarray
+    samples: np.ndarray
+    start: float
+    """t₀, the largest swing. [s]"""
+    period: float
+    """T, the spectrum's. [s]"""
+    cut: np.ndarray
+    """The samples left out."""
+    stop: float
+    """t₁: :data:`FIT_PERIODS` periods on, or the opening's end. [s]"""
+    rate: float
+    """Sample rate. [Hz]"""
+
+
+def _stretch(time, force, start: float, stop: float, period: float | None,
+             exclude) -> _Stretch:
+    """The stretch :func:`free_oscillation` fits.
+
+    Raises
+    ------
+    RuntimeError
+        Fewer than :data:`MIN_PERIODS` periods to fit.
+    """
     t, y = np.asarray(time, dtype=float), np.asarray(force, dtype=float)
     keep = (t >= start) & (t <= stop)
     cut = np.zeros(t.size, bool) if exclude is None else np.asarray(exclude, bool)
@@ -443,7 +494,19 @@ def free_oscillation(time, force, start: float, stop: float,
         raise RuntimeError(f"free_oscillation: {(t1 - t0) / T:.1f} periods to fit, at least "
                            f"{MIN_PERIODS:g} needed")
     part = (t >= t0) & (t <= t1)
-    models = _fitted(t[part], y[part], t0, T, cut[part])
+    return _Stretch(t[part], y[part], t0, T, cut[part], t1, rate)
+
+
+def _oscillation(stretch: _Stretch, models: BaselineChoice) -> FreeOscillation:
+    """The free oscillation of a stretch (:func:`_stretch`) from its fits.
+
+    Raises
+    ------
+    RuntimeError
+        The fit wandered more than :data:`FREQUENCY_SLACK` from the spectrum's peak, or its
+        frequency is not below the Nyquist frequency.
+    """
+    _, _, t0, T, _, t1, rate = stretch
     fit = models.fit
     f = fit.omega_d / (2 * math.pi)
     if not (abs(f * T - 1) < FREQUENCY_SLACK and 0 <= fit.delta < 2 * math.pi
