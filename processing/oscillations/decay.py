@@ -676,6 +676,7 @@ class _Projection:
         self.gamma_unit = 1.0 / np.array([_span(t) ** 2 for t, _, _ in problems]) \
             if curved else None
         self.powers = np.stack([tau / (2 * np.pi), tau, tau * tau])
+        self.moments = self.powers.transpose(1, 2, 0).copy()          # (K, samples, 3)
         self.widths = np.array([order + 1 for _, _, order in problems])
         basis, R = np.linalg.qr(base)
         self.kept = np.arange(base.shape[2]) < self.widths[:, None]
@@ -707,26 +708,33 @@ class _Projection:
         # a trial step to an envelope that overflows over the record: its residual beyond
         # any other's makes the solver refuse the step and shorten it
         reached = np.isfinite(A).all(axis=(1, 2))
-        A[~reached] = 0.0
+        if not reached.all():
+            A[~reached] = 0.0
         q, r01, inv0, inv1 = _orthonormal(A - self._projected(A))
-        qx = np.einsum("kin,kn->ki", q, self.free)
+        qx = (q @ self.free[..., None])[..., 0]
         c1 = qx[:, 1] * inv1
         c = np.stack([(qx[:, 0] - r01 * c1) * inv0, c1], axis=1)              # R̂⁻¹Q̂ᵀx̃
-        r = self.free - np.einsum("ki,kin->kn", qx, q)
+        r = self.free - (qx[:, None] @ q)[:, 0]
         rate, tau, tau2 = self.powers
-        y = np.einsum("ki,kin->kn", c, A)
-        D = [-w * rate * y, -d * rate * y + tau * (c[:, 1:] * A[:, 0] - c[:, :1] * A[:, 1])]
-        m = np.einsum("jkn,kin->kji", self.powers, A * r[:, None])   # Σ τʲ A_i r: j = rate, τ, τ²
-        V = [-w * m[:, 0], -d * m[:, 0] + np.stack([-m[:, 1, 1], m[:, 1, 0]], axis=1)]
+        y = (c[:, None] @ A)[:, 0]
+        D = np.empty((len(p), p.shape[1], y.shape[1]))
+        D[:, 0] = -w * rate * y
+        D[:, 1] = -d * rate * y + tau * (c[:, 1:] * A[:, 0] - c[:, :1] * A[:, 1])
+        m = (A * r[:, None]) @ self.moments                 # Σ τʲ A_i r: j = rate, τ, τ²
+        V = np.empty((len(p), 2, p.shape[1]))
+        V[:, :, 0] = -w * m[..., 0]
+        V[:, 0, 1], V[:, 1, 1] = -d[:, 0] * m[:, 0, 0] - m[:, 1, 1], -d[:, 0] * m[:, 1, 0] + m[:, 0, 1]
         if curved:
-            D.append(-self.gamma_unit[:, None] * tau2 * y)
-            V.append(-self.gamma_unit[:, None] * m[:, 2])
-        D, V = np.stack(D, axis=1), np.stack(V, axis=2)
-        Z0 = V[:, 0] * inv0[:, None]
-        Z = np.stack([Z0, (V[:, 1] - r01[:, None] * Z0) * inv1[:, None]], axis=1)  # R̂⁻ᵀV
+            D[:, 2] = -self.gamma_unit[:, None] * tau2 * y
+            V[:, :, 2] = -self.gamma_unit[:, None] * m[..., 2]
+        Z = np.empty_like(V)                                                     # R̂⁻ᵀV
+        Z[:, 0] = V[:, 0] * inv0[:, None]
+        Z[:, 1] = (V[:, 1] - r01[:, None] * Z[:, 0]) * inv1[:, None]
         J = (q.transpose(0, 2, 1) @ (q @ D.transpose(0, 2, 1) - Z)
              - (D - self._projected(D)).transpose(0, 2, 1))
-        c[~reached], r[~reached], J[~reached], y[~reached] = np.nan, OUT_OF_REACH, 0.0, np.nan
+        if not reached.all():
+            c[~reached], r[~reached], J[~reached], y[~reached] = \
+                np.nan, OUT_OF_REACH, 0.0, np.nan
         self._key, self._solved, self._oscillation = key, (c, r, J), y
         self._columns = (A, D)
         return self._solved

@@ -100,13 +100,16 @@ class TraceZero(Record):
     noise: float
 
 
+@by_content(shared=True)
 def trace_zero(x) -> TraceZero:
     """The zero of a strain-gauge trace: the mean of the samples within :data:`ZERO_BAND`
     noise σ of its lower quartile (the drive is unloaded over most of a cam revolution), and σ: the
     larger of the white noise from their second differences
     (:func:`processing.oscillations.decay.noise_sd`) and their robust spread about the zero (1.4826
     times the median absolute deviation), which also holds a slow wander of the zero — a trace read
-    off a photograph keeps to its line within a tenth of a pixel, but not sample by sample.
+    off a photograph keeps to its line within a tenth of a pixel, but not sample by sample. Found
+    once for the same samples inside a :func:`processing.inputs.reuse.scope` (a trace analysed
+    again with the other valve's preload).
 
     Examples
     --------
