@@ -48,7 +48,8 @@ from processing.inputs.signals import (image_options, is_image, open_channels,
                                 read_figures)
 from processing.torsional.torsiogram import Revolutions, crank_angle, revolutions
 from processing.uncertainty import Measured, propagate
-from processing.valvetrain.valve_force import NU_POOR, ValveEvent, trace_zero, valve_events
+from processing.valvetrain.valve_force import (NU_POOR, ValveEvent, trace_zero,
+                                              valve_events_each)
 
 from . import catalogue, lab6_valve_dynamics_report as report
 
@@ -415,11 +416,9 @@ def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
     speed = Measured(revs.angular_speed, revs.u_speed, max(revs.speeds.size - 1, 1),
                      limit=revs.angular_speed / (rate * span))
     _check_speed(entry, speed.value, where, photos)
-    traces = {}
     cam_turn = 4 * np.pi / inputs["engine"]["strokes"] / speed.value
-    for valve, x in raw.items():
-        trace = _trace(valve, time, x, valves[valve]["P0"].value / valves[valve]["k"],
-                       photos.get(valve))
+    traces = _traces(time, raw, {v: valves[v]["P0"].value / valves[v]["k"] for v in raw}, photos)
+    for valve, trace in traces.items():
         if not trace.events:
             raise InputError(f"channel '{names[valve]}' holds no whole valve event above its "
                              f"noise (σ = {trace.noise:.3g}) over its {duration:.3g} s, "
@@ -427,24 +426,26 @@ def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
                              "record at least two camshaft revolutions and check the channel "
                              "names, the preload P0 and the amplifier's gain",
                              file=str(entry["signal"]), field=f"{where}.signal")
-        traces[valve] = trace
     return Recorded(i + 1, Path(entry["signal"]), entry["clearance"].value, speed, revs,
                     traces, photos)
 
 
-@by_content(lambda valve, time, x, preload, photo: (
-    valve, time, x, preload, (photo.stroke_value, photo.stroke_time, photo.unit) if photo
-    else None), shared=True)
-def _trace(valve: str, time, x, preload: float, photo) -> Trace:
-    """A valve's force channel analysed (:func:`processing.valvetrain.valve_force.valve_events`)
-    with its preload in the trace's unit: a function of its samples, the preload and, on a
-    photograph, the stroke's width alone."""
-    zero = trace_zero(x)
-    stroke = photo.stroke_value * _paper_mm(photo) if photo else 0.0
-    events = valve_events(time, x - zero.level, preload, noise=zero.noise,
-                          resolution=stroke / 2, clipped=clipped_mask(x))
-    return Trace(valve, time, x - zero.level, zero.noise, events,
-                 photo.stroke_time if photo else 0.0, stroke)
+@by_content(lambda time, raw, preloads, photos: (
+    time, raw, preloads, {v: (p.stroke_value, p.stroke_time, p.unit) for v, p in photos.items()}),
+    shared=True)
+def _traces(time, raw: dict, preloads: dict, photos: dict) -> dict:
+    """Each valve's force channel of a record analysed
+    (:func:`processing.valvetrain.valve_force.valve_events_each`, the free oscillations of
+    both fitted together) with its preload in the trace's unit: a function of the samples,
+    the preloads and, on a photograph, the strokes' widths alone."""
+    zeros = {v: trace_zero(x) for v, x in raw.items()}
+    strokes = {v: photos[v].stroke_value * _paper_mm(photos[v]) if v in photos else 0.0
+               for v in raw}
+    events = valve_events_each([(time, x - zeros[v].level, preloads[v], zeros[v].noise,
+                                 strokes[v] / 2, clipped_mask(x)) for v, x in raw.items()])
+    return {v: Trace(v, time, x - zeros[v].level, zeros[v].noise, found,
+                     photos[v].stroke_time if v in photos else 0.0, strokes[v])
+            for (v, x), found in zip(raw.items(), events)}
 
 
 def _few_marks(inputs: Inputs, entry: dict, found: int, duration: float,

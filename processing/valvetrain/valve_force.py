@@ -273,25 +273,40 @@ def valve_events(time, force, preload: float, *, noise: float,
     opening and closing are the first rising and last falling passage of the raw trace
     through the preload, with u = σ/|dP/dt| there.
     """
+    return valve_events_each([(time, force, preload, noise, resolution, clipped)], period)[0]
+
+
+def valve_events_each(traces, period: float | None = None) -> list[list[ValveEvent]]:
+    """:func:`valve_events` of each of ``traces`` (time, force, preload, noise, resolution,
+    clipped: as its arguments), the free oscillations of all their openings fitted together
+    (:func:`free_oscillations`)."""
+    found = [_openings(*trace) for trace in traces]
+    oscillations = iter(free_oscillations(
+        [(t, y, start, e.closing, cut) for t, y, cut, events in found for e, start in events],
+        period))
+    return [[replace(e, oscillation=next(oscillations)) for e, _ in events]
+            for *_, events in found]
+
+
+def _openings(time, force, preload: float, noise: float, resolution: float, clipped):
+    """The samples, the clipped ones and the events of a trace (:func:`valve_events`), each
+    with where its free oscillation starts, the oscillations not yet sought."""
     t, y = np.asarray(time, dtype=float), np.asarray(force, dtype=float)
-    if y.size <= SMOOTH_WINDOW:
-        return []
     cut = np.zeros(y.size, bool) if clipped is None else np.asarray(clipped, bool)
+    if y.size <= SMOOTH_WINDOW:
+        return t, y, cut, []
     smooth = savgol(y, SMOOTH_WINDOW, 2)
     gain = float(np.sqrt(np.sum(savgol_coeffs(SMOOTH_WINDOW, 2) ** 2)))
     s_noise = noise * gain
     loaded = smooth > max(CONTACT_LEVEL * s_noise, resolution)
     runs = _stretches(loaded)
     if not runs:
-        return []
+        return t, y, cut, []
     longest = max(b - a for a, b in runs)
     runs = [r for r in _merge(runs, GAP_SHARE * longest) if r[1] - r[0] > 0.5 * longest]
     found = [_event(t, y, smooth, a, b, preload, noise, s_noise, resolution, cut)
              for a, b in runs if a != 0 and b != y.size - 1]
-    found = [f for f in found if f is not None]
-    oscillations = free_oscillations(t, y, [(start, e.closing) for e, start in found], period,
-                                     exclude=cut)
-    return [replace(e, oscillation=osc) for (e, _), osc in zip(found, oscillations)]
+    return t, y, cut, [f for f in found if f is not None]
 
 
 def _event(t, y, smooth, a, b, preload, noise, s_noise, resolution: float,
@@ -430,20 +445,22 @@ def free_oscillation(time, force, start: float, stop: float,
     return _oscillation(stretch, models)
 
 
-def free_oscillations(time, force, spans, period: float | None = None, *,
-                      exclude=None) -> list[FreeOscillation | None]:
-    """:func:`free_oscillation` over each (start, stop) of ``spans`` (the openings of one
-    trace), the stretches fitted together; None where it raises."""
+def free_oscillations(openings, period: float | None = None) -> list[FreeOscillation | None]:
+    """:func:`free_oscillation` of each of ``openings`` (time, force, start, stop, exclude:
+    as its arguments; of one trace or of several), the stretches fitted together in the
+    order of their starts (the same stretches met again in another order, a record's valves'
+    traces swapped, are the fits made before); None where it raises."""
     stretches = []
-    for start, stop in spans:
+    for time, force, start, stop, exclude in openings:
         try:
             stretches.append(_stretch(time, force, start, stop, period, exclude))
         except RuntimeError:
             stretches.append(None)
-    fitted = iter(_fitted(tuple(s for s in stretches if s is not None)))
+    ordered = sorted((s for s in stretches if s is not None), key=lambda s: s.start)
+    fitted = dict(zip(map(id, ordered), _fitted(tuple(ordered))))
     out = []
     for stretch in stretches:
-        models = next(fitted) if stretch is not None else None
+        models = fitted.get(id(stretch))
         try:
             out.append(_oscillation(stretch, models) if models is not None else None)
         except RuntimeError:
