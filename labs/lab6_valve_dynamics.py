@@ -48,7 +48,8 @@ from processing.inputs.signals import (image_options, is_image, open_channels,
                                 read_figures)
 from processing.torsional.torsiogram import Revolutions, crank_angle, revolutions
 from processing.uncertainty import Measured, propagate
-from processing.valvetrain.valve_force import NU_POOR, ValveEvent, trace_zero, valve_events
+from processing.valvetrain.valve_force import (NU_POOR, ValveEvent, trace_zero,
+                                              valve_events_each)
 
 from . import catalogue, lab6_valve_dynamics_report as report
 
@@ -275,7 +276,6 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
         rate = next(iter(photos.values())).sample_rate
         labels = {v: str(photos[v].name) for v in names}
     else:
-        rate = entry["sample_rate"].value if "sample_rate" in entry else None
         uses = [({"en": f"the {report.VALVE_WORDS[v]['en']} valve's force",
                   "ru": f"силы {report.VALVE_GENITIVE[v]} клапана"}, c,
                  f"valve[{list(names).index(v)}].channel") for v, c in names.items()]
@@ -285,31 +285,47 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
             uses.append(({"en": "the time marks", "ru": "отметок времени"},
                          entry["marks_channel"], f"{where}.marks_channel"))
         _distinct(inputs, uses)
-        wanted = [c for _, c, _ in uses]
-        channels = open_channels(path, wanted, sample_rate=rate, field=field)
-        rate = channels[0].sample_rate
-        traces = {v: c.read().astype(float) * c.volts_per_code
-                  for v, c in zip(names, channels)}
-        labels = {v: str(c.name) for v, c in zip(names, channels)}
-        tdc = _pulse_marks(channels[len(names)], rate, f"{where}.tdc_channel",
-                           {"en": "TDC marks", "ru": "отметок ВМТ"}, SENSOR_FIX)
-        if len(channels) > len(names) + 1:
-            marks = channels[-1]
-            check_time_marks(inputs, "engine", marks.name,
-                             _pulse_marks(marks, rate, f"{where}.marks_channel",
-                                          {"en": "time marks", "ru": "отметок времени"},
-                                          MARKS_FIX), rate,
-                             lambda problem, fix, key: InputError(
-                                 problem, fix, file=marks.path, field=f"{where}.{key}"),
-                             "2 ms")
-        photos = {}
+        time, channels, tdc = _recorded(inputs, where, entry, tuple(sorted(names.values())))
+        return time, {v: channels[c] for v, c in names.items()}, tdc, {}
     for valve, x in traces.items():
         check_record(x, rate, file=str(path), field=field, channel=labels[valve],
                      purpose={"en": "the valve's forces", "ru": "сил в клапане"},
-                     fix=PHOTO_FIX if photos else SENSOR_FIX,
-                     clipped_effect=CLIPPED_FORCE)
+                     fix=PHOTO_FIX, clipped_effect=CLIPPED_FORCE)
     size = next(iter(traces.values())).size
     return np.arange(size) / rate, traces, tdc, photos
+
+
+@by_content(lambda inputs, where, entry, channels: (
+    where, *(entry.get(k) for k in ("signal", "sample_rate", "tdc_channel", "marks_channel")),
+    channels, inputs["engine"]), shared=True)
+def _recorded(inputs: Inputs, where: str, entry: dict, channels: tuple) -> tuple:
+    """Time, the force ``channels`` by name and the TDC marks' times of a record file, each
+    channel checked to be what it claims (:mod:`processing.inputs.record_quality`), the time
+    marks against the engine's mark period; read once inside a scope for the same channels,
+    whichever valve each is named for (the valves' traces swapped read the same)."""
+    path, field = entry["signal"], f"{where}.signal"
+    rate = entry["sample_rate"].value if "sample_rate" in entry else None
+    wanted = [*channels, entry["tdc_channel"]] + (
+        [entry["marks_channel"]] if "marks_channel" in entry else [])
+    read = open_channels(path, wanted, sample_rate=rate, field=field)
+    rate = read[0].sample_rate
+    traces = {c: ch.read().astype(float) * ch.volts_per_code for c, ch in zip(channels, read)}
+    tdc = _pulse_marks(read[len(channels)], rate, f"{where}.tdc_channel",
+                       {"en": "TDC marks", "ru": "отметок ВМТ"}, SENSOR_FIX)
+    if len(read) > len(channels) + 1:
+        marks = read[-1]
+        check_time_marks(inputs, "engine", marks.name,
+                         _pulse_marks(marks, rate, f"{where}.marks_channel",
+                                      {"en": "time marks", "ru": "отметок времени"},
+                                      MARKS_FIX), rate,
+                         lambda problem, fix, key: InputError(
+                             problem, fix, file=marks.path, field=f"{where}.{key}"),
+                         "2 ms")
+    for (c, x), ch in zip(traces.items(), read):
+        check_record(x, rate, file=str(path), field=field, channel=str(ch.name),
+                     purpose={"en": "the valve's forces", "ru": "сил в клапане"},
+                     fix=SENSOR_FIX, clipped_effect=CLIPPED_FORCE)
+    return np.arange(next(iter(traces.values())).size) / rate, traces, tdc
 
 
 SHARED_SPAN = 0.5
@@ -378,11 +394,11 @@ def _paper_mm(channel) -> float:
     return 1e3 if channel.unit == "m" else 1.0
 
 
-@by_content(lambda inputs, i, entry, valves: (i, entry, valves, inputs["engine"]),
-            shared=True)
 def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
-    """Record ``i`` read and analysed: a function of its entry, the valves' calibrations and
-    the engine's settings alone."""
+    """Record ``i`` read and analysed. Inside a scope (a check's slips reduced again) its
+    channels are read once (:func:`_recorded`) and each valve's trace is analysed once for
+    its samples and preload (:func:`_trace`): a slip of the tachometer's n leaves both as
+    they were, the valves' traces swapped read the same channels."""
     where = f"record[{i}]"
     names = {v: spec.get("channel", v) for v, spec in valves.items()}
     time, raw, tdc, photos = _read(inputs, where, entry, names)
@@ -400,26 +416,36 @@ def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
     speed = Measured(revs.angular_speed, revs.u_speed, max(revs.speeds.size - 1, 1),
                      limit=revs.angular_speed / (rate * span))
     _check_speed(entry, speed.value, where, photos)
-    traces = {}
     cam_turn = 4 * np.pi / inputs["engine"]["strokes"] / speed.value
-    for valve, x in raw.items():
-        zero = trace_zero(x)
-        preload = valves[valve]["P0"].value / valves[valve]["k"]
-        photo = photos.get(valve)
-        stroke = photo.stroke_value * _paper_mm(photo) if photo else 0.0
-        events = valve_events(time, x - zero.level, preload, noise=zero.noise,
-                              resolution=stroke / 2, clipped=clipped_mask(x))
-        if not events:
+    traces = _traces(time, raw, {v: valves[v]["P0"].value / valves[v]["k"] for v in raw}, photos)
+    for valve, trace in traces.items():
+        if not trace.events:
             raise InputError(f"channel '{names[valve]}' holds no whole valve event above its "
-                             f"noise (σ = {zero.noise:.3g}) over its {duration:.3g} s, "
+                             f"noise (σ = {trace.noise:.3g}) over its {duration:.3g} s, "
                              f"{duration / cam_turn:.1f} camshaft revolutions",
                              "record at least two camshaft revolutions and check the channel "
                              "names, the preload P0 and the amplifier's gain",
                              file=str(entry["signal"]), field=f"{where}.signal")
-        traces[valve] = Trace(valve, time, x - zero.level, zero.noise, events,
-                              photo.stroke_time if photo else 0.0, stroke)
     return Recorded(i + 1, Path(entry["signal"]), entry["clearance"].value, speed, revs,
                     traces, photos)
+
+
+@by_content(lambda time, raw, preloads, photos: (
+    time, raw, preloads, {v: (p.stroke_value, p.stroke_time, p.unit) for v, p in photos.items()}),
+    shared=True)
+def _traces(time, raw: dict, preloads: dict, photos: dict) -> dict:
+    """Each valve's force channel of a record analysed
+    (:func:`processing.valvetrain.valve_force.valve_events_each`, the free oscillations of
+    both fitted together) with its preload in the trace's unit: a function of the samples,
+    the preloads and, on a photograph, the strokes' widths alone."""
+    zeros = {v: trace_zero(x) for v, x in raw.items()}
+    strokes = {v: photos[v].stroke_value * _paper_mm(photos[v]) if v in photos else 0.0
+               for v in raw}
+    events = valve_events_each([(time, x - zeros[v].level, preloads[v], zeros[v].noise,
+                                 strokes[v] / 2, clipped_mask(x)) for v, x in raw.items()])
+    return {v: Trace(v, time, x - zeros[v].level, zeros[v].noise, found,
+                     photos[v].stroke_time if v in photos else 0.0, strokes[v])
+            for (v, x), found in zip(raw.items(), events)}
 
 
 def _few_marks(inputs: Inputs, entry: dict, found: int, duration: float,

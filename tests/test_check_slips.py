@@ -157,8 +157,8 @@ def test_a_stretch_fitted_again_is_the_fit_made_before(monkeypatch):
     from processing.inputs.reuse import scope
     from processing.valvetrain import valve_force as vf
 
-    fits, fit = [], vf.fit_baselines
-    monkeypatch.setattr(vf, "fit_baselines", lambda *a, **k: fits.append(1) or fit(*a, **k))
+    fits, fit = [], vf.fit_baselines_each
+    monkeypatch.setattr(vf, "fit_baselines_each", lambda *a, **k: fits.append(1) or fit(*a, **k))
     t = np.arange(0, 0.04, 1e-4)
     x = 50 + 300 * t + 20 * np.exp(-150 * t) * np.cos(2 * np.pi * 450 * t)
     with scope():

@@ -207,16 +207,15 @@ def test_variable_projection_jacobian_is_the_residuals_derivative():
     # from its fit (where Kaufman's shortcut, without the second term, would be off)
     from scipy.optimize._numdiff import approx_derivative
 
-    from processing.oscillations.decay import _baseline_columns, _Projection
+    from processing.oscillations.decay import _projection
 
     rng = np.random.default_rng(3)
     tau = np.linspace(0, 0.05, 300)
     u = tau / tau[-1]
     x = 3 * np.exp(-40 * tau) * np.cos(2 * np.pi * 120 * tau + 0.3) + 0.5 + 0.2 * u \
         + 0.3 * rng.standard_normal(tau.size)
-    for gamma_unit, p in ((None, [0.25, 2 * np.pi * 118]),
-                          (1 / 0.05**2, [0.25, 2 * np.pi * 118, 0.3])):
-        projection = _Projection(tau, _baseline_columns(tau, tau[-1], 2), x, gamma_unit)
+    for curved, p in ((False, [0.25, 2 * np.pi * 118]), (True, [0.25, 2 * np.pi * 118, 0.3])):
+        projection = _projection([(tau, x, 2)], curved)
         exact = projection.jacobian(np.array(p))
         numeric = approx_derivative(projection.residual, np.array(p), method="3-point")
         assert np.max(np.abs(exact - numeric)) < 1e-8 * np.max(np.abs(numeric))

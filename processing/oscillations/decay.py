@@ -651,65 +651,112 @@ MAX_STEPS = 200
 
 
 class _Projection:
-    """Variable projection of the damped sine's fit: for the nonlinear parameters
-    p = (δ, ω_d[, γ/``gamma_unit``]) the residual r = P⊥x left by the linear least squares of
-    the amplitude terms and the baseline (A = QR, P⊥ = I − QQᵀ, c = R⁻¹Qᵀx), and its exact
-    Jacobian, Golub and Pereyra's −P⊥(∂A/∂p)c − Q R⁻ᵀ(∂A/∂p)ᵀr (Hansen, Pereyra & Scherer
-    [2]_, ch. 9): one QR per step instead of a difference quotient's extra solves. The last
-    point's solution is kept: a solver asks for the residual and the Jacobian at the same
-    point.
+    """Variable projection of K damped-sine fits at once, each of its own record on its own
+    polynomial baseline: for the nonlinear parameters p = (δ, ω_d[, γ/``gamma_unit``]) of
+    each, the residual r = P⊥x left by the linear least squares of the amplitude terms and
+    its baseline, and its exact Jacobian, Golub and Pereyra's −P⊥(∂A/∂p)c − (A⁺)ᵀ(∂A/∂p)ᵀr
+    (Hansen, Pereyra & Scherer [2]_, ch. 9). The last point's solution is kept: a solver
+    asks for the residual and the Jacobian at the same point. Made by :func:`_projection`.
 
-    Only the two oscillating columns A₀ = e cos ω_dτ, A₁ = e sin ω_dτ (e = exp(−δω_dτ/2π −
-    γτ²)) depend on p, and their derivatives are A₀, A₁ times τ/2π, τ and τ²
-    (:func:`_column_derivatives`): (∂A/∂p)c and (∂A/∂p)ᵀr are formed from the oscillation
-    y = c₀A₀ + c₁A₁, its quadrature c₁A₀ − c₀A₁ and the moments Σ τᵏ A_i r, without a
-    column per parameter (the records are short: a valve's ringing is a hundred samples, so
-    the cost is in the number of array operations, not in their size)."""
+    The records are padded to the longest with samples that weigh nothing (τ = x = 0, no
+    baseline, the oscillation masked). Each baseline's orthonormal basis Q_k (one QR) and its
+    record without it, x̃ = x − Q_kQ_kᵀx, are made once. Only the two oscillating columns
+    A₀ = e cos ω_dτ, A₁ = e sin ω_dτ (e = exp(−δω_dτ/2π − γτ²)) depend on p: each step
+    orthogonalises them against Q_k and each other (Ã = Q̂R̂, Gram–Schmidt), and by
+    Frisch–Waugh–Lovell r = x̃ − Q̂Q̂ᵀx̃, the amplitudes are R̂⁻¹Q̂ᵀx̃ and the oscillating rows
+    of A⁺ are R̂⁻¹Q̂ᵀ, so that J = Q̂(Q̂ᵀD − R̂⁻ᵀV) − (D − Q_kQ_kᵀD) with D = (∂A/∂p)c and
+    V = (∂A/∂p)ᵀr. Their derivatives are A₀, A₁ times τ/2π, τ and τ²
+    (:func:`_column_derivatives`): D and V are formed from the oscillation y = c₀A₀ + c₁A₁,
+    its quadrature c₁A₀ − c₀A₁ and the moments Σ τᵏ A_i r, without a column per parameter.
+    A valve's ringing is a hundred samples, so the cost is in the number of array operations,
+    not in their size: the K fits share each one."""
 
-    def __init__(self, tau, base, x, gamma_unit: float | None = None):
-        self.tau, self.base, self.x = tau, base, x
-        self.gamma_unit = gamma_unit
+    def __init__(self, problems, tau, x, mask, base, curved: bool):
+        self.problems, self.tau, self.x, self.mask = problems, tau, x, mask
+        self.gamma_unit = 1.0 / np.array([_span(t) ** 2 for t, _, _ in problems]) \
+            if curved else None
         self.powers = np.stack([tau / (2 * np.pi), tau, tau * tau])
+        self.moments = self.powers.transpose(1, 2, 0).copy()          # (K, samples, 3)
+        self.widths = np.array([order + 1 for _, _, order in problems])
+        basis, R = np.linalg.qr(base)
+        self.kept = np.arange(base.shape[2]) < self.widths[:, None]
+        self.base = base * self.kept[:, None]                         # (K, samples, columns)
+        self.basis = basis.transpose(0, 2, 1) * self.kept[..., None]  # Q_kᵀ
+        self.base_inverse = [_inverse(R[k, :b, :b]) for k, b in enumerate(self.widths)]
+        self.free = x - self._projected(x[:, None])[:, 0]             # x̃ = P_k⊥x
         self._key = None
 
+    def _projected(self, rows):
+        """``rows`` (K, m, samples) on each baseline: Q_kQ_kᵀ."""
+        return (rows @ self.basis.transpose(0, 2, 1)) @ self.basis
+
     def solve(self, p):
-        """The linear coefficients c, the residual and its Jacobian at p."""
-        key = tuple(p)
-        if key != self._key:
-            curved = self.gamma_unit is not None
-            d, w = p[0], p[1]
-            g = p[2] * self.gamma_unit if curved else 0.0
-            with np.errstate(over="ignore", invalid="ignore"):
-                A = _columns(self.tau, d, w, g, self.base)
-            if not np.all(np.isfinite(A)):
-                # a trial step to an envelope that overflows over the record: its residual
-                # beyond any other's makes the solver refuse the step and shorten it
-                self._key, self._solved = key, (np.full(A.shape[1], np.nan),
-                                                np.full(self.x.size, OUT_OF_REACH),
-                                                np.zeros((self.x.size, len(p))))
-                return self._solved
-            Q, R = np.linalg.qr(A)
-            qx = Q.T @ self.x
-            Ri = _inverse(R)
-            c = Ri @ qx
-            r = self.x - Q @ qx
-            rate, tau, tau2 = self.powers
-            y = A[:, :2] @ c[:2]
-            D = [-w * rate * y, -d * rate * y + tau * (c[1] * A[:, 0] - c[0] * A[:, 1])]
-            m = self.powers @ (A[:, :2] * r[:, None])      # Σ τᵏ A_i r: rows rate, τ, τ²
-            V = np.zeros((A.shape[1], len(p)))
-            V[:2, 0] = -w * m[0]
-            V[:2, 1] = -d * m[0] + np.array([-m[1, 1], m[1, 0]])
-            if curved:
-                D.append(-self.gamma_unit * tau2 * y)
-                V[:2, 2] = -self.gamma_unit * m[2]
-            D = np.column_stack(D)
-            J = Q @ (Q.T @ D - Ri.T @ V) - D
-            self._key, self._solved = key, (c, r, J)
+        """The amplitudes c (K, 2), the residuals (K, samples) and their Jacobians
+        (K, samples, parameters) at p (K, parameters)."""
+        key = np.asarray(p, dtype=float).tobytes()
+        if key == self._key:
+            return self._solved
+        p = np.asarray(p, dtype=float).reshape(self.widths.size, -1)
+        curved = self.gamma_unit is not None
+        d, w = p[:, :1], p[:, 1:2]
+        g = p[:, 2:3] * self.gamma_unit[:, None] if curved else 0.0
+        tau = self.tau
+        with np.errstate(over="ignore", invalid="ignore"):
+            env = np.exp(-d * w / (2 * np.pi) * tau - g * tau * tau)
+            A = np.stack([env * np.cos(w * tau), env * np.sin(w * tau)], axis=1)
+        A *= self.mask[:, None]
+        # a trial step to an envelope that overflows over the record: its residual beyond
+        # any other's makes the solver refuse the step and shorten it
+        reached = np.isfinite(A).all(axis=(1, 2))
+        if not reached.all():
+            A[~reached] = 0.0
+        q, r01, inv0, inv1 = _orthonormal(A - self._projected(A))
+        qx = (q @ self.free[..., None])[..., 0]
+        c1 = qx[:, 1] * inv1
+        c = np.stack([(qx[:, 0] - r01 * c1) * inv0, c1], axis=1)              # R̂⁻¹Q̂ᵀx̃
+        r = self.free - (qx[:, None] @ q)[:, 0]
+        rate, tau, tau2 = self.powers
+        y = (c[:, None] @ A)[:, 0]
+        D = np.empty((len(p), p.shape[1], y.shape[1]))
+        D[:, 0] = -w * rate * y
+        D[:, 1] = -d * rate * y + tau * (c[:, 1:] * A[:, 0] - c[:, :1] * A[:, 1])
+        m = (A * r[:, None]) @ self.moments                 # Σ τʲ A_i r: j = rate, τ, τ²
+        V = np.empty((len(p), 2, p.shape[1]))
+        V[:, :, 0] = -w * m[..., 0]
+        V[:, 0, 1], V[:, 1, 1] = -d[:, 0] * m[:, 0, 0] - m[:, 1, 1], -d[:, 0] * m[:, 1, 0] + m[:, 0, 1]
+        if curved:
+            D[:, 2] = -self.gamma_unit[:, None] * tau2 * y
+            V[:, :, 2] = -self.gamma_unit[:, None] * m[..., 2]
+        Z = np.empty_like(V)                                                     # R̂⁻ᵀV
+        Z[:, 0] = V[:, 0] * inv0[:, None]
+        Z[:, 1] = (V[:, 1] - r01[:, None] * Z[:, 0]) * inv1[:, None]
+        J = (q.transpose(0, 2, 1) @ (q @ D.transpose(0, 2, 1) - Z)
+             - (D - self._projected(D)).transpose(0, 2, 1))
+        if not reached.all():
+            c[~reached], r[~reached], J[~reached], y[~reached] = \
+                np.nan, OUT_OF_REACH, 0.0, np.nan
+        self._key, self._solved, self._oscillation = key, (c, r, J), y
+        self._columns = (A, D)
         return self._solved
 
-    def minimise(self, p0, scale) -> tuple[np.ndarray, bool]:
-        """The p of least |r(p)|², by Levenberg–Marquardt steps from ``p0``.
+    def coefficients(self, p) -> list[np.ndarray]:
+        """Each fit's linear coefficients at p: its amplitudes, then its baseline's,
+        B_k⁺(x − c₀A₀ − c₁A₁)."""
+        c = self.solve(p)[0]
+        rest = self.x - self._oscillation
+        return [np.concatenate([c[k], self.base_inverse[k] @ (self.basis[k, :b] @ rest[k])])
+                for k, b in enumerate(self.widths)]
+
+    def residual(self, p):
+        """The residual of a single fit (K = 1), for scipy's solver."""
+        return self.solve(p)[1][0]
+
+    def jacobian(self, p):
+        return self.solve(p)[2][0]
+
+    def minimise(self, p0, scale) -> tuple[np.ndarray, np.ndarray]:
+        """The p of least |r(p)|² of each fit, by Levenberg–Marquardt steps from ``p0``
+        (K, parameters), and whether each converged.
 
         Each step solves (JₛᵀJₛ + μ diag JₛᵀJₛ) h = −Jₛᵀr in the variables scaled by
         ``scale`` (Jₛ = J diag ``scale``; μ starts at 10⁻⁶ of the largest diagonal term, a
@@ -717,50 +764,87 @@ class _Projection:
         |r|², and μ follows the gain ratio ϱ of the actual to the predicted decrease
         L = hᵀ(μ diag·h − Jₛᵀr): μ·max(1/3, 1 − (2ϱ − 1)³) after a kept step, μ·ν (ν
         doubling) after a refused one (Madsen, Nielsen & Tingleff, Methods for non-linear
-        least squares problems, DTU, 2004, alg. 3.16). It stops where L or a kept step
-        falls below :data:`TOLERANCES` (converged), or after :data:`MAX_STEPS` (not: the
-        caller falls back to scipy's MINPACK solver). Two or three parameters: a
-        hand-written step costs less than a general solver's set-up.
+        least squares problems, DTU, 2004, alg. 3.16). A fit stops where L or a kept step
+        falls below :data:`TOLERANCES` (converged), or after :data:`MAX_STEPS`, or where its
+        step's matrix is singular (not: the caller falls back to scipy's MINPACK solver);
+        the others step on. Two or three parameters: a hand-written step costs less than a
+        general solver's set-up, and the K fits step together.
         """
         xtol, ftol = TOLERANCES["xtol"], TOLERANCES["ftol"]
         scale = np.asarray(scale, dtype=float)
-        p = np.asarray(p0, dtype=float)
+        p = np.asarray(p0, dtype=float).copy()
         _, r, J = self.solve(p)
-        cost = float(r @ r)
-        mu, nu = None, 2.0
+        cost = np.einsum("kn,kn->k", r, r)
+        mu, nu = None, np.full(cost.size, 2.0)
+        running, converged = np.ones(cost.size, bool), np.zeros(cost.size, bool)
         for _ in range(MAX_STEPS):
-            Js = J * scale
-            H, g = Js.T @ Js, Js.T @ r
-            diag = np.maximum(np.diag(H), np.finfo(float).tiny)
-            mu = 1e-6 * float(np.max(diag)) if mu is None else mu
-            try:
-                h = np.linalg.solve(H + mu * np.diag(diag), -g)
-            except np.linalg.LinAlgError:
-                return p, False
-            predicted = float(h @ (mu * diag * h - g))
-            if predicted <= ftol * cost:
-                return p, True
-            trial = p + scale * h
+            Js = J * scale[:, None]
+            H, g = Js.transpose(0, 2, 1) @ Js, np.einsum("knj,kn->kj", Js, r)
+            diag = np.maximum(np.diagonal(H, axis1=1, axis2=2), np.finfo(float).tiny)
+            mu = 1e-6 * diag.max(axis=1) if mu is None else mu
+            h, solved = _solve_each(H + mu[:, None, None] * _diagonal(diag), -g)
+            running &= solved
+            predicted = np.einsum("kj,kj->k", h, mu[:, None] * diag * h - g)
+            done = running & (predicted <= ftol * cost)
+            converged |= done
+            running &= ~done
+            if not running.any():
+                break
+            trial = np.where(running[:, None], p + scale * h, p)
             _, r_new, J_new = self.solve(trial)
-            cost_new = float(r_new @ r_new)
-            if cost_new < cost:
+            cost_new = np.einsum("kn,kn->k", r_new, r_new)
+            kept = running & (cost_new < cost)
+            with np.errstate(divide="ignore", invalid="ignore"):
                 gain = (cost - cost_new) / predicted
-                small = np.linalg.norm(h) <= xtol * (np.linalg.norm(p / scale) + xtol)
-                p, r, J, cost = trial, r_new, J_new, cost_new
-                if small:
-                    return p, True
-                mu *= max(1.0 / 3.0, 1.0 - (2.0 * gain - 1.0) ** 3)
-                nu = 2.0
-            else:
-                mu *= nu
-                nu *= 2.0
-        return p, False
+            small = np.linalg.norm(h, axis=1) <= xtol * (np.linalg.norm(p / scale, axis=1)
+                                                          + xtol)
+            p[kept], r[kept], J[kept], cost[kept] = trial[kept], r_new[kept], J_new[kept], \
+                cost_new[kept]
+            converged |= kept & small
+            running &= ~(kept & small)
+            refused = running & ~kept
+            mu = np.where(kept, mu * np.maximum(1.0 / 3.0, 1.0 - (2.0 * gain - 1.0) ** 3),
+                          np.where(refused, mu * nu, mu))
+            nu = np.where(kept, 2.0, np.where(refused, 2.0 * nu, nu))
+        return p, converged
 
-    def residual(self, p):
-        return self.solve(p)[1]
 
-    def jacobian(self, p):
-        return self.solve(p)[2]
+def _projection(problems, curved: bool = False) -> _Projection:
+    """The :class:`_Projection` of ``problems``, each (τ, x, baseline degree), padded to the
+    longest; with ``curved``, γ fitted too (in units of 1/τ_max², ``gamma_unit``)."""
+    n = max(tau.size for tau, _, _ in problems)
+    top = max(order for _, _, order in problems)
+    tau, x = np.zeros((len(problems), n)), np.zeros((len(problems), n))
+    mask, base = np.zeros((len(problems), n)), np.zeros((len(problems), n, top + 1))
+    for k, (t, y, _) in enumerate(problems):
+        tau[k, :t.size], x[k, :t.size], mask[k, :t.size] = t, y, 1.0
+        base[k, :t.size] = _baseline_columns(t, _span(t), top)
+    return _Projection(problems, tau, x, mask, base, curved)
+
+
+def _span(tau) -> float:
+    """τ_max, the baseline's unit of time (1 for a single sample)."""
+    return float(tau[-1]) or 1.0
+
+
+def _diagonal(values: np.ndarray) -> np.ndarray:
+    """Diagonal matrices (K, m, m) of ``values`` (K, m)."""
+    return values[:, :, None] * np.eye(values.shape[1])
+
+
+def _solve_each(H: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """h of H h = b for each of K small systems, and which were solved (a singular H is
+    not: its h is 0)."""
+    try:
+        return np.linalg.solve(H, b[..., None])[..., 0], np.ones(len(H), bool)
+    except np.linalg.LinAlgError:
+        h, solved = np.zeros_like(b), np.ones(len(H), bool)
+        for k in range(len(H)):
+            try:
+                h[k] = np.linalg.solve(H[k], b[k])
+            except np.linalg.LinAlgError:
+                solved[k] = False
+        return h, solved
 
 
 def _inverse(R) -> np.ndarray:
@@ -773,16 +857,34 @@ def _inverse(R) -> np.ndarray:
     return out if np.all(np.isfinite(out)) else np.linalg.pinv(R)
 
 
-def _projected(problem: _Projection, guess, scale) -> tuple[np.ndarray, bool]:
-    """The projection's minimum from ``guess`` (:meth:`_Projection.minimise`, or scipy's
-    MINPACK Levenberg–Marquardt where that does not converge), and whether it converged."""
+def _orthonormal(rows) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Gram–Schmidt of K pairs of rows a₀, a₁ (K, 2, samples): orthonormal pairs q with
+    a₀ = R₀₀q₀, a₁ = R₀₁q₀ + R₁₁q₁, and R₀₁, 1/R₀₀, 1/R₁₁ (each (K,)). A row that is nil,
+    or that the other repeats (to 10⁻¹² of its length), spans nothing: its q is 0 and its
+    1/R is 0 (the pseudo-inverse's least-norm solution)."""
+    a0, a1 = rows[:, 0], rows[:, 1]
+    r00 = np.sqrt(np.einsum("kn,kn->k", a0, a0))
+    inv0 = np.divide(1.0, r00, out=np.zeros_like(r00), where=r00 > 0)
+    q0 = a0 * inv0[:, None]
+    r01 = np.einsum("kn,kn->k", q0, a1)
+    rest = a1 - r01[:, None] * q0
+    r11 = np.sqrt(np.einsum("kn,kn->k", rest, rest))
+    spans = r11 > 1e-12 * np.sqrt(np.einsum("kn,kn->k", a1, a1))
+    inv1 = np.divide(1.0, r11, out=np.zeros_like(r11), where=spans)
+    return np.stack([q0, rest * inv1[:, None]], axis=1), r01, inv0, inv1
+
+
+def _projected(problem: _Projection, guess, scale) -> tuple[np.ndarray, np.ndarray]:
+    """Each fit's minimum from ``guess`` (K, parameters) (:meth:`_Projection.minimise`, or
+    scipy's MINPACK Levenberg–Marquardt where that does not converge), and whether it
+    converged."""
     found, converged = problem.minimise(guess, scale)
-    if converged:
-        return found, True
-    best = optimize.least_squares(problem.residual, guess, jac=problem.jacobian,
-                                  x_scale=np.abs(scale), method="lm", **TOLERANCES)
-    problem.solve(best.x)
-    return best.x, bool(best.success)
+    for k in np.flatnonzero(~converged):
+        single = _projection([problem.problems[k]], problem.gamma_unit is not None)
+        best = optimize.least_squares(single.residual, guess[k], jac=single.jacobian,
+                                      x_scale=np.abs(scale[k]), method="lm", **TOLERANCES)
+        found[k], converged[k] = best.x, best.success
+    return found, converged
 
 
 def fit_damped_sine(time, x, *, start: float | None = None, period: float | None = None,
@@ -832,39 +934,143 @@ def fit_damped_sine(time, x, *, start: float | None = None, period: float | None
     >>> round(f.delta, 6), round(f.omega_d / (2 * np.pi), 6)
     (0.4, 10.0)
     """
+    t0, T0, tau, x = _fitted_samples(time, x, start, period, exclude)
+    order = int(baseline_order)
+    size = 5 + order + curved_envelope
+    if tau.size <= size:
+        raise RuntimeError(f"fit_damped_sine: {tau.size} samples to fit, fewer than its "
+                           f"{size} parameters and one")
+    guess = [0.3 if delta is None else float(delta), 2 * np.pi / T0]
+    fit = _fits(*_minima([(tau, x, order, guess)], curved_envelope), [t0])[0]
+    if isinstance(fit, RuntimeError):
+        raise fit
+    return fit
+
+
+def _fitted_samples(time, x, start: float | None, period: float | None, exclude):
+    """t₀, the period to start from (:func:`dominant_period` without one), and τ = t − t₀
+    and x of the samples fitted: from t₀ on, the excluded left out."""
     t, x = np.asarray(time, dtype=float), np.asarray(x, dtype=float)
     t0 = float(t[0]) if start is None else float(start)
     T0 = dominant_period(t[t >= t0], x[t >= t0]) if period is None else float(period)
     keep = t >= t0
     if exclude is not None:
         keep &= ~np.asarray(exclude, bool)
-    t, x = t[keep], x[keep]
-    order = int(baseline_order)
-    size = 5 + order + curved_envelope
-    if t.size <= size:
-        raise RuntimeError(f"fit_damped_sine: {t.size} samples to fit, fewer than its "
-                           f"{size} parameters and one")
-    tau = t - t0
-    span = float(tau[-1]) or 1.0
-    base = _baseline_columns(tau, span, order)
-    guess = [0.3 if delta is None else float(delta), 2 * np.pi / T0]
+    return t0, T0, t[keep] - t0, x[keep]
 
-    plain = _Projection(tau, base, x)
-    (d0, w0), converged = _projected(plain, guess, [1.0, guess[1]])
-    g0 = 0.0
-    coef = plain.solve([d0, w0])[0]
-    if curved_envelope:
-        curved = _Projection(tau, base, x, 1.0 / (span * span))
-        found, converged = _projected(curved, [d0, w0, 0.0], [1.0, w0, 1.0])
-        d0, w0, g0 = found[0], found[1], found[2] * curved.gamma_unit
-        coef = curved.solve(found)[0]
-    names = ["delta", "omega_d"] + (["gamma"] if curved_envelope else []) + ["a", "b"] + \
-        [f"c{j}" for j in range(order + 1)]
+
+def _minima(problems, curved_envelope: bool) -> tuple[_Projection, np.ndarray, np.ndarray]:
+    """The projection's minimum of each of ``problems`` (τ, x, baseline degree, a guess of
+    δ and ω_d), the fits stepping together; with ``curved_envelope``, γ fitted too from each
+    plain minimum. Returns the projection, the nonlinear parameters (K, 2 or 3; γ in the
+    projection's unit) and whether each converged."""
+    plain = _projection([(tau, x, order) for tau, x, order, _ in problems])
+    start = np.array([guess for *_, guess in problems], dtype=float)
+    ones = np.ones(len(problems))
+    found, converged = _projected(plain, start, np.column_stack([ones, start[:, 1]]))
+    if not curved_envelope:
+        return plain, found, converged
+    curved = _projection(plain.problems, True)
+    found, converged = _projected(curved, np.column_stack([found, 0 * ones]),
+                                  np.column_stack([ones, found[:, 1], ones]))
+    return curved, found, converged
+
+
+def _fits(problem: _Projection, found, converged, starts) -> list[DampedSineFit | RuntimeError]:
+    """Each fit of ``problem`` from its minimum ``found`` (its start t₀ of ``starts``): the
+    joint least squares over every parameter first where the projection did not converge
+    (:func:`_joint_minimum`); then, for all at once, the covariance s²(JᵀJ)⁻¹, J the
+    analytic Jacobian of the joint model over every parameter (δ, ω_d[, γ], a, b and the
+    baseline's) at the minimum, s² = Σr²/(n − p) (widened by (1 + ρ)/(1 − ρ) where the
+    residuals' lag-one correlation ρ exceeds 3/√n). Each fit, or the RuntimeError that says
+    why it failed."""
+    curved = problem.gamma_unit is not None
+    failed = {}
+    coef = problem.coefficients(found)
+    for k in np.flatnonzero(~converged):
+        try:
+            found[k] = _joint_minimum(problem.problems[k], found[k], coef[k],
+                                      problem.gamma_unit[k] if curved else None)
+        except RuntimeError as exc:
+            failed[k] = exc
+    coef = problem.coefficients(found)
+    _, r, _ = problem.solve(found)
+    A, D = problem._columns
+    if curved:
+        D = np.concatenate([D[:, :2], D[:, 2:] / problem.gamma_unit[:, None, None]], axis=1)
+        found = np.column_stack([found[:, :2], found[:, 2] * problem.gamma_unit])
+    J = np.concatenate([D, A, problem.base.transpose(0, 2, 1)], axis=1)   # (K, p, samples)
+    nonlinear = D.shape[1]
+    unused = np.concatenate([np.zeros((len(J), nonlinear + 2), bool), ~problem.kept], axis=1)
+    normal, solved = _inverse_each(J @ J.transpose(0, 2, 1) + _diagonal(unused * 1.0))
+    names = ["delta", "omega_d"] + (["gamma"] if curved else []) + ["a", "b"]
+    out = []
+    for k, (tau, _, order) in enumerate(problem.problems):
+        size = nonlinear + 3 + order
+        if k in failed:
+            out.append(failed[k])
+        elif not solved[k]:
+            out.append(RuntimeError("fit_damped_sine: the normal matrix is singular (no "
+                                    "oscillation in the record?)"))
+        elif tau.size - size < 1:
+            out.append(RuntimeError("fit_damped_sine: fewer samples than parameters"))
+        else:
+            out.append(_fit(found[k], coef[k], r[k, :tau.size], normal[k, :size, :size],
+                            starts[k], _span(tau),
+                            tuple(names + [f"c{j}" for j in range(order + 1)])))
+    return out
+
+
+def _fit(nonlinear, lin, r, normal, t0: float, span: float, names: tuple) -> DampedSineFit:
+    """The :class:`DampedSineFit` of parameters (``nonlinear``: δ, ω_d[, γ]; ``lin``: a, b
+    and the baseline's), residuals ``r`` and (JᵀJ)⁻¹ ``normal`` (:func:`_fits`)."""
+    dof = r.size - len(names)
+    s2 = float(r @ r) / dof
+    cov = s2 * normal
+    rho = float(r[:-1] @ r[1:] / (r @ r)) if r @ r > 0 else 0.0
+    if rho > 3.0 / math.sqrt(r.size):
+        cov = cov * (1.0 + rho) / (1.0 - rho)
+    d, w = nonlinear[0], nonlinear[1]
+    g = nonlinear[2] if len(nonlinear) > 2 else 0.0
+    a, b = lin[0], lin[1]
+    return DampedSineFit(float(d), float(w), float(g), float(math.hypot(a, b)),
+                         float(math.atan2(-b, a)), np.asarray(lin[2:], float), t0, span,
+                         names, cov, math.sqrt(s2), rho, int(dof), normal)
+
+
+def _inverse_each(N: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """N⁻¹ of each of K small matrices, and which were inverted (a singular N is not)."""
+    try:
+        return np.linalg.inv(N), np.ones(len(N), bool)
+    except np.linalg.LinAlgError:
+        out, solved = np.zeros_like(N), np.ones(len(N), bool)
+        for k in range(len(N)):
+            try:
+                out[k] = np.linalg.inv(N[k])
+            except np.linalg.LinAlgError:
+                solved[k] = False
+        return out, solved
+
+
+def _joint_minimum(problem: tuple, nonlinear, coef, gamma_unit: float | None) -> np.ndarray:
+    """The nonlinear parameters of the joint least squares over every parameter of a fit
+    (``problem``: τ, x, baseline degree) from the projection's point (``nonlinear``, its
+    linear ``coef``), by :func:`scipy.optimize.least_squares`: where the projection did not
+    converge.
+
+    Raises
+    ------
+    RuntimeError
+        That did not converge either.
+    """
+    tau, x, order = problem
+    curved = gamma_unit is not None
+    base = _baseline_columns(tau, _span(tau), order)
 
     def unpack(p):
         d, w = p[0], p[1]
-        g = p[2] if curved_envelope else 0.0
-        lin = p[3 if curved_envelope else 2:]
+        g = p[2] if curved else 0.0
+        lin = p[3 if curved else 2:]
         return d, w, g, lin
 
     last = {}
@@ -882,38 +1088,21 @@ def fit_damped_sine(time, x, *, start: float | None = None, period: float | None
     def jacobian(p):
         d, w, g, lin = unpack(p)
         A = columns(d, w, g)
-        swing = [a @ lin[:2] for a in _column_derivatives(tau, A, d, w, curved_envelope)]
+        swing = [a @ lin[:2] for a in _column_derivatives(tau, A, d, w, curved)]
         return np.column_stack(swing + [A])
 
-    p0 = np.concatenate([[d0, w0], [g0] if curved_envelope else [], coef])
-    if converged:
-        params = p0
-    else:
-        sol = optimize.least_squares(residual, p0, jac=jacobian, method="lm",
-                                     x_scale=np.abs(p0) + 1e-12 * np.max(np.abs(p0)))
-        if not sol.success:
-            raise RuntimeError(f"fit_damped_sine: the fit did not converge ({sol.message})")
-        params = sol.x
-    d, w, g, lin = unpack(params)
-    r = residual(params)
-    dof = r.size - params.size
-    if dof < 1:
-        raise RuntimeError("fit_damped_sine: fewer samples than parameters")
-    s2 = float(r @ r) / dof
-    J = jacobian(params)
-    try:
-        normal = np.linalg.inv(J.T @ J)
-    except np.linalg.LinAlgError:
-        raise RuntimeError("fit_damped_sine: the normal matrix is singular (no oscillation "
-                           "in the record?)") from None
-    cov = s2 * normal
-    rho = float(r[:-1] @ r[1:] / (r @ r)) if r @ r > 0 else 0.0
-    if rho > 3.0 / math.sqrt(r.size):
-        cov = cov * (1.0 + rho) / (1.0 - rho)
-    a, b = lin[0], lin[1]
-    return DampedSineFit(float(d), float(w), float(g), float(math.hypot(a, b)),
-                         float(math.atan2(-b, a)), np.asarray(lin[2:], float), t0, span,
-                         tuple(names), cov, math.sqrt(s2), rho, int(dof), normal)
+    natural = np.array(nonlinear, dtype=float)
+    if curved:
+        natural[2] *= gamma_unit
+    p0 = np.concatenate([natural, coef])
+    sol = optimize.least_squares(residual, p0, jac=jacobian, method="lm",
+                                 x_scale=np.abs(p0) + 1e-12 * np.max(np.abs(p0)))
+    if not sol.success:
+        raise RuntimeError(f"fit_damped_sine: the fit did not converge ({sol.message})")
+    found = sol.x[:natural.size].copy()
+    if curved:
+        found[2] /= gamma_unit
+    return found
 
 
 @dataclass(frozen=True)
@@ -1017,11 +1206,6 @@ the truth in 72–78 % of those records); at 300 δ's and T's held it in 95 % an
 records (90–97.5 % for each kind of drift), with a median U/|error| of 3.1 and 5.2."""
 
 
-WARM_START = 0.1
-"""A baseline's fit starts from the previous baseline's δ and T when that T lies within this
-share of the period given (:func:`fit_baselines`); from the period given otherwise."""
-
-
 @dataclass(frozen=True)
 class BaselineChoice(Record):
     """A record's trace fitted on each baseline of :data:`BASELINE_ORDERS`, the one the data
@@ -1098,22 +1282,37 @@ def fit_baselines(time, x, *, start: float, period: float, exclude=None) -> Base
     .. [3] G. Schwarz, Estimating the dimension of a model, Ann. Statist. 6 (1978) 461–464,
            doi:10.1214/aos/1176344136.
     """
-    fits = []
-    for order in BASELINE_ORDERS:
-        # each baseline starts from the previous one's δ and T where that fit found the
-        # oscillation sought (T within WARM_START of ``period``): a baseline's degree moves
-        # them little, so the solve takes a few steps instead of a dozen
-        warm = fits and abs(fits[-1].period / period - 1.0) < WARM_START \
-            and math.isfinite(fits[-1].delta)
-        guess = {"period": fits[-1].period, "delta": fits[-1].delta} if warm else \
-            {"period": period}
-        try:
-            fits.append(fit_damped_sine(time, x, start=start, baseline_order=order,
-                                        exclude=exclude, **guess))
-        except RuntimeError:
-            continue
-    if not fits:
+    choice = fit_baselines_each([(time, x, start, period, exclude)])[0]
+    if choice is None:
         raise RuntimeError("fit_damped_sine: no baseline's fit converged")
+    return choice
+
+
+def fit_baselines_each(records) -> list[BaselineChoice | None]:
+    """:func:`fit_baselines` of each of ``records`` (time, x, start, period, exclude), the
+    fits of all of them on all their baselines stepping together (:class:`_Projection`: a
+    few array operations for all, instead of a few for each); None for a record where no
+    baseline's fit converged.
+
+    Every baseline's fit starts from the period given and δ = 0.3 (a baseline's degree moves
+    δ and T little, so they all start close), as :func:`fit_damped_sine`'s."""
+    prepared = [_fitted_samples(time, x, start, period, exclude)
+                for time, x, start, period, exclude in records]
+    problems = [(i, (tau, x, order, [0.3, 2 * np.pi / period]))
+                for i, (_, period, tau, x) in enumerate(prepared)
+                for order in BASELINE_ORDERS if tau.size > 5 + order]  # a sample more than
+    fits = [[] for _ in records]                                          # the parameters
+    if problems:
+        fitted = _fits(*_minima([q for _, q in problems], False),
+                       [prepared[i][0] for i, _ in problems])
+        for (i, _), fit in zip(problems, fitted):
+            if isinstance(fit, DampedSineFit):
+                fits[i].append(fit)
+    return [_chosen(f) if f else None for f in fits]
+
+
+def _chosen(fits: list[DampedSineFit]) -> BaselineChoice:
+    """The baseline the data choose among a record's ``fits`` (:func:`fit_baselines`)."""
     rss = np.array([f.residual_sd**2 * f.dof for f in fits])
     size = np.array([f.dof + len(f.params) for f in fits], dtype=float)
     rho = max(min(f.residual_correlation for f in fits), 0.0)

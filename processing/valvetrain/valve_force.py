@@ -37,12 +37,13 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import NamedTuple
 
 import numpy as np
 from scipy.signal import savgol_coeffs
 
-from processing.oscillations.decay import BaselineChoice, DampedSineFit, fit_baselines
+from processing.oscillations.decay import BaselineChoice, DampedSineFit, fit_baselines_each
 from processing.oscillations.savgol import savgol
 from processing.result import Record
 from processing.inputs.reuse import by_content
@@ -99,13 +100,16 @@ class TraceZero(Record):
     noise: float
 
 
+@by_content(shared=True)
 def trace_zero(x) -> TraceZero:
     """The zero of a strain-gauge trace: the mean of the samples within :data:`ZERO_BAND`
     noise σ of its lower quartile (the drive is unloaded over most of a cam revolution), and σ: the
     larger of the white noise from their second differences
     (:func:`processing.oscillations.decay.noise_sd`) and their robust spread about the zero (1.4826
     times the median absolute deviation), which also holds a slow wander of the zero — a trace read
-    off a photograph keeps to its line within a tenth of a pixel, but not sample by sample.
+    off a photograph keeps to its line within a tenth of a pixel, but not sample by sample. Found
+    once for the same samples inside a :func:`processing.inputs.reuse.scope` (a trace analysed
+    again with the other valve's preload).
 
     Examples
     --------
@@ -269,31 +273,47 @@ def valve_events(time, force, preload: float, *, noise: float,
     opening and closing are the first rising and last falling passage of the raw trace
     through the preload, with u = σ/|dP/dt| there.
     """
+    return valve_events_each([(time, force, preload, noise, resolution, clipped)], period)[0]
+
+
+def valve_events_each(traces, period: float | None = None) -> list[list[ValveEvent]]:
+    """:func:`valve_events` of each of ``traces`` (time, force, preload, noise, resolution,
+    clipped: as its arguments), the free oscillations of all their openings fitted together
+    (:func:`free_oscillations`)."""
+    found = [_openings(*trace) for trace in traces]
+    oscillations = iter(free_oscillations(
+        [(t, y, start, e.closing, cut) for t, y, cut, events in found for e, start in events],
+        period))
+    return [[replace(e, oscillation=next(oscillations)) for e, _ in events]
+            for *_, events in found]
+
+
+def _openings(time, force, preload: float, noise: float, resolution: float, clipped):
+    """The samples, the clipped ones and the events of a trace (:func:`valve_events`), each
+    with where its free oscillation starts, the oscillations not yet sought."""
     t, y = np.asarray(time, dtype=float), np.asarray(force, dtype=float)
-    if y.size <= SMOOTH_WINDOW:
-        return []
     cut = np.zeros(y.size, bool) if clipped is None else np.asarray(clipped, bool)
+    if y.size <= SMOOTH_WINDOW:
+        return t, y, cut, []
     smooth = savgol(y, SMOOTH_WINDOW, 2)
     gain = float(np.sqrt(np.sum(savgol_coeffs(SMOOTH_WINDOW, 2) ** 2)))
     s_noise = noise * gain
     loaded = smooth > max(CONTACT_LEVEL * s_noise, resolution)
     runs = _stretches(loaded)
     if not runs:
-        return []
+        return t, y, cut, []
     longest = max(b - a for a, b in runs)
     runs = [r for r in _merge(runs, GAP_SHARE * longest) if r[1] - r[0] > 0.5 * longest]
-    events = []
-    for a, b in runs:
-        if a == 0 or b == y.size - 1:
-            continue
-        events.append(_event(t, y, smooth, a, b, preload, noise, s_noise, period,
-                             resolution, cut))
-    return [e for e in events if e is not None]
+    found = [_event(t, y, smooth, a, b, preload, noise, s_noise, resolution, cut)
+             for a, b in runs if a != 0 and b != y.size - 1]
+    return t, y, cut, [f for f in found if f is not None]
 
 
-def _event(t, y, smooth, a, b, preload, noise, s_noise, period, resolution: float,
-           cut: np.ndarray) -> ValveEvent | None:
-    """One event over the loaded samples a…b (``cut``: the clipped samples)."""
+def _event(t, y, smooth, a, b, preload, noise, s_noise, resolution: float,
+           cut: np.ndarray) -> tuple[ValveEvent, float] | None:
+    """One event over the loaded samples a…b (``cut``: the clipped samples), its free
+    oscillation not yet sought, and where that starts: the opening, or the end of the last
+    loss of contact. [s]"""
     seg = slice(a, b + 1)
     above = np.flatnonzero(y[seg] > preload) + a
     if above.size == 0:
@@ -319,10 +339,6 @@ def _event(t, y, smooth, a, b, preload, noise, s_noise, period, resolution: floa
         k_min = int(np.argmin(smooth[inside])) + up + 1
         t_min, P_min = _vertex(t, smooth, k_min)
         u_min = s_noise
-    try:
-        osc = free_oscillation(t, y, start, closing, period, exclude=cut)
-    except RuntimeError:
-        osc = None
 
     def clipped_at(k):
         reach = SMOOTH_WINDOW // 2 + 1
@@ -330,7 +346,7 @@ def _event(t, y, smooth, a, b, preload, noise, s_noise, period, resolution: floa
 
     return ValveEvent(opening, closing, noise / slope_up, noise / slope_down,
                       (float(t[a]), float(t[b])), P_max, P_min, s_noise, u_min, t_max, t_min,
-                      loss, loss_start, osc, clipped_at(k_max), clipped_at(k_min))
+                      loss, loss_start, None, clipped_at(k_max), clipped_at(k_min)), start
 
 
 def _vertex(t, y, k: int) -> tuple[float, float]:
@@ -370,16 +386,15 @@ def oscillation_period(time, force) -> float:
 
 
 @by_content(shared=True)
-def _fitted(t: np.ndarray, y: np.ndarray, t0: float, T: float,
-            cut: np.ndarray) -> BaselineChoice:
-    """:func:`processing.oscillations.decay.fit_baselines` of a stretch (start ``t0``, period
-    ``T``, samples ``cut`` left out), each stretch fitted once inside a
-    :func:`processing.inputs.reuse.scope`: the fit is a function of the samples alone, so the
-    fit made before of the same samples (a trace's stretch met again by the other valve's
-    calibration, or by a check's slip that leaves the trace as it was) is the one a new fit
-    would give."""
+def _fitted(stretches: tuple[_Stretch, ...]) -> list[BaselineChoice | None]:
+    """:func:`processing.oscillations.decay.fit_baselines_each` of stretches (:func:`_stretch`),
+    fitted together,
+    once inside a :func:`processing.inputs.reuse.scope`: the fits are a function of the
+    samples alone, so the fits made before of the same stretches (a trace's met again by the
+    other valve's calibration, or by a check's slip that leaves the trace as it was) are the
+    ones new fits would give."""
     with np.errstate(over="ignore", invalid="ignore"):
-        return fit_baselines(t, y, start=t0, period=T, exclude=cut)
+        return fit_baselines_each([s[:5] for s in stretches])
 
 
 def free_oscillation(time, force, start: float, stop: float,
@@ -423,6 +438,62 @@ def free_oscillation(time, force, start: float, stop: float,
     >>> round(free_oscillation(t, x, 0.0, 0.04).frequency, 3)
     450.0
     """
+    stretch = _stretch(time, force, start, stop, period, exclude)
+    models = _fitted((stretch,))[0]
+    if models is None:
+        raise RuntimeError("free_oscillation: no baseline's fit converged")
+    return _oscillation(stretch, models)
+
+
+def free_oscillations(openings, period: float | None = None) -> list[FreeOscillation | None]:
+    """:func:`free_oscillation` of each of ``openings`` (time, force, start, stop, exclude:
+    as its arguments; of one trace or of several), the stretches fitted together in the
+    order of their starts (the same stretches met again in another order, a record's valves'
+    traces swapped, are the fits made before); None where it raises."""
+    stretches = []
+    for time, force, start, stop, exclude in openings:
+        try:
+            stretches.append(_stretch(time, force, start, stop, period, exclude))
+        except RuntimeError:
+            stretches.append(None)
+    ordered = sorted((s for s in stretches if s is not None), key=lambda s: s.start)
+    fitted = dict(zip(map(id, ordered), _fitted(tuple(ordered))))
+    out = []
+    for stretch in stretches:
+        models = fitted.get(id(stretch))
+        try:
+            out.append(_oscillation(stretch, models) if models is not None else None)
+        except RuntimeError:
+            out.append(None)
+    return out
+
+
+class _Stretch(NamedTuple):
+    """The stretch :func:`free_oscillation` fits."""
+
+    time: np.ndarray
+    samples: np.ndarray
+    start: float
+    """t₀, the largest swing. [s]"""
+    period: float
+    """T, the spectrum's. [s]"""
+    cut: np.ndarray
+    """The samples left out."""
+    stop: float
+    """t₁: :data:`FIT_PERIODS` periods on, or the opening's end. [s]"""
+    rate: float
+    """Sample rate. [Hz]"""
+
+
+def _stretch(time, force, start: float, stop: float, period: float | None,
+             exclude) -> _Stretch:
+    """The stretch :func:`free_oscillation` fits.
+
+    Raises
+    ------
+    RuntimeError
+        Fewer than :data:`MIN_PERIODS` periods to fit.
+    """
     t, y = np.asarray(time, dtype=float), np.asarray(force, dtype=float)
     keep = (t >= start) & (t <= stop)
     cut = np.zeros(t.size, bool) if exclude is None else np.asarray(exclude, bool)
@@ -443,7 +514,19 @@ def free_oscillation(time, force, start: float, stop: float,
         raise RuntimeError(f"free_oscillation: {(t1 - t0) / T:.1f} periods to fit, at least "
                            f"{MIN_PERIODS:g} needed")
     part = (t >= t0) & (t <= t1)
-    models = _fitted(t[part], y[part], t0, T, cut[part])
+    return _Stretch(t[part], y[part], t0, T, cut[part], t1, rate)
+
+
+def _oscillation(stretch: _Stretch, models: BaselineChoice) -> FreeOscillation:
+    """The free oscillation of a stretch (:func:`_stretch`) from its fits.
+
+    Raises
+    ------
+    RuntimeError
+        The fit wandered more than :data:`FREQUENCY_SLACK` from the spectrum's peak, or its
+        frequency is not below the Nyquist frequency.
+    """
+    _, _, t0, T, _, t1, rate = stretch
     fit = models.fit
     f = fit.omega_d / (2 * math.pi)
     if not (abs(f * T - 1) < FREQUENCY_SLACK and 0 <= fit.delta < 2 * math.pi
