@@ -32,6 +32,8 @@ from pathlib import Path
 
 import cv2
 import numpy as np
+from scipy import stats
+from scipy.ndimage import minimum_filter1d
 
 from processing.oscillations.anharmonic import AnharmonicFit, fit_anharmonic_decay
 from processing.oscillations.decay import fit_damped_sine
@@ -114,20 +116,43 @@ MAX_DROPS = 20
 
 DROP_SIGMAS = 4.5
 """Standard errors a step of the swing's timing must stand out by to be taken for a dropped
-frame (:func:`_find_drops`). (Measured on 60 clean phone films of 3–19° at 30 and 60 frames
-per second, 8 oscillations, with a phone's shake: the step tried — the one best explained as
-whole intervals, a quarter swing or more from the film's ends — stood at most 4.3 standard
-errors out (a step of half an interval), and none was taken; of 60 films with two frames dropped each, 55 were warned of
-and 96 of the 120 frames found, 2 more placed over 3 frames off.)"""
+frame (:func:`_find_drops`), on a scan of :data:`SCAN_FRAMES` frames (more on a longer one:
+:func:`scanned`), and never less than the scan's most negative step (the film's own noise:
+no dropped frame steps the timing back). (Measured on 60 clean phone films of 3–19° at 30
+and 60 frames per second, 8 oscillations, with a phone's shake: the step tried — the one
+best explained as whole intervals, a quarter swing or more from the film's ends — stood at
+most 4.3 standard errors out (a step of half an interval), and none was taken; a fresh
+clean film showed one at 5.2, its scan at −5.7 the other way.)"""
+
+SCAN_FRAMES = 300
+"""Frames of the film :data:`DROP_SIGMAS` and :data:`DOUBT_SIGMAS` hold for (8 oscillations
+at 30 frames per second); a longer scan tries more steps, and its threshold rises so that
+noise alone passes it as seldom (:func:`scanned`)."""
+
+DROP_DETECTABLE = 2.0
+"""Standard errors a single dropped frame's step must stand out by at the film's median frame
+for dropped frames to be sought at all (:func:`_detectable`): where it would stand less, a
+step found is the track's slow noise taken for a burst of drops (a 3.9° trifilar at 240
+frames per second, 4 px of swing, a single drop at 1.0 standard error: 32 frames "found" in
+a clean film, its period 3.8 u off)."""
+
+DROP_TRANSIENT = (4, 3.0, 1 / 3)
+"""A step is no dropped frame where, within this many frames of it, the scan steps back by
+more than the larger of this many standard errors and this share of the step
+(:func:`_steps`): no dropped frame steps the timing back, and a frame or two matched off and
+back (a codec's key frame, a hand's shadow) makes the scan swing both ways, +15.7 and −7.7
+one frame apart on a clean film at 240 frames per second, +6.0 and −4.8 on one at 60 (a
+false drop); beside the dropped frames found in films of 8 oscillations at 30 and 60 frames
+per second it stepped back by 2.3 at most, or 3.1 beside one of 11.4."""
 
 DOUBT_SIGMAS = 3.0
 """Standard errors a step of the swing's timing of half an interval or more must stand out
-by, under :data:`DROP_SIGMAS`, for the period's u to carry it as a dropped frame that may be
-there (:func:`_further_drops`; not warned of). Measured on phone films of 8 oscillations at
-30 and 60 frames per second: of 80 clean films, 4 showed such a step (their periods' u
-widened 1.9–6.4 times); of the 6 of 80 films with two frames dropped that the search left
-unwarned, 5 showed one at 3.4–4.5 standard errors, and their periods, 2–6 U off before,
-now hold the truth (the sixth's drops stood at 1.8 and, 0.7 s from its end, 3.0)."""
+by (on :data:`SCAN_FRAMES` frames: :func:`scanned`), under :data:`DROP_SIGMAS`, for the
+period's u to carry it as a dropped frame that may be there (:func:`_further_drops`; not
+warned of). On 100 films of 8 oscillations at 30 and 60 frames per second with two frames
+dropped, 9 were left unwarned and 7 of them hold their period within U (5 carrying such a
+step, 2–6 U off without it); of their 100 clean twins, 2 carry one (u 1.3 and 1.7 times
+wider); of 40 clean films at 240 frames per second, 6."""
 
 DOUBT_STEPS = 3
 """Most steps too faint to be sure of that the period's u carries (:func:`_further_drops`)."""
@@ -673,8 +698,9 @@ def swing_of(track: Track, *, field: str | None = None) -> Swing:
         if _evenly_stamped(track) and (t[-1] - t[0]) / fit.period >= DROP_OSCILLATIONS:
             interval = typical_interval(track.time)
             keep = _consistent(s - drifting.predict(t))
-            drops = _find_drops(t[keep], s[keep], interval)
-            doubt = _doubt(t, s, keep, interval, drops)
+            if _detectable(t[keep], s[keep], interval):
+                drops = _find_drops(t[keep], s[keep], interval)
+                doubt = _doubt(t, s, keep, interval, drops)
             if drops:
                 t = _shifted(t, drops, interval)
                 fit, drifting = _fitted(t, s)
@@ -805,15 +831,14 @@ def _largest_step(t, s, interval: float, drops, at: float | None = None):
     """The step of the swing's timing, with ``drops`` already retimed, that explains the
     track best as whole intervals (or the one at the frame of time ``at``), as (time, m),
     or None where it does not pass (:func:`_find_drops`)."""
-    step, root, valid = _steps(t, s, interval, drops)
+    step, root, valid, floor = _steps(t, s, interval, drops)
     if not valid.any():
         return None
     k = int(np.argmax(_gain(step, root, valid, interval))) if at is None \
         else int(np.argmin(np.abs(t - at)))
     m = max(int(round(step[k] / interval)), 1)
     whole = abs(step[k] - m * interval) <= max(DROP_WHOLE * interval, 3.0 / root[k])
-    z = step * root
-    if not valid[k] or z[k] < max(DROP_SIGMAS, -float(np.min(z[valid]))) \
+    if not valid[k] or step[k] * root[k] < max(scanned(DROP_SIGMAS, t.size), floor) \
             or (at is not None and not whole):
         return None
     return float(t[k]), m
@@ -828,10 +853,10 @@ def _further_drops(t, s, interval: float, drops) -> list[tuple[float, int]]:
     (:func:`_doubt`)."""
     further: list[tuple[float, int]] = []
     for _ in range(DOUBT_STEPS):
-        step, root, valid = _steps(t, s, interval, drops + further)
+        step, root, valid, _ = _steps(t, s, interval, drops + further)
         valid &= step >= 0.5 * interval
         if further or not drops:
-            valid &= step * root >= DOUBT_SIGMAS
+            valid &= step * root >= scanned(DOUBT_SIGMAS, t.size)
         if not valid.any():
             break
         k = int(np.argmax(_gain(step, root, valid, interval)))
@@ -855,6 +880,21 @@ def _doubt(t, s, keep, interval: float, drops):
     return further[0][0], abs(periods[1] / periods[0] - 1)
 
 
+def scanned(sigmas: float, frames: int) -> float:
+    """The standard errors a step found by a scan of ``frames`` frames must stand out by to
+    be as sure as one standing ``sigmas`` out on :data:`SCAN_FRAMES`: the same chance that
+    the noise alone puts one of them there, z with n·Q(z) = n₀·Q(``sigmas``), Q the normal
+    tail (4.5 on 300 frames is 4.9 on 2400)."""
+    return float(stats.norm.isf(SCAN_FRAMES * stats.norm.sf(sigmas) / max(frames, 1)))
+
+
+def _detectable(t, s, interval: float) -> bool:
+    """Whether a single dropped frame's step would stand :data:`DROP_DETECTABLE` standard
+    errors out at the film's median frame (:func:`_timing_steps`)."""
+    _, root, valid, _ = _steps(t, s, interval, [])
+    return bool(valid.any() and np.median(root[valid]) * interval >= DROP_DETECTABLE)
+
+
 def _steps(t, s, interval: float, drops):
     """:func:`_timing_steps` of the track with ``drops`` retimed, and where a step can be
     told: a quarter swing or more from either end of the film (a step within a few frames
@@ -865,12 +905,17 @@ def _steps(t, s, interval: float, drops):
     try:
         fit, drifting = _fitted(retimed, s)
     except RuntimeError:                   # so retimed, no swing fits: no step to tell
-        return np.zeros_like(t), np.zeros_like(t), np.zeros(t.size, bool)
+        return np.zeros_like(t), np.zeros_like(t), np.zeros(t.size, bool), 0.0
     step, root = _timing_steps(retimed, s, fit, drifting, interval)
     valid = np.isfinite(step * root)
     valid &= (retimed - retimed[0] >= 0.25 * drifting.period) \
         & (retimed[-1] - retimed >= 0.25 * drifting.period)
-    return step, root, valid
+    z = np.where(valid, step * root, 0.0)
+    floor = -float(z.min())
+    frames, back, share = DROP_TRANSIENT
+    valid &= minimum_filter1d(z, 2 * frames + 1, mode="nearest") >= -np.maximum(back,
+                                                                                 share * z)
+    return step, root, valid, floor
 
 
 def _gain(step, root, valid, interval: float) -> np.ndarray:
