@@ -129,12 +129,14 @@ SCAN_FRAMES = 300
 at 30 frames per second); a longer scan tries more steps, and its threshold rises so that
 noise alone passes it as seldom (:func:`scanned`)."""
 
-DROP_DETECTABLE = 2.0
+DROP_DETECTABLE = 3.0
 """Standard errors a single dropped frame's step must stand out by at the film's median frame
-for dropped frames to be sought at all (:func:`_detectable`): where it would stand less, a
-step found is the track's slow noise taken for a burst of drops (a 3.9° trifilar at 240
-frames per second, 4 px of swing, a single drop at 1.0 standard error: 32 frames "found" in
-a clean film, its period 3.8 u off)."""
+for dropped frames to be sought at all (:func:`_detectable`): where it would stand less, the
+scan sees no frame's edge, only a level raised over seconds, which a slow-motion film's slow
+noise raises as well (clean films at 240 frames per second: at 1.0, 32 frames "found" and the
+period put 3.8 u off; at 2.0 and 2.4, 4–12 frames in bursts of 3–5). Of 200 films of 8
+oscillations at 30 and 60 frames per second, only a 3° swing at 60 (1.5 and 1.9, with and
+without its two dropped frames) stands under it: its period held either way."""
 
 DROP_TRANSIENT = (4, 3.0, 1 / 3)
 """A step is no dropped frame where, within this many frames of it, the scan steps back by
