@@ -154,7 +154,7 @@ period's u to carry it as a dropped frame that may be there (:func:`_further_dro
 warned of). On 100 films of 8 oscillations at 30 and 60 frames per second with two frames
 dropped, 9 were left unwarned and 7 of them hold their period within U (5 carrying such a
 step, 2–6 U off without it); of their 100 clean twins, 2 carry one (u 1.3 and 1.7 times
-wider); of 40 clean films at 240 frames per second, 6."""
+wider); of 40 clean films at 240 frames per second, 5."""
 
 DOUBT_STEPS = 3
 """Most steps too faint to be sure of that the period's u carries (:func:`_further_drops`)."""
