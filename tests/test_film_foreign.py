@@ -245,10 +245,11 @@ def test_frames_dropped_under_constant_rate_times_are_found_from_the_phase(tmp_p
     assert abs(swing.period.value / shot.mean_period - 1) < 2e-4
 
 
-def _shaken_track(seed: int, dropped=(), fps: float = 30.0):
+def _shaken_track(seed: int, dropped=(), fps: float = 30.0, noise: float = 1.0):
     """A 6° pendulum decaying to half over 20 swings, 100 px from its axis, filmed at
     ``fps`` by a phone shaking 0.3 px RMS (a random walk smoothed over a quarter second,
-    as :mod:`processing.synth.phone_film` shakes) with 0.05 px of tracker noise; the frames
+    as :mod:`processing.synth.phone_film` shakes) with 0.05 px of tracker noise (both times
+    ``noise``); the frames
     numbered ``dropped`` never taken, every frame stamped at the constant rate."""
     from scipy.ndimage import gaussian_filter1d
 
@@ -258,8 +259,8 @@ def _shaken_track(seed: int, dropped=(), fps: float = 30.0):
     taken = np.delete(np.arange(n + len(dropped)) / fps, list(dropped))[:n]
     theta, _ = swinger.motion(taken[-1] + 0.1)
     walk = gaussian_filter1d(np.cumsum(rng.standard_normal(n)), 0.25 * fps)
-    shake = 0.3 * (walk - walk.mean()) / walk.std()
-    return np.arange(n) / fps, 100.0 * theta(taken) + shake + rng.normal(0.0, 0.05, n)
+    shake = 0.3 * noise * (walk - walk.mean()) / walk.std()
+    return np.arange(n) / fps, 100.0 * theta(taken) + shake + rng.normal(0.0, 0.05 * noise, n)
 
 
 def test_a_dropped_frame_is_placed_from_the_swings_timing_through_a_phones_shake():
@@ -274,6 +275,37 @@ def test_a_dropped_frame_is_placed_from_the_swings_timing_through_a_phones_shake
     np.testing.assert_allclose([at for at, _ in found], [77 / 30, 249 / 30], atol=1.5 / 30)
     stamps, s = _shaken_track(5)
     assert _find_drops(stamps, s, 1 / 30) == []
+
+
+def test_a_drop_too_faint_to_be_sure_of_is_carried_in_the_periods_u():
+    """A phone shaking 0.8 px with 0.14 px of tracker noise hides a frame dropped at 5 s:
+    its step stands 3.5 standard errors out, under the 4.5 a warning needs, so it is not
+    found; the period's u carries it as a limit of the period's shift were it dropped
+    (0.46 %, the error it makes). The same film without it carries none."""
+    from processing.vision.video import _doubt, _find_drops, _fitted
+
+    stamps, s = _shaken_track(4, dropped=(150,), noise=2.8)
+    every = np.ones(stamps.size, bool)
+    assert _find_drops(stamps, s, 1 / 30) == []
+    at, share = _doubt(stamps, s, every, 1 / 30, [])
+    assert abs(at - 150 / 30) <= 1.5 / 30
+    taken = np.delete(np.arange(stamps.size + 1) / 30, [150])[:stamps.size]
+    error = _fitted(stamps, s)[1].period / _fitted(taken, s)[1].period - 1
+    assert share == pytest.approx(abs(error), rel=0.2)
+    stamps, s = _shaken_track(4, noise=2.8)
+    assert _doubt(stamps, s, every, 1 / 30, []) is None
+
+
+def test_drops_are_sought_only_where_a_single_one_would_show():
+    """At 120 frames per second a dropped frame's step is half one at 60: through the
+    phone's shake a single one stands 5 standard errors out at the median frame, and is
+    sought; through five times the shake 1.0 (under 3), and none is sought (a step found
+    there is slow noise taken for a burst of drops: a clean slow-motion film was "found" to
+    drop 32 frames and its period put 3.8 u off)."""
+    from processing.vision.video import _detectable
+
+    assert _detectable(*_shaken_track(4, fps=120.0), 1 / 120)
+    assert not _detectable(*_shaken_track(4, fps=120.0, noise=5.0), 1 / 120)
 
 
 def test_a_patch_at_a_harmonic_of_the_swing_is_not_the_marker():

@@ -32,6 +32,8 @@ from pathlib import Path
 
 import cv2
 import numpy as np
+from scipy import stats
+from scipy.ndimage import minimum_filter1d
 
 from processing.oscillations.anharmonic import AnharmonicFit, fit_anharmonic_decay
 from processing.oscillations.decay import fit_damped_sine
@@ -114,11 +116,48 @@ MAX_DROPS = 20
 
 DROP_SIGMAS = 4.5
 """Standard errors a step of the swing's timing must stand out by to be taken for a dropped
-frame (:func:`_find_drops`). (Measured on 60 clean phone films of 3–19° at 30 and 60 frames
-per second, 8 oscillations, with a phone's shake: the step tried — the one best explained as
-whole intervals, a quarter swing or more from the film's ends — stood at most 4.3 standard
-errors out (a step of half an interval), and none was taken; of 60 films with two frames dropped each, 55 were warned of
-and 96 of the 120 frames found, 2 more placed over 3 frames off.)"""
+frame (:func:`_find_drops`), on a scan of :data:`SCAN_FRAMES` frames (more on a longer one:
+:func:`scanned`), and never less than the scan's most negative step (the film's own noise:
+no dropped frame steps the timing back). (Measured on 60 clean phone films of 3–19° at 30
+and 60 frames per second, 8 oscillations, with a phone's shake: the step tried — the one
+best explained as whole intervals, a quarter swing or more from the film's ends — stood at
+most 4.3 standard errors out (a step of half an interval), and none was taken; a fresh
+clean film showed one at 5.2, its scan at −5.7 the other way.)"""
+
+SCAN_FRAMES = 300
+"""Frames of the film :data:`DROP_SIGMAS` and :data:`DOUBT_SIGMAS` hold for (8 oscillations
+at 30 frames per second); a longer scan tries more steps, and its threshold rises so that
+noise alone passes it as seldom (:func:`scanned`)."""
+
+DROP_DETECTABLE = 3.0
+"""Standard errors a single dropped frame's step must stand out by at the film's median frame
+for dropped frames to be sought at all (:func:`_detectable`): where it would stand less, the
+scan sees no frame's edge, only a level raised over seconds, which a slow-motion film's slow
+noise raises as well (clean films at 240 frames per second: at 1.0, 32 frames "found" and the
+period put 3.8 u off; at 2.0 and 2.4, 4–12 frames in bursts of 3–5). Of 200 films of 8
+oscillations at 30 and 60 frames per second, only a 3° swing at 60 (1.5 and 1.9, with and
+without its two dropped frames) stands under it: its period held either way."""
+
+DROP_TRANSIENT = (4, 3.0, 1 / 3)
+"""A step is no dropped frame where, within this many frames of it, the scan steps back by
+more than the larger of this many standard errors and this share of the step
+(:func:`_steps`): no dropped frame steps the timing back, and a frame or two matched off and
+back (a codec's key frame, a hand's shadow) makes the scan swing both ways, +15.7 and −7.7
+one frame apart on a clean film at 240 frames per second, +6.0 and −4.8 on one at 60 (a
+false drop); beside the dropped frames found in films of 8 oscillations at 30 and 60 frames
+per second it stepped back by 2.3 at most, or 3.1 beside one of 11.4."""
+
+DOUBT_SIGMAS = 3.0
+"""Standard errors a step of the swing's timing of half an interval or more must stand out
+by (on :data:`SCAN_FRAMES` frames: :func:`scanned`), under :data:`DROP_SIGMAS`, for the
+period's u to carry it as a dropped frame that may be there (:func:`_further_drops`; not
+warned of). On 100 films of 8 oscillations at 30 and 60 frames per second with two frames
+dropped, 9 were left unwarned and 7 of them hold their period within U (5 carrying such a
+step, 2–6 U off without it); of their 100 clean twins, 2 carry one (u 1.3 and 1.7 times
+wider); of 40 clean films at 240 frames per second, 5."""
+
+DOUBT_STEPS = 3
+"""Most steps too faint to be sure of that the period's u carries (:func:`_further_drops`)."""
 
 DROP_WHOLE = 0.35
 """Farthest a step may lie from a whole number of frame intervals, in intervals (or three of
@@ -661,9 +700,10 @@ def swing_of(track: Track, *, field: str | None = None) -> Swing:
         if _evenly_stamped(track) and (t[-1] - t[0]) / fit.period >= DROP_OSCILLATIONS:
             interval = typical_interval(track.time)
             keep = _consistent(s - drifting.predict(t))
-            drops = _find_drops(t[keep], s[keep], interval)
-            if drops:
+            if _detectable(t[keep], s[keep], interval):
+                drops = _find_drops(t[keep], s[keep], interval)
                 doubt = _doubt(t, s, keep, interval, drops)
+            if drops:
                 t = _shifted(t, drops, interval)
                 fit, drifting = _fitted(t, s)
         for _ in range(REFITS):
@@ -762,7 +802,10 @@ def _find_drops(t: np.ndarray, s: np.ndarray, interval: float) -> list[tuple[flo
     and with the noise of the track so retimed (the steps not yet found inflate it, and
     bias a step's size while a neighbour is missing): it must still stand out and lie within
     :data:`DROP_WHOLE` (or three standard errors) of a whole number of intervals, which it
-    then takes. The first that does not is given up and the rest judged again.
+    then takes. The first that does not is given up and the rest judged again. A step is
+    never taken while it stands out less than the scan's most negative one (the film's own
+    noise: no dropped frame steps the timing back; a clean film's jolt stood 5.2 standard
+    errors out one way and 5.7 the other).
 
     Returns
     -------
@@ -790,46 +833,68 @@ def _largest_step(t, s, interval: float, drops, at: float | None = None):
     """The step of the swing's timing, with ``drops`` already retimed, that explains the
     track best as whole intervals (or the one at the frame of time ``at``), as (time, m),
     or None where it does not pass (:func:`_find_drops`)."""
-    step, root, valid = _steps(t, s, interval, drops)
+    step, root, valid, floor = _steps(t, s, interval, drops)
     if not valid.any():
         return None
     k = int(np.argmax(_gain(step, root, valid, interval))) if at is None \
         else int(np.argmin(np.abs(t - at)))
     m = max(int(round(step[k] / interval)), 1)
     whole = abs(step[k] - m * interval) <= max(DROP_WHOLE * interval, 3.0 / root[k])
-    if not valid[k] or step[k] * root[k] < DROP_SIGMAS or (at is not None and not whole):
+    if not valid[k] or step[k] * root[k] < max(scanned(DROP_SIGMAS, t.size), floor) \
+            or (at is not None and not whole):
         return None
     return float(t[k]), m
 
 
-def _further_drop(t, s, interval: float, drops):
-    """In a film known to drop frames (``drops`` found), the step beyond them that explains
-    the track best as whole intervals among those nearer one interval than none, as (time,
-    m), or None: a frame more may have been dropped there, too faintly to be sure of (its
-    step under :data:`DROP_SIGMAS` standard errors). The period's u carries it: the period
-    with it retimed too is one bound of a rectangular distribution about the period
-    without."""
-    step, root, valid = _steps(t, s, interval, drops)
-    valid &= step >= 0.5 * interval
-    if not valid.any():
-        return None
-    k = int(np.argmax(_gain(step, root, valid, interval)))
-    return float(t[k]), max(int(round(step[k] / interval)), 1)
+def _further_drops(t, s, interval: float, drops) -> list[tuple[float, int]]:
+    """Steps beyond ``drops`` that may be dropped frames too faint to be sure of, as (time,
+    m): the one that explains the track best as whole intervals among those nearer one
+    interval than none (in a film known to drop frames, ``drops`` found, however faint),
+    then, each with those before it retimed, such steps standing :data:`DOUBT_SIGMAS`
+    standard errors out, at most :data:`DOUBT_STEPS` in all. The period's u carries them
+    (:func:`_doubt`)."""
+    further: list[tuple[float, int]] = []
+    for _ in range(DOUBT_STEPS):
+        step, root, valid, _ = _steps(t, s, interval, drops + further)
+        valid &= step >= 0.5 * interval
+        if further or not drops:
+            valid &= step * root >= scanned(DOUBT_SIGMAS, t.size)
+        if not valid.any():
+            break
+        k = int(np.argmax(_gain(step, root, valid, interval)))
+        further.append((float(t[k]), max(int(round(step[k] / interval)), 1)))
+    return further
 
 
 def _doubt(t, s, keep, interval: float, drops):
-    """The time of a further step too faint to be sure of (:func:`_further_drop`, sought
-    over the frames ``keep``) and the period's relative shift were it a dropped frame too,
+    """The time of the first further step too faint to be sure of (:func:`_further_drops`,
+    sought over the frames ``keep``) and the period's relative shift were they all dropped
+    frames too (one bound of a rectangular distribution about the period without them),
     or None."""
-    further = _further_drop(t[keep], s[keep], interval, drops)
-    if further is None:
+    further = _further_drops(t[keep], s[keep], interval, drops)
+    if not further:
         return None
     try:
         periods = [_fitted(_shifted(t, more, interval), s)[1].period
-                   for more in (drops, drops + [further])]
+                   for more in (drops, drops + further)]
     except RuntimeError:
         return None
-    return further[0], abs(periods[1] / periods[0] - 1)
+    return further[0][0], abs(periods[1] / periods[0] - 1)
+
+
+def scanned(sigmas: float, frames: int) -> float:
+    """The standard errors a step found by a scan of ``frames`` frames must stand out by to
+    be as sure as one standing ``sigmas`` out on :data:`SCAN_FRAMES`: the same chance that
+    the noise alone puts one of them there, z with n·Q(z) = n₀·Q(``sigmas``), Q the normal
+    tail (4.5 on 300 frames is 4.9 on 2400)."""
+    return float(stats.norm.isf(SCAN_FRAMES * stats.norm.sf(sigmas) / max(frames, 1)))
+
+
+def _detectable(t, s, interval: float) -> bool:
+    """Whether a single dropped frame's step would stand :data:`DROP_DETECTABLE` standard
+    errors out at the film's median frame (:func:`_timing_steps`)."""
+    _, root, valid, _ = _steps(t, s, interval, [])
+    return bool(valid.any() and np.median(root[valid]) * interval >= DROP_DETECTABLE)
 
 
 def _steps(t, s, interval: float, drops):
@@ -842,12 +907,17 @@ def _steps(t, s, interval: float, drops):
     try:
         fit, drifting = _fitted(retimed, s)
     except RuntimeError:                   # so retimed, no swing fits: no step to tell
-        return np.zeros_like(t), np.zeros_like(t), np.zeros(t.size, bool)
+        return np.zeros_like(t), np.zeros_like(t), np.zeros(t.size, bool), 0.0
     step, root = _timing_steps(retimed, s, fit, drifting, interval)
     valid = np.isfinite(step * root)
     valid &= (retimed - retimed[0] >= 0.25 * drifting.period) \
         & (retimed[-1] - retimed >= 0.25 * drifting.period)
-    return step, root, valid
+    z = np.where(valid, step * root, 0.0)
+    floor = -float(z.min())
+    frames, back, share = DROP_TRANSIENT
+    valid &= minimum_filter1d(z, 2 * frames + 1, mode="nearest") >= -np.maximum(back,
+                                                                                 share * z)
+    return step, root, valid, floor
 
 
 def _gain(step, root, valid, interval: float) -> np.ndarray:
@@ -941,7 +1011,7 @@ def _inverse_spectrum(r: np.ndarray, f0: float) -> tuple[np.ndarray, int]:
 def _warn_unstamped_drops(track: Track, drops: int, doubt=None) -> None:
     """Warn of frames dropped under constant-rate times, found from the swing's timing;
     ``doubt``, the time of a further step too faint to be sure of and the period's relative
-    shift were it a dropped frame too (:func:`_further_drop`)."""
+    shift were it a dropped frame too (:func:`_further_drops`)."""
     name = Path(track.path).name
     more_en = more_ru = ""
     if doubt is not None:
