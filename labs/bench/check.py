@@ -26,7 +26,7 @@ in at least :data:`FORMULA_RECALL` of cases, no right value called anything
 but right, rounded or over-precise (0 false alarms), and a class of 200 submissions of each lab
 checked within a minute of CPU time on one core (a target per lab, :func:`_class_targets`: its
 mean time per submission times 200, its first submission untimed as it pays the imports; the
-quick plan extrapolates from one submission per lab).
+quick plan extrapolates from three submissions per lab).
 """
 from __future__ import annotations
 
@@ -51,8 +51,8 @@ from labs.teachers.check import (BLAS_THREADS, CHECK_SAMPLES, Check, _input_slip
 from labs.registry import LABS, evaluate
 
 LABS_CHECKED = ("lab1", "lab2", "lab3", "lab4", "lab5", "lab6", "lab7", "lab8", "lab9", "dyncalc")
-FULL_SEEDS, QUICK_SEEDS = 200, 2
-"""Seeds per lab: a class of 200 variants of each lab (two of each in the quick plan: the
+FULL_SEEDS, QUICK_SEEDS = 200, 4
+"""Seeds per lab: a class of 200 variants of each lab (four of each in the quick plan: the
 first check of a lab is not timed, :func:`_checked`)."""
 DIESEL_VARIED = {"engine": ("n",), "cycle": ("p_a", "p_z", "eps", "n1", "n2"),
                  "geometry": ("D", "S", "lambda"), "masses": ("m_j",),
