@@ -411,8 +411,14 @@ class InputError(ValueError):
         ru = lang == "ru" and self.ru is not None
         field = ("поле '{}'" if ru else "field '{}'").format(self.field) if self.field else None
         where = ", ".join(p for p in (self.file, field) if p)
+        return f"{where + ': ' if where else ''}{self.reason(lang)}"
+
+    def reason(self, lang: str = "en") -> str:
+        """What is wrong and the fix in ``lang``, without where (a cell of a table that
+        already says where)."""
+        ru = lang == "ru" and self.ru is not None
         problem, fix = self.ru if ru else (self.problem, self.fix)
-        return f"{where + ': ' if where else ''}{problem}. {'Как исправить' if ru else 'Fix'}: {fix}"
+        return f"{problem}. {'Как исправить' if ru else 'Fix'}: {fix}"
 
     def line(self, lang: str = "en") -> str:
         """The one line the command line prints for it, in ``lang`` where it can."""

@@ -112,8 +112,8 @@ def terminal(check: Check, lang: str = "en") -> str:
                 f"{plain(_expanded(check, v), 2)} {unit}").rstrip()
         z = "" if not math.isfinite(v.z) else f"  z = {v.z:+.1f}"
         line = f"  {v.name:{width}}  {verdict_word(v.verdict, lang):14} {got:>12}  vs  {ours}{z}"
-        if why(v, lang):
-            line += f"\n  {'':{width}}  → {why(v, lang)}"
+        if because := why(v, lang):
+            line += f"\n  {'':{width}}  → {because}"
         lines.append(line)
     for t in check.tables:
         lines.append(f"  {_table_name(t)} ({t.file}): {verdict_word(t.verdict, lang)} — "
@@ -126,11 +126,7 @@ def why(v, lang: str = "en") -> str:
     value could not be read and the fix; "" for none."""
     if v.slip is not None:
         return v.slip.text[lang]
-    if v.problem is None:
-        return ""
-    e = v.problem
-    problem, fix = e.ru if lang == "ru" and e.ru else (e.problem, e.fix)
-    return f"{problem}. {'Как исправить' if lang == 'ru' and e.ru else 'Fix'}: {fix}"
+    return "" if v.problem is None else v.problem.reason(lang)
 
 
 def _expanded(check: Check, v) -> float:
@@ -202,7 +198,8 @@ def _cell(c: Check, v, lang: str) -> Cell:
     got = "" if v.reported is None else plain(shown(c, v.name, v.reported.value),
                                               max(v.reported.digits, 3))
     return Cell(v.name, v.verdict, got, plain(shown(c, v.name, v.value)),
-                unit_of(c, v.name, lang), why(v, lang), v.slip.name if v.slip else "", "" if not math.isfinite(v.z) else plain(v.z, 2),
+                unit_of(c, v.name, lang), why(v, lang), v.slip.name if v.slip else "",
+                "" if not math.isfinite(v.z) else plain(v.z, 2),
                 plain(_expanded(c, v), 2) if math.isfinite(v.u) else "")
 
 
