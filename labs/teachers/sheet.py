@@ -109,7 +109,12 @@ def _bilingual(label, fallback: str) -> str:
 
 def _flat(entry: dict) -> bool:
     """Whether a table holds single readings only (a row of a table of such tables)."""
-    return all(not isinstance(v, (dict, list)) and not _is_text_table(v) for v in entry.values())
+    return all(map(_single, entry.values()))
+
+
+def _single(value) -> bool:
+    """Whether a value is one reading: not a series, a nested table or a text table."""
+    return not isinstance(value, (dict, list)) and not _is_text_table(value)
 
 
 def _is_text_table(value) -> bool:
@@ -174,7 +179,7 @@ def _entry(entry: dict, section: Section | None) -> str:
     """One table of the file: its single readings a row each; its series of equal length
     (a calibration's loads and deflections) side by side; its text tables as tables; a
     nested table under its name."""
-    singles = {k: v for k, v in entry.items() if _flat({k: v})}
+    singles = {k: v for k, v in entry.items() if _single(v)}
     series = {k: v for k, v in entry.items() if isinstance(v, list)
               and not any(isinstance(x, (dict, list)) for x in v)}
     lengths = {len(v) for v in series.values()}
