@@ -307,7 +307,13 @@ def find_sheet(grey: np.ndarray) -> np.ndarray | None:
     if corners is None:
         return None
     corners = _refine_sides(contour[:, 0, :].astype(np.float64), corners) / f
-    corners = _order(_edges_at_full_size(grey, _order(corners), reach=max(8.0, 3.0 / f)))
+    return _long_side_first(_order(_edges_at_full_size(grey, _order(corners),
+                                                       reach=max(8.0, 3.0 / f))))
+
+
+def _long_side_first(corners: np.ndarray) -> np.ndarray:
+    """Ordered corners (:func:`_order`) starting so that the first side is the long one (a
+    portrait sheet turned a quarter clockwise)."""
     top, left = np.hypot(*(corners[1] - corners[0])), np.hypot(*(corners[3] - corners[0]))
     return np.roll(corners, 1, axis=0) if left > top else corners
 
@@ -373,9 +379,7 @@ def _on_a_lid(blur: np.ndarray, f: float) -> np.ndarray | None:
     corners = _order(corners)
     if cv2.contourArea(corners.astype(np.float32)) < MIN_SHEET * h * w:
         return None
-    top, left = np.hypot(*(corners[1] - corners[0])), np.hypot(*(corners[3] - corners[0]))
-    corners = corners / f
-    return np.roll(corners, 1, axis=0) if left > top else corners
+    return _long_side_first(corners) / f
 
 
 def _lid_edge(view: np.ndarray) -> tuple[float, float] | None:
