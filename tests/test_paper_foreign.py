@@ -268,9 +268,7 @@ def test_a_fragment_cut_off_at_an_end_is_no_part_of_the_record():
     row[:5], row[5:12], row[190:] = 600.0, np.nan, np.nan
     confidence = np.where(np.isfinite(row), 1.0, 0.0)
     assert _ends(row, confidence, 6.0) == (12, 189)
-    row[:5] = 50.0
-    row[5:12] = np.nan
-    row[:30] = 50.0
+    row[:30], row[30:37] = 50.0, np.nan            # 30 columns, 5 strokes, before the gap
     assert _ends(row, np.where(np.isfinite(row), 1.0, 0.0), 6.0) == (0, 189)
 
 

@@ -301,13 +301,19 @@ def find_sheet(grey: np.ndarray) -> np.ndarray | None:
     cv2.drawContours(inside, [contour], -1, 255, -1)
     if cv2.mean(blur, inside)[0] - cv2.mean(blur, 255 - inside)[0] < SHEET_CONTRAST:
         return _on_a_lid(blur, f)
-    corners = None if _solidity(contour) >= SOLID_SHEET else _straight_sides(mask, contour)
+    corners = None if _solidity(contour) >= SOLID_SHEET else _straight_sides(inside, contour)
     if corners is None:
         corners = _quadrilateral(contour)
     if corners is None:
         return None
     corners = _refine_sides(contour[:, 0, :].astype(np.float64), corners) / f
-    corners = _order(_edges_at_full_size(grey, _order(corners), reach=max(8.0, 3.0 / f)))
+    return _long_side_first(_order(_edges_at_full_size(grey, _order(corners),
+                                                       reach=max(8.0, 3.0 / f))))
+
+
+def _long_side_first(corners: np.ndarray) -> np.ndarray:
+    """Ordered corners (:func:`_order`) starting so that the first side is the long one (a
+    portrait sheet turned a quarter clockwise)."""
     top, left = np.hypot(*(corners[1] - corners[0])), np.hypot(*(corners[3] - corners[0]))
     return np.roll(corners, 1, axis=0) if left > top else corners
 
@@ -373,9 +379,7 @@ def _on_a_lid(blur: np.ndarray, f: float) -> np.ndarray | None:
     corners = _order(corners)
     if cv2.contourArea(corners.astype(np.float32)) < MIN_SHEET * h * w:
         return None
-    top, left = np.hypot(*(corners[1] - corners[0])), np.hypot(*(corners[3] - corners[0]))
-    corners = corners / f
-    return np.roll(corners, 1, axis=0) if left > top else corners
+    return _long_side_first(corners) / f
 
 
 def _lid_edge(view: np.ndarray) -> tuple[float, float] | None:
@@ -482,9 +486,9 @@ SIDES_HOLD = 0.95
 """Share of a bitten sheet's region the quadrilateral of its straight sides must hold."""
 
 
-def _straight_sides(mask: np.ndarray, contour) -> np.ndarray | None:
-    """Corners of a sheet whose region a shadow has bitten into, from the straight runs of
-    its outline.
+def _straight_sides(region: np.ndarray, contour) -> np.ndarray | None:
+    """Corners of a sheet whose region (``region``: its ``contour`` filled, uint8) a shadow
+    has bitten into, from the straight runs of its outline.
 
     The bite (a phone's or a hand's shadow over a corner, deeper than any threshold between
     the sheet and the desk reaches) takes the corner and parts of two sides away, but what
@@ -497,10 +501,9 @@ def _straight_sides(mask: np.ndarray, contour) -> np.ndarray | None:
     quadrilateral does not hold :data:`SIDES_HOLD` of the region (the desk's grain joined
     to it may run outside).
     """
-    h, w = mask.shape
-    outline = np.zeros((h, w), np.uint8)
+    outline = np.zeros_like(region)
     cv2.drawContours(outline, [contour], -1, 255, 1)
-    x, y, bw, bh = cv2.boundingRect(contour)
+    _, _, bw, bh = cv2.boundingRect(contour)
     found = cv2.HoughLines(outline, 1, math.pi / 360, max(10, int(SIDE_VOTES * max(bw, bh))))
     if found is None:
         return None
@@ -531,9 +534,7 @@ def _straight_sides(mask: np.ndarray, contour) -> np.ndarray | None:
         return None
     corners = np.array([_meet(a, b) for a in sides_a for b in sides_b])
     corners = _order(corners)
-    region = np.zeros_like(mask)
-    cv2.drawContours(region, [contour], -1, 255, -1)
-    quad = np.zeros_like(mask)
+    quad = np.zeros_like(region)
     cv2.fillPoly(quad, [np.round(corners).astype(np.int32)], 255)
     held = np.count_nonzero(region & quad) / max(np.count_nonzero(region), 1)
     return corners if held >= SIDES_HOLD else None
