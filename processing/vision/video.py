@@ -40,6 +40,7 @@ from processing.oscillations.decay import fit_damped_sine
 from ..diagnostics import (DroppedFramesWarning, FilmAmplitudeWarning,
                            InconsistentInputWarning, InputError)
 from processing.oscillations.savgol import savgol
+from ..measurement import Field, bi
 from ..uncertainty import Measured
 from .frames import (DROPPED, IRREGULAR, frame_clock, frames, interval_spread, open_film,
                      typical_interval)
@@ -1254,6 +1255,21 @@ class Filmed:
         locking = 2 * ARC_LOCKING / (A * np.sinc(theta / (2 * math.pi)) ** 2)
         noise = 2 * theta * arc_radius_u(self.track) / R if math.isfinite(R) else 0.0
         return float(locking + noise)
+
+
+MARKER_FIELDS = (
+    Field("roi", bi("where the marker is in the films' first frame, [x, y, w, h] in pixels "
+                    "(without it: the patch that swings at the swing's frequency)",
+                    "где метка на первом кадре видео, [x, y, w, h] в пикселях (без него — "
+                    "пятно, качающееся с частотой качаний)"),
+          kind="region", required=False),
+    Field("colour", bi("the marker's colour, as the film shows it (without it: the patch that "
+                       "swings at the swing's frequency)",
+                       "цвет метки, как он виден на видео (без него — пятно, качающееся с "
+                       "частотой качаний)"),
+          kind="choice", choices=COLOURS, required=False))
+"""A filmed section's fields saying where its films' marker is (``roi``) and what colour
+(``colour``), as :func:`filmed_times` reads them."""
 
 
 def filmed_times(inputs, films: dict[str, dict[str, str]], needed=("t",)):
