@@ -400,7 +400,7 @@ def _paper_mm(channel) -> float:
 def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
     """Record ``i`` read and analysed. Inside a scope (a check's slips reduced again) its
     channels are read once (:func:`_recorded`) and each valve's trace is analysed once for
-    its samples and preload (:func:`_trace`): a slip of the tachometer's n leaves both as
+    its samples and preload (:func:`_traces`): a slip of the tachometer's n leaves both as
     they were, the valves' traces swapped read the same channels."""
     where = f"record[{i}]"
     names = {v: spec.get("channel", v) for v, spec in valves.items()}
