@@ -30,8 +30,7 @@ from processing.reporting.figures import method_chart
 from processing.result import (KEY, SIGNED, STRICTLY_POSITIVE, Figure, LabResult, Table,
                                compare, flag_estimates, result_values)
 from processing.uncertainty import Measured, propagate
-from processing.vision.marker import COLOURS
-from processing.vision.video import film_figures, filmed_times
+from processing.vision.video import MARKER_FIELDS, film_figures, filmed_times
 
 
 # ------------------------------------------------------------------------ formulas
@@ -350,16 +349,7 @@ SPEC = LabSpec(
                               "a marker on the platform's edge)",
                               "или: видео качаний платформы с деталью (MP4, MOV, AVI; метка на "
                               "краю платформы)"), kind="file", required=False),
-            Field("roi", bi("where the marker is in the films' first frame, [x, y, w, h] in "
-                            "pixels (without it: the patch that swings at the swing's "
-                            "frequency)", "где метка на первом кадре видео, [x, y, w, h] в "
-                            "пикселях (без него — пятно, качающееся с частотой качаний)"),
-                  kind="region", required=False),
-            Field("colour", bi("the marker's colour, as the film shows it (without it: the "
-                              "patch that swings at the swing's frequency)",
-                              "цвет метки, как он виден на видео (без него — пятно, "
-                              "качающееся с частотой качаний)"),
-                  kind="choice", choices=COLOURS, required=False),
+            *MARKER_FIELDS,
             Field("m_p", bi("mass of the empty platform", "масса пустой платформы"), **MASS,
                   required=False, symbol="m_p"),
             Field("t_p", bi("time of n_osc oscillations, empty platform",
@@ -379,16 +369,7 @@ SPEC = LabSpec(
             Field("video", bi("or: a film of the twist with the part (a marker on it)",
                               "или: видео крутильных колебаний с деталью (метка на ней)"),
                   kind="file", required=False),
-            Field("roi", bi("where the marker is in the films' first frame, [x, y, w, h] in "
-                            "pixels (without it: the patch that swings at the swing's "
-                            "frequency)", "где метка на первом кадре видео, [x, y, w, h] в "
-                            "пикселях (без него — пятно, качающееся с частотой качаний)"),
-                  kind="region", required=False),
-            Field("colour", bi("the marker's colour, as the film shows it (without it: the "
-                              "patch that swings at the swing's frequency)",
-                              "цвет метки, как он виден на видео (без него — пятно, "
-                              "качающееся с частотой качаний)"),
-                  kind="choice", choices=COLOURS, required=False),
+            *MARKER_FIELDS,
             Field("t_0", bi("time of n_osc oscillations of the empty clamp",
                             "время n колебаний пустого подвеса"), **STOPWATCH, required=False,
                   symbol="t₀"),
@@ -426,16 +407,7 @@ SPEC = LabSpec(
             Field("video", bi("or: a film of the swing (MP4, MOV, AVI; a marker on the part)",
                               "или: видео качаний (MP4, MOV, AVI; метка на детали)"),
                   kind="file", required=False),
-            Field("roi", bi("where the marker is in the films' first frame, [x, y, w, h] in "
-                            "pixels (without it: the patch that swings at the swing's "
-                            "frequency)", "где метка на первом кадре видео, [x, y, w, h] в "
-                            "пикселях (без него — пятно, качающееся с частотой качаний)"),
-                  kind="region", required=False),
-            Field("colour", bi("the marker's colour, as the film shows it (without it: the "
-                              "patch that swings at the swing's frequency)",
-                              "цвет метки, как он виден на видео (без него — пятно, "
-                              "качающееся с частотой качаний)"),
-                  kind="choice", choices=COLOURS, required=False),
+            *MARKER_FIELDS,
             Field("amplitude", bi("swing amplitude", "амплитуда качаний"), **AMPLITUDE),
         )),
     ),

@@ -32,8 +32,7 @@ from processing.reporting.figures import histogram, method_chart
 from processing.result import (KEY, SIGNED, STRICTLY_POSITIVE, Figure, LabResult, Table, compare,
                                flag_estimates, result_values)
 from processing.uncertainty import Measured, propagate
-from processing.vision.marker import COLOURS
-from processing.vision.video import film_figures, filmed_times
+from processing.vision.video import MARKER_FIELDS, film_figures, filmed_times
 
 KATER_CONDITION_LIMIT = 10.0
 """Condition number of formula (10) above which the swinging method is called ill-conditioned.
@@ -223,16 +222,7 @@ SPEC = LabSpec(
                                 "a marker on the rod)", "или: видео качаний на поршневой "
                                 "головке (MP4, MOV, AVI; метка на шатуне)"), kind="file",
                   required=False),
-            Field("roi", bi("where the marker is in the films' first frame, [x, y, w, h] in "
-                            "pixels (without it: the patch that swings at the swing's "
-                            "frequency)", "где метка на первом кадре видео, [x, y, w, h] в "
-                            "пикселях (без него — пятно, качающееся с частотой качаний)"),
-                  kind="region", required=False),
-            Field("colour", bi("the marker's colour, as the film shows it (without it: the "
-                              "patch that swings at the swing's frequency)",
-                              "цвет метки, как он виден на видео (без него — пятно, "
-                              "качающееся с частотой качаний)"),
-                  kind="choice", choices=COLOURS, required=False),
+            *MARKER_FIELDS,
             Field("t_D", bi("time of n_osc oscillations hung at the big end",
                             "время n колебаний на кривошипной головке"),
                   **{**STOPWATCH, "required": False}, symbol="t_D"),

@@ -287,12 +287,18 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
         _distinct(inputs, uses)
         time, channels, tdc = _recorded(inputs, where, entry, tuple(sorted(names.values())))
         return time, {v: channels[c] for v, c in names.items()}, tdc, {}
-    for valve, x in traces.items():
-        check_record(x, rate, file=str(path), field=field, channel=labels[valve],
+    return _checked(traces, labels, rate, path, PHOTO_FIX, field), traces, tdc, photos
+
+
+def _checked(traces: dict, labels: dict, rate: float, path, fix: dict, field: str):
+    """The samples' times of force ``traces`` (their channels' ``labels`` by the same keys),
+    each checked to be what it claims (:func:`processing.inputs.record_quality.check_record`:
+    ``fix`` says how to mend a trace that is not). [s]"""
+    for key, x in traces.items():
+        check_record(x, rate, file=str(path), field=field, channel=labels[key],
                      purpose={"en": "the valve's forces", "ru": "сил в клапане"},
-                     fix=PHOTO_FIX, clipped_effect=CLIPPED_FORCE)
-    size = next(iter(traces.values())).size
-    return np.arange(size) / rate, traces, tdc, photos
+                     fix=fix, clipped_effect=CLIPPED_FORCE)
+    return np.arange(next(iter(traces.values())).size) / rate
 
 
 @by_content(lambda inputs, where, entry, channels: (
@@ -321,11 +327,8 @@ def _recorded(inputs: Inputs, where: str, entry: dict, channels: tuple) -> tuple
                          lambda problem, fix, key: InputError(
                              problem, fix, file=marks.path, field=f"{where}.{key}"),
                          "2 ms")
-    for (c, x), ch in zip(traces.items(), read):
-        check_record(x, rate, file=str(path), field=field, channel=str(ch.name),
-                     purpose={"en": "the valve's forces", "ru": "сил в клапане"},
-                     fix=SENSOR_FIX, clipped_effect=CLIPPED_FORCE)
-    return np.arange(next(iter(traces.values())).size) / rate, traces, tdc
+    labels = {c: str(ch.name) for c, ch in zip(channels, read)}
+    return _checked(traces, labels, rate, path, SENSOR_FIX, field), traces, tdc
 
 
 SHARED_SPAN = 0.5
@@ -397,7 +400,7 @@ def _paper_mm(channel) -> float:
 def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
     """Record ``i`` read and analysed. Inside a scope (a check's slips reduced again) its
     channels are read once (:func:`_recorded`) and each valve's trace is analysed once for
-    its samples and preload (:func:`_trace`): a slip of the tachometer's n leaves both as
+    its samples and preload (:func:`_traces`): a slip of the tachometer's n leaves both as
     they were, the valves' traces swapped read the same channels."""
     where = f"record[{i}]"
     names = {v: spec.get("channel", v) for v, spec in valves.items()}

@@ -1012,8 +1012,6 @@ def _fits(problem: _Projection, found, converged, starts) -> list[DampedSineFit 
         elif not solved[k]:
             out.append(RuntimeError("fit_damped_sine: the normal matrix is singular (no "
                                     "oscillation in the record?)"))
-        elif tau.size - size < 1:
-            out.append(RuntimeError("fit_damped_sine: fewer samples than parameters"))
         else:
             out.append(_fit(found[k], coef[k], r[k, :tau.size], normal[k, :size, :size],
                             starts[k], _span(tau),

@@ -40,6 +40,8 @@ from processing.oscillations.decay import fit_damped_sine
 from ..diagnostics import (DroppedFramesWarning, FilmAmplitudeWarning,
                            InconsistentInputWarning, InputError)
 from processing.oscillations.savgol import savgol
+from processing.inputs.reuse import by_content, scope
+from ..measurement import Field, bi
 from ..uncertainty import Measured
 from .frames import (DROPPED, IRREGULAR, frame_clock, frames, interval_spread, open_film,
                      typical_interval)
@@ -700,9 +702,10 @@ def swing_of(track: Track, *, field: str | None = None) -> Swing:
         if _evenly_stamped(track) and (t[-1] - t[0]) / fit.period >= DROP_OSCILLATIONS:
             interval = typical_interval(track.time)
             keep = _consistent(s - drifting.predict(t))
-            if _detectable(t[keep], s[keep], interval):
-                drops = _find_drops(t[keep], s[keep], interval)
-                doubt = _doubt(t, s, keep, interval, drops)
+            with scope():           # the scan with no drop retimed is met twice or more
+                if _detectable(t[keep], s[keep], interval):
+                    drops = _find_drops(t[keep], s[keep], interval)
+                    doubt = _doubt(t, s, keep, interval, drops)
             if drops:
                 t = _shifted(t, drops, interval)
                 fit, drifting = _fitted(t, s)
@@ -897,12 +900,15 @@ def _detectable(t, s, interval: float) -> bool:
     return bool(valid.any() and np.median(root[valid]) * interval >= DROP_DETECTABLE)
 
 
+@by_content()
 def _steps(t, s, interval: float, drops):
     """:func:`_timing_steps` of the track with ``drops`` retimed, and where a step can be
     told: a quarter swing or more from either end of the film (a step within a few frames
     of an end rests on those few, and the fit's phase and the camera's shake bend them
     alike: on a clean film a step four frames from its end stood 4.7 standard errors
-    out)."""
+    out). Inside a :func:`~processing.inputs.reuse.scope`, made once for the same track and
+    drops (:func:`_detectable`, :func:`_find_drops` and :func:`_further_drops` each scan the
+    track with none retimed first)."""
     retimed = _shifted(t, drops, interval)
     try:
         fit, drifting = _fitted(retimed, s)
@@ -1254,6 +1260,21 @@ class Filmed:
         locking = 2 * ARC_LOCKING / (A * np.sinc(theta / (2 * math.pi)) ** 2)
         noise = 2 * theta * arc_radius_u(self.track) / R if math.isfinite(R) else 0.0
         return float(locking + noise)
+
+
+MARKER_FIELDS = (
+    Field("roi", bi("where the marker is in the films' first frame, [x, y, w, h] in pixels "
+                    "(without it: the patch that swings at the swing's frequency)",
+                    "где метка на первом кадре видео, [x, y, w, h] в пикселях (без него — "
+                    "пятно, качающееся с частотой качаний)"),
+          kind="region", required=False),
+    Field("colour", bi("the marker's colour, as the film shows it (without it: the patch that "
+                       "swings at the swing's frequency)",
+                       "цвет метки, как он виден на видео (без него — пятно, качающееся с "
+                       "частотой качаний)"),
+          kind="choice", choices=COLOURS, required=False))
+"""A filmed section's fields saying where its films' marker is (``roi``) and what colour
+(``colour``), as :func:`filmed_times` reads them."""
 
 
 def filmed_times(inputs, films: dict[str, dict[str, str]], needed=("t",)):
