@@ -115,6 +115,7 @@ class QuantityError(ValueError):
         self.problem_ru, self.fix_ru = ru or (None, None)
 
 
+@cache
 def dimension(unit: str) -> str:
     """The dimension of ``unit``, its base dimensions in alphabetical order (whatever order
     pint found them in): the key of :data:`PLAUSIBLE`.
