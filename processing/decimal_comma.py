@@ -83,38 +83,23 @@ class Split:
                 f"{self.quoted} (whole numbers in an array take a space after each comma)")
 
 
+_OPAQUE = re.compile(r'#[^\n]*'
+                     r'|"{3}(?:\\.|[^\\])*?(?:"{3}|\Z)'
+                     r"|'{3}.*?(?:'{3}|\Z)"
+                     r'|"(?:\\.|[^"\\])*(?:"|\Z)'
+                     r"|'[^']*(?:'|\Z)", re.S)
+"""A TOML comment or quoted string: basic strings with their escapes, literal strings as they
+are, each multi-line form before its one-line form."""
+
+
 def _blank_comments_and_strings(text: str) -> str:
-    """``text`` with TOML comments and quoted strings blanked to spaces (positions kept)."""
-    out, quote, i = [], None, 0
-    while i < len(text):
-        c = text[i]
-        if quote is None and c == "#":
-            end = text.find("\n", i)
-            end = len(text) if end < 0 else end
-            out.append(" " * (end - i))
-            i = end
-            continue
-        if quote is None and c in "\"'":
-            quote = text[i:i + 3] if text[i:i + 3] in ('"""', "'''") else c
-            out.append(" " * len(quote))
-            i += len(quote)
-            continue
-        if quote is not None:
-            if c == "\\" and quote[0] == '"':
-                out.append("  " if text[i + 1:i + 2] != "\n" else " \n")
-                i += 2
-                continue
-            if text.startswith(quote, i):
-                out.append(" " * len(quote))
-                i += len(quote)
-                quote = None
-                continue
-            out.append("\n" if c == "\n" else " ")
-            i += 1
-            continue
-        out.append(c)
-        i += 1
-    return "".join(out)
+    r"""``text`` with TOML comments and quoted strings blanked to spaces (positions kept).
+
+    >>> _blank_comments_and_strings('t = [1,2] # a, b\nname = "x, \\"y\\"" \n')
+    't = [1,2]       \nname =            \n'
+    """
+    return _OPAQUE.sub(lambda m: re.sub(r"[^\n]", " ", m.group()) if "\n" in m.group()
+                       else " " * len(m.group()), text)
 
 
 def _number(token: str):
