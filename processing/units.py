@@ -83,6 +83,7 @@ _LATIN_C = re.compile(r"(?<![\w])c(?![\w])")
 measures anything in speeds of light."""
 
 
+@cache
 def _russian_units(text: str) -> str:
     """A unit expression as a Russian student types it in pint's symbols (a pint
     preprocessor): Russian symbols (in any case that cannot be confused), powers without
