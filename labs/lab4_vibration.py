@@ -48,13 +48,13 @@ from processing.speed.edges import detect_edges
 from processing.measurement import (ENGINE_SPEED, SAMPLE_RATE, STROKES, Column, Field, Inputs,
                                     LabSpec, ReadingsTable, Section, bi, firing_order)
 from processing.vibration.misfire import CutCylinder, find_cut_cylinder
-from processing.torsional.orders import OrderFit, order_fit
+from processing.torsional.orders import OrderFit, order_fits
 from processing.inputs.record_checks import check_tachometer, whole_ratio
 from processing.result import LabResult, compare, flag_estimates, result_values
 from processing.inputs.signals import open_channels
 from processing.inputs.record_quality import check_record, irregular_marks
 from processing.inputs.reuse import by_content
-from processing.vibration.steady_record import decimate, mean_cycle
+from processing.vibration.steady_record import decimate, mean_cycles
 from processing.torsional.torsiogram import Revolutions, revolutions, steady_crank_angle
 from processing.uncertainty import Measured, propagate
 from processing.units import parse_quantity
@@ -420,9 +420,46 @@ def _timing(entry: dict, tdc, rate: float, samples: int, strokes: int, refuse, w
                   per_mark)
 
 
-def _channel(p: int, name: str, x: np.ndarray, rate: float, timing, strokes: int, refuse,
-             lowest_line: float) -> Channel:
-    """One accelerometer channel's band readings, peak-to-peak values and orders."""
+def _channels(names: list[str], data: list[np.ndarray], rate: float, timing, strokes: int,
+              refuse, lowest_line: float) -> list[Channel]:
+    """A record's accelerometer channels: each one's band readings, peak-to-peak values and
+    orders. The channels share the record's samples, so what depends on the time and the
+    crank angle alone (the band signals' angles, the mean cycle's grid, the decimated time
+    and angle, the order fit's design) is made once for all of them."""
+    readings = [_band_readings(name, x, rate, refuse, lowest_line)
+                for name, x in zip(names, data)]
+    if not isinstance(timing, Timing):
+        out = []
+        for p, (name, x, rms) in enumerate(zip(names, data, readings)):
+            band = band_signals(x, rate, tuple(RECORD_PP_LIMIT))
+            out.append(Channel(0, p + 1, name, rms,
+                               {q: float(np.ptp(band[q])) for q in RECORD_PP_LIMIT}, None))
+        return out
+    cycle = 4 * np.pi if strokes == 4 else 2 * np.pi
+    span = timing.span
+    bands = [band_signals(x[span], rate, periodic=True) for x in data]
+    time = np.arange(data[0].size) / rate
+    band_angle = steady_crank_angle(time[span.start] + bands[0].time, timing.revolutions) \
+        * timing.per_mark / (2 * np.pi)
+    cycles = mean_cycles([band[q] for band in bands for q in QUANTITIES], band_angle, cycle)
+    pp = [{q: peaks(cycles[k * len(QUANTITIES) + i]).peak_to_peak
+           for i, q in enumerate(QUANTITIES)} for k in range(len(data))]
+    step = 0.5 if strokes == 4 else 1.0     # with marks per revolution: their phase is lost
+    top = min(MAX_ORDER, ORDER_NYQUIST * rate * 2 * np.pi / timing.speed)
+    highest = top * timing.speed / (2 * np.pi)
+    decimated = [decimate(time, timing.angle, x, rate, highest) for x in data]
+    try:
+        fits = order_fits(*decimated[0][:2], [d[2] for d in decimated], step=step,
+                          max_order=top)
+    except ValueError:
+        fits = [None] * len(data)
+    return [Channel(0, p + 1, name, rms, pp[p], fit)
+            for p, (name, rms, fit) in enumerate(zip(names, readings, fits))]
+
+
+def _band_readings(name: str, x: np.ndarray, rate: float, refuse,
+                   lowest_line: float) -> BandRMS:
+    """A channel's band readings; a channel of noise alone is refused."""
     rms = band_rms(x, rate, lowest_line=lowest_line)
     if all(rms.floor[q] > NOISE_ONLY * rms[q] for q in QUANTITIES):
         raise refuse(f"channel '{name}' holds no vibration above its noise: its broadband "
@@ -432,25 +469,7 @@ def _channel(p: int, name: str, x: np.ndarray, rate: float, timing, strokes: int
                      "check that the accelerometer is mounted, connected and powered, that "
                      "the channel named is its channel, and that the amplifier's gain is set; "
                      "then record again", "channels")
-    if not isinstance(timing, Timing):
-        band = band_signals(x, rate, tuple(RECORD_PP_LIMIT))
-        return Channel(0, p + 1, name, rms, {q: float(np.ptp(band[q])) for q in RECORD_PP_LIMIT},
-                       None)
-    cycle = 4 * np.pi if strokes == 4 else 2 * np.pi
-    span = timing.span
-    band = band_signals(x[span], rate, periodic=True)
-    time = np.arange(x.size) / rate
-    band_angle = steady_crank_angle(time[span.start] + band.time, timing.revolutions) \
-        * timing.per_mark / (2 * np.pi)
-    pp = {q: peaks(mean_cycle(band[q], band_angle, cycle)).peak_to_peak for q in QUANTITIES}
-    step = 0.5 if strokes == 4 else 1.0     # with marks per revolution: their phase is lost
-    top = min(MAX_ORDER, ORDER_NYQUIST * rate * 2 * np.pi / timing.speed)
-    try:
-        fit = order_fit(*decimate(time, timing.angle, x, rate, top * timing.speed / (2 * np.pi)),
-                        step=step, max_order=top)
-    except ValueError:
-        fit = None
-    return Channel(0, p + 1, name, rms, pp, fit)
+    return rms
 
 
 @by_content(lambda i, entry, names: (i, names, *(entry.get(k) for k in
@@ -504,8 +523,7 @@ def _record(inputs: Inputs, i: int, entry: dict, points: int, phases) -> Recorde
         speed = entry.get("n")
     step = 0.5 if strokes == 4 else 1.0
     lowest = 0.0 if speed is None else step * (speed.value - 3 * speed.u) / (2 * np.pi)
-    chans = [_channel(p, name, x, rate, timing, strokes, refuse, max(lowest, 0.0))
-             for p, (name, x) in enumerate(zip(names, data))]
+    chans = _channels(names, data, rate, timing, strokes, refuse, max(lowest, 0.0))
     return Recorded(i + 1, Path(path), entry["ignition"], speed, chans, entry["tdc"] == "cycle",
                     stated, unmarked=None if isinstance(timing, Timing) else timing, rate=rate)
 

@@ -51,12 +51,44 @@ def mean_cycle(signal, angle, cycle: float) -> np.ndarray:
     >>> round(float(m.max()), 6), m.size
     (1.1, 200)
     """
-    signal, angle = np.asarray(signal, dtype=float), np.asarray(angle, dtype=float)
+    return mean_cycles([signal], angle, cycle)[0]
+
+
+def mean_cycles(signals, angle, cycle: float) -> np.ndarray:
+    """:func:`mean_cycle` of several signals sampled alike (a record's band signals, its
+    channels): the grid is placed among the angles once, and each signal interpolated on it
+    as :func:`numpy.interp` does (the same slope times the same offset, so the same values).
+
+    Parameters
+    ----------
+    signals : sequence of array_like
+        Each as long as ``angle``. [any unit]
+    angle : array_like
+        Crank angle of each sample, strictly increasing. [rad]
+    cycle : float
+        Angle of a working cycle. [rad]
+
+    Returns
+    -------
+    ndarray
+        One mean cycle per signal (a row each). [signal unit]
+    """
+    angle = np.asarray(angle, dtype=float)
     count = max(int(round((angle[-1] - angle[0]) / cycle)), 1)
-    points = max(signal.size // count, 2)
-    grid = angle[0] + (np.arange(count)[:, None] * cycle
-                       + np.arange(points)[None, :] * (cycle / points))
-    return np.interp(grid.ravel(), angle, signal).reshape(count, points).mean(axis=0)
+    points = max(angle.size // count, 2)
+    grid = (angle[0] + (np.arange(count)[:, None] * cycle
+                        + np.arange(points)[None, :] * (cycle / points))).ravel()
+    left = np.clip(np.searchsorted(angle, grid, "right") - 1, 0, angle.size - 2)
+    offset = grid - angle[left]
+    width = angle[left + 1] - angle[left]
+    beyond = grid >= angle[-1]
+    out = []
+    for signal in signals:
+        y = np.asarray(signal, dtype=float)
+        value = (y[left + 1] - y[left]) / width * offset + y[left]
+        value[beyond] = y[-1]
+        out.append(value.reshape(count, points).mean(axis=0))
+    return np.array(out)
 
 
 @lru_cache(maxsize=16)
