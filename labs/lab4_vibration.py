@@ -441,11 +441,12 @@ def _channels(names: list[str], data: list[np.ndarray], rate: float, timing, str
         return out
     cycle = 4 * np.pi if strokes == 4 else 2 * np.pi
     span = timing.span
-    bands = [band_signals(x[span], rate, periodic=True) for x in data]
+    band = band_signals(np.stack([x[span] for x in data]), rate, periodic=True)
     time = np.arange(data[0].size) / rate
-    band_angle = steady_crank_angle(time[span.start] + bands[0].time, timing.revolutions) \
+    band_angle = steady_crank_angle(time[span.start] + band.time, timing.revolutions) \
         * timing.per_mark / (2 * np.pi)
-    cycles = mean_cycles([band[q] for band in bands for q in QUANTITIES], band_angle, cycle)
+    cycles = mean_cycles([band[q][k] for k in range(len(data)) for q in QUANTITIES],
+                         band_angle, cycle)
     pp = [{q: peaks(cycles[k * len(QUANTITIES) + i]).peak_to_peak
            for i, q in enumerate(QUANTITIES)} for k in range(len(data))]
     step = 0.5 if strokes == 4 else 1.0     # with marks per revolution: their phase is lost
