@@ -48,13 +48,13 @@ from processing.speed.edges import detect_edges
 from processing.measurement import (ENGINE_SPEED, SAMPLE_RATE, STROKES, Column, Field, Inputs,
                                     LabSpec, ReadingsTable, Section, bi, firing_order)
 from processing.vibration.misfire import CutCylinder, find_cut_cylinder
-from processing.torsional.orders import OrderFit, order_fit
+from processing.torsional.orders import OrderFit, order_fits
 from processing.inputs.record_checks import check_tachometer, whole_ratio
 from processing.result import LabResult, compare, flag_estimates, result_values
 from processing.inputs.signals import open_channels
 from processing.inputs.record_quality import check_record, irregular_marks
 from processing.inputs.reuse import by_content
-from processing.vibration.steady_record import decimate, mean_cycle
+from processing.vibration.steady_record import decimate, mean_cycles
 from processing.torsional.torsiogram import Revolutions, revolutions, steady_crank_angle
 from processing.uncertainty import Measured, propagate
 from processing.units import parse_quantity
@@ -302,6 +302,10 @@ class Channel:
     the acceleration and velocity over the whole record. [V, V·s, V·s²]"""
     fit: OrderFit | None
     """The order spectrum in V (None without TDC marks)."""
+    measured: dict = field(default_factory=dict)
+    """The channel's inputs of the model, by :func:`_flat`'s suffix (``a``, ``a_pp``,
+    ``order1`` …): the band readings and peak-to-peak values with their limits, the first and
+    second orders with their u (:func:`_measured`). [V, V·s, V·s²]"""
 
 
 @dataclass
@@ -382,7 +386,8 @@ def _open(entry: dict, names: list[str], where: str):
 
 
 def _timing(entry: dict, tdc, rate: float, samples: int, strokes: int, refuse, where: str):
-    """The record's :class:`Timing` from its TDC channel, or why it has none (``bi`` text).
+    """The record's :class:`Timing` from its TDC channel's samples and their marks' times
+    (``tdc``, as :func:`_read` gives them), or why it has none (``bi`` text).
 
     Marks that are there but irregular, or contradict the tachometer, are refused: they are
     marks, misread or mislabelled. A channel that is missing, flat, or holds too few marks for
@@ -390,8 +395,7 @@ def _timing(entry: dict, tdc, rate: float, samples: int, strokes: int, refuse, w
     name = entry["tdc_channel"]
     if tdc is None:
         return bi(f"the recording has no channel '{name}'", f"в файле нет канала '{name}'")
-    x = tdc.read().astype(float) * tdc.volts_per_code
-    times = _tdc_times(x, rate)
+    x, times = tdc
     if times.size < 2:
         return bi(f"its TDC channel '{name}' " + (f"is constant ({x[0]:.4g})" if np.ptp(x) == 0
                                                    else f"holds {times.size} mark(s)"),
@@ -420,9 +424,65 @@ def _timing(entry: dict, tdc, rate: float, samples: int, strokes: int, refuse, w
                   per_mark)
 
 
-def _channel(p: int, name: str, x: np.ndarray, rate: float, timing, strokes: int, refuse,
-             lowest_line: float) -> Channel:
-    """One accelerometer channel's band readings, peak-to-peak values and orders."""
+def _channels(names: list[str], data: list[np.ndarray], rate: float, timing, strokes: int,
+              refuse, lowest_line: float) -> list[Channel]:
+    """A record's accelerometer channels: each one's band readings, peak-to-peak values and
+    orders. The channels share the record's samples, so what depends on the time and the
+    crank angle alone (the band signals' angles, the mean cycle's grid, the decimated time
+    and angle, the order fit's design) is made once for all of them."""
+    readings = [_band_readings(name, x, rate, refuse, lowest_line)
+                for name, x in zip(names, data)]
+    if not isinstance(timing, Timing):
+        out = []
+        for p, (name, x, rms) in enumerate(zip(names, data, readings)):
+            band = band_signals(x, rate, tuple(RECORD_PP_LIMIT))
+            pp = {q: float(np.ptp(band[q])) for q in RECORD_PP_LIMIT}
+            out.append(Channel(0, p + 1, name, rms, pp, None, _measured(rms, pp, None, False)))
+        return out
+    cycle = 4 * np.pi if strokes == 4 else 2 * np.pi
+    span = timing.span
+    band = band_signals(np.stack([x[span] for x in data]), rate, periodic=True)
+    time = np.arange(data[0].size) / rate
+    band_angle = steady_crank_angle(time[span.start] + band.time, timing.revolutions) \
+        * timing.per_mark / (2 * np.pi)
+    cycles = mean_cycles([band[q][k] for k in range(len(data)) for q in QUANTITIES],
+                         band_angle, cycle)
+    pp = [{q: peaks(cycles[k * len(QUANTITIES) + i]).peak_to_peak
+           for i, q in enumerate(QUANTITIES)} for k in range(len(data))]
+    step = 0.5 if strokes == 4 else 1.0     # with marks per revolution: their phase is lost
+    top = min(MAX_ORDER, ORDER_NYQUIST * rate * 2 * np.pi / timing.speed)
+    highest = top * timing.speed / (2 * np.pi)
+    decimated = [decimate(time, timing.angle, x, rate, highest) for x in data]
+    try:
+        fits = order_fits(*decimated[0][:2], [d[2] for d in decimated], step=step,
+                          max_order=top)
+    except ValueError:
+        fits = [None] * len(data)
+    return [Channel(0, p + 1, name, rms, pp[p], fit, _measured(rms, pp[p], fit, True))
+            for p, (name, rms, fit) in enumerate(zip(names, readings, fits))]
+
+
+def _measured(rms: BandRMS, pp: dict, fit: OrderFit | None, marked: bool) -> dict:
+    """A channel's inputs of the model (:attr:`Channel.measured`): each band reading with
+    the method's limit, each peak-to-peak value with its own (:func:`_pp_limit`), the first
+    and second orders' amplitudes with their u and degrees of freedom."""
+    out = {}
+    for q in QUANTITIES:
+        out[q] = Measured(rms[q], limit=METHOD_LIMIT * rms[q])
+        if q in pp:
+            out[f"{q}_pp"] = Measured(pp[q], limit=_pp_limit(rms, pp, q, marked))
+    if fit is not None:
+        for k in (1, 2):
+            hit = np.flatnonzero(np.isclose(fit.order, k))
+            if hit.size:
+                out[f"order{k}"] = Measured(float(fit.amplitude[hit[0]]), float(fit.u[hit[0]]),
+                                            fit.dof)
+    return out
+
+
+def _band_readings(name: str, x: np.ndarray, rate: float, refuse,
+                   lowest_line: float) -> BandRMS:
+    """A channel's band readings; a channel of noise alone is refused."""
     rms = band_rms(x, rate, lowest_line=lowest_line)
     if all(rms.floor[q] > NOISE_ONLY * rms[q] for q in QUANTITIES):
         raise refuse(f"channel '{name}' holds no vibration above its noise: its broadband "
@@ -432,25 +492,7 @@ def _channel(p: int, name: str, x: np.ndarray, rate: float, timing, strokes: int
                      "check that the accelerometer is mounted, connected and powered, that "
                      "the channel named is its channel, and that the amplifier's gain is set; "
                      "then record again", "channels")
-    if not isinstance(timing, Timing):
-        band = band_signals(x, rate, tuple(RECORD_PP_LIMIT))
-        return Channel(0, p + 1, name, rms, {q: float(np.ptp(band[q])) for q in RECORD_PP_LIMIT},
-                       None)
-    cycle = 4 * np.pi if strokes == 4 else 2 * np.pi
-    span = timing.span
-    band = band_signals(x[span], rate, periodic=True)
-    time = np.arange(x.size) / rate
-    band_angle = steady_crank_angle(time[span.start] + band.time, timing.revolutions) \
-        * timing.per_mark / (2 * np.pi)
-    pp = {q: peaks(mean_cycle(band[q], band_angle, cycle)).peak_to_peak for q in QUANTITIES}
-    step = 0.5 if strokes == 4 else 1.0     # with marks per revolution: their phase is lost
-    top = min(MAX_ORDER, ORDER_NYQUIST * rate * 2 * np.pi / timing.speed)
-    try:
-        fit = order_fit(*decimate(time, timing.angle, x, rate, top * timing.speed / (2 * np.pi)),
-                        step=step, max_order=top)
-    except ValueError:
-        fit = None
-    return Channel(0, p + 1, name, rms, pp, fit)
+    return rms
 
 
 @by_content(lambda i, entry, names: (i, names, *(entry.get(k) for k in
@@ -458,8 +500,9 @@ def _channel(p: int, name: str, x: np.ndarray, rate: float, timing, strokes: int
             shared=True)
 def _read(i: int, entry: dict, names: list[str]):
     """Record ``i``'s accelerometer channels ``names`` read (in volts) and checked, their
-    sample rate, and its TDC channel (None without): a function of the recording, the
-    channels named and the sample rate alone (a slip of the tachometer's n finds it done)."""
+    sample rate, and its TDC channel's samples (in volts) with the times of its marks (None
+    without the channel): a function of the recording, the channels named and the sample
+    rate alone (a slip of the tachometer's n finds it done)."""
     where = f"record[{i}]"
     accelerometers, tdc = _open(entry, names, where)
     rate = accelerometers[0].sample_rate
@@ -468,7 +511,10 @@ def _read(i: int, entry: dict, names: list[str]):
         check_record(x, rate, file=str(entry["signal"]), field=f"{where}.channels", channel=name,
                      least_duration=LEAST_DURATION, purpose={"en": "the meter's band reading", "ru": "показания прибора в полосе"},
                      broadband=True)
-    return rate, data, tdc
+    if tdc is None:
+        return rate, data, None
+    marks = tdc.read().astype(float) * tdc.volts_per_code
+    return rate, data, (marks, _tdc_times(marks, rate))
 
 
 @by_content(lambda inputs, i, entry, points, phases: (i, entry, points, phases,
@@ -504,8 +550,7 @@ def _record(inputs: Inputs, i: int, entry: dict, points: int, phases) -> Recorde
         speed = entry.get("n")
     step = 0.5 if strokes == 4 else 1.0
     lowest = 0.0 if speed is None else step * (speed.value - 3 * speed.u) / (2 * np.pi)
-    chans = [_channel(p, name, x, rate, timing, strokes, refuse, max(lowest, 0.0))
-             for p, (name, x) in enumerate(zip(names, data))]
+    chans = _channels(names, data, rate, timing, strokes, refuse, max(lowest, 0.0))
     return Recorded(i + 1, Path(path), entry["ignition"], speed, chans, entry["tdc"] == "cycle",
                     stated, unmarked=None if isinstance(timing, Timing) else timing, rate=rate)
 
@@ -607,17 +652,7 @@ def _flat(inputs: Inputs, recorded: list[Recorded], readings: list[Reading]) -> 
         if r.speed is not None:
             flat[f"r{r.number}.omega"] = r.speed
         for c in r.channels:
-            j = c.number
-            for q in QUANTITIES:
-                flat[f"c{j}.{q}"] = Measured(c.rms[q], limit=METHOD_LIMIT * c.rms[q])
-                if q in c.pp:
-                    flat[f"c{j}.{q}_pp"] = Measured(c.pp[q], limit=_pp_limit(c, q, r.marked))
-            if c.fit is not None:
-                for k in (1, 2):
-                    hit = np.flatnonzero(np.isclose(c.fit.order, k))
-                    if hit.size:
-                        flat[f"c{j}.order{k}"] = Measured(float(c.fit.amplitude[hit[0]]),
-                                                          float(c.fit.u[hit[0]]), c.fit.dof)
+            flat.update((f"c{c.number}.{key}", m) for key, m in c.measured.items())
     limit = inputs["meter"]["limit"].value if "meter" in inputs else METER_LIMIT
     for rd in readings:
         for key, m in rd.entry.items():
@@ -630,14 +665,14 @@ def _flat(inputs: Inputs, recorded: list[Recorded], readings: list[Reading]) -> 
     return flat
 
 
-def _pp_limit(c: Channel, q: str, marked: bool) -> float:
+def _pp_limit(rms: BandRMS, pp: dict, q: str, marked: bool) -> float:
     """Limit of error of a channel's peak-to-peak value: the method's on the mean working
     cycle; on a whole record without marks, the band signal's noise lifts both extremes (by
     up to :data:`PEAK_NOISE` times the floor's RMS each) and the taper's own low frequencies
     reach the peaks (:data:`RECORD_PP_LIMIT`)."""
     if marked:
-        return METHOD_LIMIT * c.pp[q]
-    return RECORD_PP_LIMIT[q] * c.pp[q] + 2 * PEAK_NOISE * c.rms.floor[q]
+        return METHOD_LIMIT * pp[q]
+    return RECORD_PP_LIMIT[q] * pp[q] + 2 * PEAK_NOISE * rms.floor[q]
 
 
 def free_force_factors(crank_angles) -> tuple[float, float]:

@@ -7,6 +7,7 @@ terms; nothing here reduces data.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
@@ -70,9 +71,18 @@ def result_names(recorded, readings, forces: bool, mass: bool, points) -> dict:
     vibration velocity of each measurement, the quantity the vibration norms judge, is the
     key result."""
     place = placements(recorded, readings, points)
-    out = {}
     numbers = sorted({c.number for r in recorded for c in r.channels}
                      | {rd.number for rd in readings})
+    return dict(_names(tuple(place.items()), tuple(numbers), tuple(r.number for r in recorded),
+                       forces, mass))
+
+
+@lru_cache(maxsize=32)
+def _names(place: tuple, numbers: tuple, records: tuple, forces: bool, mass: bool) -> dict:
+    """:func:`result_names` of the measurements' places, numbers and records (kept: a check
+    reduces a submission again for each slip, mostly to the same places)."""
+    place = dict(place)
+    out = {}
     for j in numbers:
         w = _where(j, place)
         for q in QUANTITIES:
@@ -97,8 +107,7 @@ def result_names(recorded, readings, forces: bool, mass: bool, points) -> dict:
                                           f"амплитуда гармоники {k}-го порядка "
                                           "виброускорения"), w), f"a_{k},{j}", "m/s^2",
                                 STRICTLY_POSITIVE)
-    for r in recorded:
-        n = r.number
+    for n in records:
         out[f"n_{n}"] = (bi(f"speed from the TDC marks, record {n}",
                             f"частота вращения по отметкам ВМТ, запись {n}"), f"n_{n}", "rpm",
                          STRICTLY_POSITIVE)

@@ -118,3 +118,54 @@ def test_window_spread_and_short_record_refused():
     assert window_spread(64) == pytest.approx(1 / 3, rel=0.01)
     with pytest.raises(ValueError, match="too few"):
         band_rms(np.ones(8), RATE)
+
+
+def test_records_transformed_together_come_back_as_each_alone():
+    # a recording's channels at once: a length Bluestein's algorithm transforms (a prime)
+    # packs two to a complex transform, a fast one does not; each row as the record alone
+    rng = np.random.default_rng(3)
+    for size in (4999, 5000):
+        rows = rng.standard_normal((3, size)) * np.array([[1.0], [0.02], [30.0]])
+        for periodic in (True, False):
+            together = band_signals(rows, RATE, periodic=periodic)
+            for k, row in enumerate(rows):
+                alone = band_signals(row, RATE, periodic=periodic)
+                assert np.array_equal(together.time, alone.time)
+                for q in QUANTITIES:
+                    scale = np.abs(alone[q]).max()
+                    assert np.abs(together[q][k] - alone[q]).max() < 1e-13 * scale, (size, q)
+
+
+def test_the_decimating_filter_is_the_polyphase_resampler():
+    # the FIR at the kept samples alone: scipy's resample_poly with the same taps, ends cut
+    from scipy.signal import resample_poly
+
+    from processing.vibration.steady_record import DECIMATION_TAPS, _taps, decimate
+
+    rng = np.random.default_rng(4)
+    for size, highest in ((20000, 600.0), (10007, 1500.0), (300, 200.0)):
+        x, t = rng.standard_normal(size), np.arange(size) / RATE
+        q = int(RATE / (4 * highest))
+        y = resample_poly(x, 1, q, window=_taps(q))
+        keep = slice(DECIMATION_TAPS // 2 + 1, y.size - DECIMATION_TAPS // 2 - 1)
+        t2, a2, x2 = decimate(t, 2 * t, x, RATE, highest)
+        assert np.array_equal(t2, t[::q][keep]) and np.array_equal(a2, 2 * t[::q][keep])
+        assert x2.shape == y[keep].shape
+        assert np.allclose(x2, y[keep], rtol=0, atol=1e-13 * max(np.abs(y).max(), 1.0))
+
+
+def test_mean_cycles_interpolate_as_numpy_does():
+    # the grid placed once for several signals: the values np.interp gives, bit for bit
+    from processing.vibration.steady_record import mean_cycles
+
+    rng = np.random.default_rng(5)
+    angle = np.cumsum(rng.uniform(0.9, 1.1, 7001)) * 0.01
+    signals = rng.standard_normal((3, angle.size))
+    cycle = 4 * np.pi
+    count = int(round((angle[-1] - angle[0]) / cycle))
+    points = angle.size // count
+    grid = angle[0] + (np.arange(count)[:, None] * cycle
+                       + np.arange(points)[None, :] * (cycle / points))
+    for row, got in zip(signals, mean_cycles(signals, angle, cycle)):
+        want = np.interp(grid.ravel(), angle, row).reshape(count, points).mean(axis=0)
+        assert np.array_equal(got, want)

@@ -97,3 +97,19 @@ def test_fits_of_different_orders_are_refused(scenes):
                   np.zeros(a.drift.size), max_order=4.0)
     with pytest.raises(ValueError, match="different orders"):
         find_cut_cylinder(a, b, [0.0, np.pi])
+
+
+def test_records_sampled_alike_are_fitted_as_each_alone():
+    # the channels of one recording share the design: each fit is the one of its record alone
+    from processing.torsional.orders import order_fits
+
+    rng = np.random.default_rng(6)
+    t = np.linspace(0.0, 1.0, 3001)
+    th = 2 * np.pi * 23 * t + 0.01 * np.sin(3 * t)
+    records = [np.cos(2 * th + k) + 0.3 * np.sin(4.5 * th) + rng.normal(0, 0.1, t.size)
+               for k in range(3)]
+    for together, x in zip(order_fits(t, th, records, max_order=8.0), records):
+        alone = order_fit(t, th, x, max_order=8.0)
+        assert np.array_equal(together.coefficient, alone.coefficient)
+        assert np.array_equal(together.covariance, alone.covariance)
+        assert together.residual_sd == alone.residual_sd and together.dof == alone.dof

@@ -255,37 +255,70 @@ def order_fit(time, angle, x, *, step: float = 0.5, max_order: float = 12.0,
     >>> np.round(s.synthesize([0.0, np.pi]), 6).tolist()     # 3 cos 0.5 + 0.4 sin 4.5θ
     [2.632748, 3.032748]
     """
+    return order_fits(time, angle, [x], step=step, max_order=max_order,
+                      drift_degree=drift_degree)[0]
+
+
+def order_fits(time, angle, records, *, step: float = 0.5, max_order: float = 12.0,
+               drift_degree: int = DRIFT_DEGREE) -> list[OrderFit]:
+    """:func:`order_fit` of several records sampled alike (the channels of one recording):
+    the design matrix and the inverse of its normal equations, which depend on the time and
+    the crank angle alone, are made once; each record's coefficients, residual and noise
+    ratios are its own, computed as :func:`order_fit` computes them.
+
+    Parameters
+    ----------
+    time, angle : array_like
+        Time [s] and crank angle [rad] of each sample, shared by the records.
+    records : sequence of array_like
+        The records, each as long as ``time``. [any unit]
+    step, max_order, drift_degree
+        As :func:`order_fit`.
+
+    Returns
+    -------
+    list of OrderFit
+        One per record, in their order.
+
+    Raises
+    ------
+    ValueError
+        Fewer samples than coefficients to fit.
+    """
     t = np.asarray(time, dtype=float)
     th = np.asarray(angle, dtype=float)
-    x = np.asarray(x, dtype=float)
     order = step * np.arange(1, int(np.floor(max_order / step + 1e-9)) + 1)
     m = order.size
-    if x.size <= 2 * m + drift_degree + 1:
-        raise ValueError(f"order_fit: {x.size} samples cannot fit {m} orders and a drift of "
+    if t.size <= 2 * m + drift_degree + 1:
+        raise ValueError(f"order_fit: {t.size} samples cannot fit {m} orders and a drift of "
                          f"degree {drift_degree}")
     u = 2 * (t - t[0]) / (t[-1] - t[0]) - 1
-    A = np.empty((x.size, 2 * m + drift_degree + 1))
+    A = np.empty((t.size, 2 * m + drift_degree + 1))
     # e^{ijsθ} as the running product of e^{isθ}: one complex exponential per sample
     # instead of a cosine and a sine per sample and order (rounding grows as j·ε)
-    powers = np.cumprod(np.broadcast_to(np.exp(1j * step * th)[:, None], (x.size, m)), axis=1)
+    powers = np.cumprod(np.broadcast_to(np.exp(1j * step * th)[:, None], (t.size, m)), axis=1)
     A[:, :m], A[:, m:2 * m] = powers.real, powers.imag
     A[:, 2 * m:] = drift_cols = np.polynomial.legendre.legvander(u, drift_degree)
     # the normal equations: their inverse is the covariance's anyway, and the columns
     # (sines, cosines and Legendre polynomials over the record) are near orthogonal; AᵀA is
     # symmetric, so its pseudo-inverse comes from its eigenvalues (half an SVD's cost)
     normal = np.linalg.pinv(A.T @ A, hermitian=True)
-    coef = normal @ (A.T @ x)
-    fitted_orders = A[:, :2 * m] @ coef[:2 * m]
-    drift = drift_cols @ coef[2 * m:]
-    r = x - fitted_orders - drift
-    dof = x.size - A.shape[1]
-    s2 = float(r @ r) / dof
+    dof = t.size - A.shape[1]
     rate = (t.size - 1) / (t[-1] - t[0])
     f_rev = (th[-1] - th[0]) / (2 * np.pi * (t[-1] - t[0]))
-    ratio = noise_ratio(r, rate, order * f_rev, step * f_rev)
-    scale = np.sqrt(np.concatenate([ratio, ratio]))
-    covariance = s2 * normal[:2 * m, :2 * m] * scale[:, None] * scale[None, :]
-    a, b = coef[:m], coef[m:2 * m]
-    return OrderFit(order=order, coefficient=a - 1j * b, covariance=covariance,
-                    noise_ratio=ratio, residual_sd=float(np.sqrt(s2)), dof=int(dof),
-                    drift=drift, periodic=fitted_orders)
+    fits = []
+    for x in records:
+        x = np.asarray(x, dtype=float)
+        coef = normal @ (A.T @ x)
+        fitted_orders = A[:, :2 * m] @ coef[:2 * m]
+        drift = drift_cols @ coef[2 * m:]
+        r = x - fitted_orders - drift
+        s2 = float(r @ r) / dof
+        ratio = noise_ratio(r, rate, order * f_rev, step * f_rev)
+        scale = np.sqrt(np.concatenate([ratio, ratio]))
+        covariance = s2 * normal[:2 * m, :2 * m] * scale[:, None] * scale[None, :]
+        a, b = coef[:m], coef[m:2 * m]
+        fits.append(OrderFit(order=order, coefficient=a - 1j * b, covariance=covariance,
+                             noise_ratio=ratio, residual_sd=float(np.sqrt(s2)), dof=int(dof),
+                             drift=drift, periodic=fitted_orders))
+    return fits

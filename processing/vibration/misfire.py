@@ -108,7 +108,7 @@ def _significance(healthy: OrderFit, suspect: OrderFit, half: np.ndarray,
     return float(stats.chi2.sf(float(np.sum(change ** 2 / var)), int(half.sum())))
 
 
-@by_content()
+@by_content(shared=True)
 def find_cut_cylinder(healthy: OrderFit, suspect: OrderFit, phases, *, cycle_marks: bool = True,
                       seed: int = 0) -> CutCylinder:
     """Which cylinder, if any, does not fire in ``suspect``, against ``healthy``.

@@ -51,12 +51,44 @@ def mean_cycle(signal, angle, cycle: float) -> np.ndarray:
     >>> round(float(m.max()), 6), m.size
     (1.1, 200)
     """
-    signal, angle = np.asarray(signal, dtype=float), np.asarray(angle, dtype=float)
+    return mean_cycles([signal], angle, cycle)[0]
+
+
+def mean_cycles(signals, angle, cycle: float) -> np.ndarray:
+    """:func:`mean_cycle` of several signals sampled alike (a record's band signals, its
+    channels): the grid is placed among the angles once, and each signal interpolated on it
+    as :func:`numpy.interp` does (the same slope times the same offset, so the same values).
+
+    Parameters
+    ----------
+    signals : sequence of array_like
+        Each as long as ``angle``. [any unit]
+    angle : array_like
+        Crank angle of each sample, strictly increasing. [rad]
+    cycle : float
+        Angle of a working cycle. [rad]
+
+    Returns
+    -------
+    ndarray
+        One mean cycle per signal (a row each). [signal unit]
+    """
+    angle = np.asarray(angle, dtype=float)
     count = max(int(round((angle[-1] - angle[0]) / cycle)), 1)
-    points = max(signal.size // count, 2)
-    grid = angle[0] + (np.arange(count)[:, None] * cycle
-                       + np.arange(points)[None, :] * (cycle / points))
-    return np.interp(grid.ravel(), angle, signal).reshape(count, points).mean(axis=0)
+    points = max(angle.size // count, 2)
+    grid = (angle[0] + (np.arange(count)[:, None] * cycle
+                        + np.arange(points)[None, :] * (cycle / points))).ravel()
+    left = np.clip(np.searchsorted(angle, grid, "right") - 1, 0, angle.size - 2)
+    offset = grid - angle[left]
+    width = angle[left + 1] - angle[left]
+    beyond = grid >= angle[-1]
+    out = []
+    for signal in signals:
+        y = np.asarray(signal, dtype=float)
+        value = (y[left + 1] - y[left]) / width * offset + y[left]
+        value[beyond] = y[-1]
+        out.append(value.reshape(count, points).mean(axis=0))
+    return np.array(out)
 
 
 @lru_cache(maxsize=16)
@@ -74,8 +106,9 @@ def decimate(time, angle, x, rate: float, highest: float):
     """Time, angle and record at the least rate that keeps ``highest`` below a quarter of it.
 
     The record is low-passed by a Kaiser FIR (β = 9, :data:`DECIMATION_TAPS` decimated
-    samples long, cut-off at 0.4 of the new rate: flat to 10⁻⁴ below a quarter of it) and
-    resampled (:func:`scipy.signal.resample_poly`); the filter's ends are cut off.
+    samples long, cut-off at 0.4 of the new rate: flat to 10⁻⁴ below a quarter of it,
+    centred on its sample) at every q-th sample alone (:func:`_decimated`); the samples whose
+    filter would reach past the record's ends are left out.
 
     Parameters
     ----------
@@ -101,12 +134,28 @@ def decimate(time, angle, x, rate: float, highest: float):
     >>> round(float(t2[1] - t2[0]), 9), round(float(np.abs(y).max()), 4)
     (0.00125, 1.0)
     """
-    from scipy.signal import resample_poly
-
     q = max(1, int(rate / (4 * highest)))
     if q == 1:
         return np.asarray(time), np.asarray(angle), np.asarray(x)
-    y = resample_poly(np.asarray(x, dtype=float), 1, q, window=_taps(q))
-    cut = DECIMATION_TAPS // 2 + 1
-    keep = slice(cut, y.size - cut)
-    return np.asarray(time)[::q][keep], np.asarray(angle)[::q][keep], y[keep]
+    x = np.asarray(x, dtype=float)
+    first = DECIMATION_TAPS // 2 + 1
+    keep = slice(first, max(-(-x.size // q) - first, first))
+    y = _decimated(x, _taps(q), q, first - DECIMATION_TAPS // 2, keep.stop - keep.start)
+    return np.asarray(time)[::q][keep], np.asarray(angle)[::q][keep], y
+
+
+def _decimated(x: np.ndarray, taps: np.ndarray, q: int, first: int, count: int) -> np.ndarray:
+    """y_k = Σ_j h_j x_{(first + k) q + j}, k = 0 … count − 1: an FIR's output at every q-th
+    sample alone, in its polyphase form: the record as rows of q samples times the taps as
+    columns of q (one matrix product), each output the sum along a diagonal."""
+    if count < 1:
+        return np.zeros(0)
+    width = -(-taps.size // q)
+    columns = np.zeros(width * q)
+    columns[:taps.size] = taps
+    rows = x[first * q:(first + count + width - 1) * q].reshape(-1, q)
+    products = rows @ columns.reshape(width, q).T
+    y = products[:count, 0].copy()
+    for m in range(1, width):
+        y += products[m:m + count, m]
+    return y
