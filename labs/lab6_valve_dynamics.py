@@ -397,11 +397,40 @@ def _paper_mm(channel) -> float:
     return 1e3 if channel.unit == "m" else 1.0
 
 
-def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
-    """Record ``i`` read and analysed. Inside a scope (a check's slips reduced again) its
-    channels are read once (:func:`_recorded`) and each valve's trace is analysed once for
-    its samples and preload (:func:`_traces`): a slip of the tachometer's n leaves both as
-    they were, the valves' traces swapped read the same channels."""
+@dataclass
+class _Read:
+    """One record read, its traces not yet analysed (:func:`_read_record`)."""
+
+    number: int
+    entry: dict
+    where: str
+    names: dict
+    """Each valve's channel name."""
+    time: np.ndarray
+    raw: dict
+    """Each valve's trace as read. [trace unit]"""
+    photos: dict
+    speed: Measured
+    revs: Revolutions
+    duration: float
+    """[s]"""
+    cam_turn: float
+    """One camshaft revolution at its speed. [s]"""
+
+
+def _records(inputs: Inputs, valves: dict) -> list[Recorded]:
+    """Every record read (:func:`_read_record`, in order), then the valves' traces of all of
+    them analysed at once (:func:`_traces`: their free oscillations fitted together)."""
+    read = [_read_record(inputs, i, e, valves) for i, e in enumerate(inputs["record"])]
+    analysed = _traces([(r.time, r.raw, {v: valves[v]["P0"].value / valves[v]["k"]
+                                          for v in r.raw}, r.photos) for r in read])
+    return [_recorded_with(r, traces) for r, traces in zip(read, analysed)]
+
+
+def _read_record(inputs: Inputs, i: int, entry: dict, valves: dict) -> _Read:
+    """Record ``i`` read, its speed from the TDC marks checked against the tachometer's.
+    Inside a scope (a check's slips reduced again) its channels are read once
+    (:func:`_recorded`); the valves' traces swapped read the same channels."""
     where = f"record[{i}]"
     names = {v: spec.get("channel", v) for v, spec in valves.items()}
     time, raw, tdc, photos = _read(inputs, where, entry, names)
@@ -420,35 +449,45 @@ def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
                      limit=revs.angular_speed / (rate * span))
     _check_speed(entry, speed.value, where, photos)
     cam_turn = 4 * np.pi / inputs["engine"]["strokes"] / speed.value
-    traces = _traces(time, raw, {v: valves[v]["P0"].value / valves[v]["k"] for v in raw}, photos)
+    return _Read(i + 1, entry, where, names, time, raw, photos, speed, revs, duration,
+                 cam_turn)
+
+
+def _recorded_with(read: _Read, traces: dict) -> Recorded:
+    """A record read and its traces analysed; refused where a trace holds no whole valve
+    event."""
+    duration = read.duration
     for valve, trace in traces.items():
         if not trace.events:
-            raise InputError(f"channel '{names[valve]}' holds no whole valve event above its "
-                             f"noise (σ = {trace.noise:.3g}) over its {duration:.3g} s, "
-                             f"{duration / cam_turn:.1f} camshaft revolutions",
+            raise InputError(f"channel '{read.names[valve]}' holds no whole valve event above "
+                             f"its noise (σ = {trace.noise:.3g}) over its {duration:.3g} s, "
+                             f"{duration / read.cam_turn:.1f} camshaft revolutions",
                              "record at least two camshaft revolutions and check the channel "
                              "names, the preload P0 and the amplifier's gain",
-                             file=str(entry["signal"]), field=f"{where}.signal")
-    return Recorded(i + 1, Path(entry["signal"]), entry["clearance"].value, speed, revs,
-                    traces, photos)
+                             file=str(read.entry["signal"]), field=f"{read.where}.signal")
+    return Recorded(read.number, Path(read.entry["signal"]), read.entry["clearance"].value,
+                    read.speed, read.revs, traces, read.photos)
 
 
-@by_content(lambda time, raw, preloads, photos: (
-    time, raw, preloads, {v: (p.stroke_value, p.stroke_time, p.unit) for v, p in photos.items()}),
-    shared=True)
-def _traces(time, raw: dict, preloads: dict, photos: dict) -> dict:
-    """Each valve's force channel of a record analysed
-    (:func:`processing.valvetrain.valve_force.valve_events_each`, the free oscillations of
-    both fitted together) with its preload in the trace's unit: a function of the samples,
-    the preloads and, on a photograph, the strokes' widths alone."""
-    zeros = {v: trace_zero(x) for v, x in raw.items()}
-    strokes = {v: photos[v].stroke_value * _paper_mm(photos[v]) if v in photos else 0.0
-               for v in raw}
-    events = valve_events_each([(time, x - zeros[v].level, preloads[v], zeros[v].noise,
-                                 strokes[v] / 2, clipped_mask(x)) for v, x in raw.items()])
-    return {v: Trace(v, time, x - zeros[v].level, zeros[v].noise, found,
-                     photos[v].stroke_time if v in photos else 0.0, strokes[v])
-            for (v, x), found in zip(raw.items(), events)}
+def _traces(records: list[tuple]) -> list[dict]:
+    """Each valve's force channel of each record (time, the valves' traces, their preloads in
+    the trace's unit, the photographed channels) analysed
+    (:func:`processing.valvetrain.valve_force.valve_events_each`: the free oscillations of all
+    of them fitted together, each once inside a scope: the valves' traces swapped meet the
+    fits made before)."""
+    prepared = []
+    for time, raw, preloads, photos in records:
+        zeros = {v: trace_zero(x) for v, x in raw.items()}
+        strokes = {v: photos[v].stroke_value * _paper_mm(photos[v]) if v in photos else 0.0
+                   for v in raw}
+        prepared.append((time, raw, photos, zeros, strokes))
+    events = iter(valve_events_each([
+        (time, x - zeros[v].level, preloads[v], zeros[v].noise, strokes[v] / 2, clipped_mask(x))
+        for (time, raw, _, zeros, strokes), (_, _, preloads, _) in zip(prepared, records)
+        for v, x in raw.items()]))
+    return [{v: Trace(v, time, x - zeros[v].level, zeros[v].noise, next(events),
+                      photos[v].stroke_time if v in photos else 0.0, strokes[v])
+             for v, x in raw.items()} for time, raw, photos, zeros, strokes in prepared]
 
 
 def _few_marks(inputs: Inputs, entry: dict, found: int, duration: float,
@@ -756,7 +795,7 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20036) -> LabR
     strokes = inputs["engine"]["strokes"]
     with scope(), collect_notices() as notices:      # a stretch met twice is fitted once
         valves = _valves(inputs)
-        recorded = [_record(inputs, i, e, valves) for i, e in enumerate(inputs["record"])]
+        recorded = _records(inputs, valves)
         flat = _flat(recorded, valves)
         seps = separations(recorded, flat)
         for s in seps:
