@@ -764,7 +764,8 @@ def _model(recorded, seps, strokes: int):
     return model
 
 
-def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20036) -> LabResult:
+def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20036,
+           report: bool = True) -> LabResult:
     """Reduce lab 6's calibrations and records to the forces, the drive's frequency, the
     contact losses, the opening durations, the valve timing and the separation speeds.
 
@@ -775,6 +776,9 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20036) -> LabR
         record paths are relative to the file.
     n_samples, seed : int
         Monte Carlo draws and their seed.
+    report : bool
+        Also the report's tables, figures and conclusion (False: the results and warnings
+        alone, what a check and its slips read).
 
     Returns
     -------
@@ -805,6 +809,8 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20036) -> LabR
         results = result_values(prop, report.result_names(recorded, valves, seps))
         _warn(recorded, flat, results, seps)
         flag_estimates(results, [])
+    if not report:
+        return LabResult.of(inputs, results, warnings=notices)
     parts = dict(recorded=recorded, valves=valves, results=results, seps=seps)
     photos = read_figures([c for r in recorded for c in r.channels.values()])
     return LabResult.of(inputs, results, tables=report.tables(**parts),
