@@ -51,7 +51,7 @@ from processing.uncertainty import Measured, propagate
 from processing.valvetrain.valve_force import (NU_POOR, ValveEvent, trace_zero,
                                               valve_events_each)
 
-from . import catalogue, lab6_valve_dynamics_report as report
+from . import catalogue, lab6_valve_dynamics_report as lab_report
 
 VALVES = ("in", "ex")
 """The valves: inlet and exhaust."""
@@ -114,7 +114,7 @@ SPEC = LabSpec(
                   **MARK_PERIOD, required=False, symbol="T_отм"),
         )),
         Section("valve", bi("Valve drive with a strain gauge", "Привод клапана с тензодатчиком"),
-                required=True, many=True, help=report.VALVE_HELP, fields=(
+                required=True, many=True, help=lab_report.VALVE_HELP, fields=(
             Field("name", bi("which valve: in (inlet) or ex (exhaust)",
                              "клапан: in (впускной) или ex (выпускной)"), kind="choice",
                   choices={"in": bi("inlet", "впускной"), "ex": bi("exhaust", "выпускной")}),
@@ -135,7 +135,7 @@ SPEC = LabSpec(
                   example="[0, 18.1, 36.0, 54.2, 71.9, 90.1]", plausible=("1e-4", "1e4")),
         )),
         Section("record", bi("Record", "Осциллограмма"), many=True, required=True,
-                help=report.RECORD_HELP, fields=(
+                help=lab_report.RECORD_HELP, fields=(
             Field("signal", bi("the record: CSV, WAV or HDF5 file, or a photograph or scan of "
                                "the paper oscillogram ([image])", "запись: файл CSV, WAV или "
                                "HDF5 или снимок бумажной осциллограммы ([image])"),
@@ -276,8 +276,8 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
         rate = next(iter(photos.values())).sample_rate
         labels = {v: str(photos[v].name) for v in names}
     else:
-        uses = [({"en": f"the {report.VALVE_WORDS[v]['en']} valve's force",
-                  "ru": f"силы {report.VALVE_GENITIVE[v]} клапана"}, c,
+        uses = [({"en": f"the {lab_report.VALVE_WORDS[v]['en']} valve's force",
+                  "ru": f"силы {lab_report.VALVE_GENITIVE[v]} клапана"}, c,
                  f"valve[{list(names).index(v)}].channel") for v, c in names.items()]
         uses.append(({"en": "the TDC marks", "ru": "отметок ВМТ"}, entry["tdc_channel"],
                      f"{where}.tdc_channel"))
@@ -501,13 +501,13 @@ def _few_marks(inputs: Inputs, entry: dict, found: int, duration: float,
     if duration < need and not photos:
         return InputError(f"{found} TDC mark(s) on the record: it lasts {duration:.3g} s, "
                           f"shorter than the two camshaft revolutions its speed and a whole "
-                          f"valve event need ({need:.3g} s at n = {n.value / report.RPM_SI:.0f} "
+                          f"valve event need ({need:.3g} s at n = {n.value / lab_report.RPM_SI:.0f} "
                           "min⁻¹)", "record at least two camshaft revolutions",
                           file=str(entry["signal"]), field=f"{where}.signal",
                           ru=(f"отметок ВМТ в записи: {found}; она длится {duration:.3g} с, "
                               "меньше двух оборотов распределительного вала, нужных для "
                               "частоты вращения и целого события клапана "
-                              f"({need:.3g} с при n = {n.value / report.RPM_SI:.0f} мин⁻¹)",
+                              f"({need:.3g} с при n = {n.value / lab_report.RPM_SI:.0f} мин⁻¹)",
                               "запишите хотя бы два оборота распределительного вала"))
     if photos:
         channel = next(iter(photos.values()))
@@ -541,8 +541,8 @@ def _check_speed(entry: dict, omega: float, where: str, photos: dict) -> None:
     n = entry["n"]
 
     def refuse(gap):
-        said = (f"the TDC marks give {omega / report.RPM_SI:.0f} min⁻¹ but n = "
-                f"{n.value / report.RPM_SI:.0f} min⁻¹ ({100 * gap:+.0f} %)")
+        said = (f"the TDC marks give {omega / lab_report.RPM_SI:.0f} min⁻¹ but n = "
+                f"{n.value / lab_report.RPM_SI:.0f} min⁻¹ ({100 * gap:+.0f} %)")
         if photos:
             channel = next(iter(photos.values()))
             return InputError(
@@ -550,15 +550,15 @@ def _check_speed(entry: dict, omega: float, where: str, photos: dict) -> None:
                 f"them ({channel.lines})", "look at the overlay: photograph or scan the TDC-mark "
                 "line whole and sharp, or give the record as a recording; check n",
                 file=str(entry["signal"]), field=f"{where}.signal",
-                ru=(f"отметки ВМТ дают {omega / report.RPM_SI:.0f} мин⁻¹, а n = "
-                    f"{n.value / report.RPM_SI:.0f} мин⁻¹ ({100 * gap:+.0f} %): за отметки ВМТ "
+                ru=(f"отметки ВМТ дают {omega / lab_report.RPM_SI:.0f} мин⁻¹, а n = "
+                    f"{n.value / lab_report.RPM_SI:.0f} мин⁻¹ ({100 * gap:+.0f} %): за отметки ВМТ "
                     f"приняты другие метки или часть их пропущена ({channel.lines_ru})", "посмотрите на наложение: снимите или отсканируйте линию "
                     "отметок ВМТ целиком и резко или дайте запись файлом сигналов; проверьте n"))
         return InputError(f"{said}: a mark per revolution too many or too few, or the wrong "
                           "record", "check n, the TDC channel and tdc_per_revolution in "
                           "[engine]", file=str(entry["signal"]), field=f"{where}.n")
 
-    check_tachometer(omega, n, refuse, lambda: report.speed_disagrees(where, omega, n.value))
+    check_tachometer(omega, n, refuse, lambda: lab_report.speed_disagrees(where, omega, n.value))
 
 
 # ------------------------------------------------------------------------ calibration
@@ -614,7 +614,7 @@ def _valves(inputs: Inputs) -> dict:
         k, fit, bend = _calibration(inputs, entry, where)
         if bend is not None and bend.significant(CURVATURE_LEVEL) \
                 and bend.relative_bend > CURVATURE_BEND:
-            warnings.warn(report.bent_calibration(entry["name"], bend))
+            warnings.warn(lab_report.bent_calibration(entry["name"], bend))
         out[entry["name"]] = {**entry, "k": k.value, "k_measured": k, "fit": fit}
     return out
 
@@ -806,17 +806,17 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20036,
             flat[f"{s.name}.model"] = Measured(0.0, limit=SEPARATION_MODEL)
         prop = propagate(_model(recorded, seps, strokes), flat, n_samples=n_samples,
                          seed=seed)
-        results = result_values(prop, report.result_names(recorded, valves, seps))
+        results = result_values(prop, lab_report.result_names(recorded, valves, seps))
         _warn(recorded, flat, results, seps)
         flag_estimates(results, [])
     if not report:
         return LabResult.of(inputs, results, warnings=notices)
     parts = dict(recorded=recorded, valves=valves, results=results, seps=seps)
     photos = read_figures([c for r in recorded for c in r.channels.values()])
-    return LabResult.of(inputs, results, tables=report.tables(**parts),
-                        figures=report.figures(**parts) + photos, formulas=report.FORMULAS,
-                        references=report.REFERENCES, warnings=notices,
-                        conclusion=report.conclusion(**parts))
+    return LabResult.of(inputs, results, tables=lab_report.tables(**parts),
+                        figures=lab_report.figures(**parts) + photos, formulas=lab_report.FORMULAS,
+                        references=lab_report.REFERENCES, warnings=notices,
+                        conclusion=lab_report.conclusion(**parts))
 
 
 def _warn(recorded, flat, results, seps) -> None:
@@ -824,7 +824,7 @@ def _warn(recorded, flat, results, seps) -> None:
     lost = [(r.number, v, results[f"loss_{v}_{r.number}"].value, r.clearance, r.speed.value)
             for r in recorded for v in r.traces if _lost(flat, r.number, v)]
     if lost:
-        warnings.warn(report.contact_lost(lost, seps, results))
+        warnings.warn(lab_report.contact_lost(lost, seps, results))
     poor = []
     for r in recorded:
         for v in r.traces:
@@ -834,7 +834,7 @@ def _warn(recorded, flat, results, seps) -> None:
             elif results[name].u > NU_POOR * results[name].value:
                 poor.append((r.number, v, results[name].u / results[name].value))
     if poor:
-        warnings.warn(report.poor_oscillation(poor, NU_POOR))
+        warnings.warn(lab_report.poor_oscillation(poor, NU_POOR))
 
 
 # ------------------------------------------------------------------------ slips
