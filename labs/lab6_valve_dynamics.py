@@ -51,7 +51,7 @@ from processing.uncertainty import Measured, propagate
 from processing.valvetrain.valve_force import (NU_POOR, ValveEvent, trace_zero,
                                               valve_events_each)
 
-from . import catalogue, lab6_valve_dynamics_report as report
+from . import catalogue, lab6_valve_dynamics_report as lab_report
 
 VALVES = ("in", "ex")
 """The valves: inlet and exhaust."""
@@ -114,7 +114,7 @@ SPEC = LabSpec(
                   **MARK_PERIOD, required=False, symbol="T_отм"),
         )),
         Section("valve", bi("Valve drive with a strain gauge", "Привод клапана с тензодатчиком"),
-                required=True, many=True, help=report.VALVE_HELP, fields=(
+                required=True, many=True, help=lab_report.VALVE_HELP, fields=(
             Field("name", bi("which valve: in (inlet) or ex (exhaust)",
                              "клапан: in (впускной) или ex (выпускной)"), kind="choice",
                   choices={"in": bi("inlet", "впускной"), "ex": bi("exhaust", "выпускной")}),
@@ -135,7 +135,7 @@ SPEC = LabSpec(
                   example="[0, 18.1, 36.0, 54.2, 71.9, 90.1]", plausible=("1e-4", "1e4")),
         )),
         Section("record", bi("Record", "Осциллограмма"), many=True, required=True,
-                help=report.RECORD_HELP, fields=(
+                help=lab_report.RECORD_HELP, fields=(
             Field("signal", bi("the record: CSV, WAV or HDF5 file, or a photograph or scan of "
                                "the paper oscillogram ([image])", "запись: файл CSV, WAV или "
                                "HDF5 или снимок бумажной осциллограммы ([image])"),
@@ -276,8 +276,8 @@ def _read(inputs: Inputs, where: str, entry: dict, names: dict):
         rate = next(iter(photos.values())).sample_rate
         labels = {v: str(photos[v].name) for v in names}
     else:
-        uses = [({"en": f"the {report.VALVE_WORDS[v]['en']} valve's force",
-                  "ru": f"силы {report.VALVE_GENITIVE[v]} клапана"}, c,
+        uses = [({"en": f"the {lab_report.VALVE_WORDS[v]['en']} valve's force",
+                  "ru": f"силы {lab_report.VALVE_GENITIVE[v]} клапана"}, c,
                  f"valve[{list(names).index(v)}].channel") for v, c in names.items()]
         uses.append(({"en": "the TDC marks", "ru": "отметок ВМТ"}, entry["tdc_channel"],
                      f"{where}.tdc_channel"))
@@ -397,11 +397,40 @@ def _paper_mm(channel) -> float:
     return 1e3 if channel.unit == "m" else 1.0
 
 
-def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
-    """Record ``i`` read and analysed. Inside a scope (a check's slips reduced again) its
-    channels are read once (:func:`_recorded`) and each valve's trace is analysed once for
-    its samples and preload (:func:`_traces`): a slip of the tachometer's n leaves both as
-    they were, the valves' traces swapped read the same channels."""
+@dataclass
+class _Read:
+    """One record read, its traces not yet analysed (:func:`_read_record`)."""
+
+    number: int
+    entry: dict
+    where: str
+    names: dict
+    """Each valve's channel name."""
+    time: np.ndarray
+    raw: dict
+    """Each valve's trace as read. [trace unit]"""
+    photos: dict
+    speed: Measured
+    revs: Revolutions
+    duration: float
+    """[s]"""
+    cam_turn: float
+    """One camshaft revolution at its speed. [s]"""
+
+
+def _records(inputs: Inputs, valves: dict) -> list[Recorded]:
+    """Every record read (:func:`_read_record`, in order), then the valves' traces of all of
+    them analysed at once (:func:`_traces`: their free oscillations fitted together)."""
+    read = [_read_record(inputs, i, e, valves) for i, e in enumerate(inputs["record"])]
+    analysed = _traces([(r.time, r.raw, {v: valves[v]["P0"].value / valves[v]["k"]
+                                          for v in r.raw}, r.photos) for r in read])
+    return [_recorded_with(r, traces) for r, traces in zip(read, analysed)]
+
+
+def _read_record(inputs: Inputs, i: int, entry: dict, valves: dict) -> _Read:
+    """Record ``i`` read, its speed from the TDC marks checked against the tachometer's.
+    Inside a scope (a check's slips reduced again) its channels are read once
+    (:func:`_recorded`); the valves' traces swapped read the same channels."""
     where = f"record[{i}]"
     names = {v: spec.get("channel", v) for v, spec in valves.items()}
     time, raw, tdc, photos = _read(inputs, where, entry, names)
@@ -420,35 +449,45 @@ def _record(inputs: Inputs, i: int, entry: dict, valves: dict) -> Recorded:
                      limit=revs.angular_speed / (rate * span))
     _check_speed(entry, speed.value, where, photos)
     cam_turn = 4 * np.pi / inputs["engine"]["strokes"] / speed.value
-    traces = _traces(time, raw, {v: valves[v]["P0"].value / valves[v]["k"] for v in raw}, photos)
+    return _Read(i + 1, entry, where, names, time, raw, photos, speed, revs, duration,
+                 cam_turn)
+
+
+def _recorded_with(read: _Read, traces: dict) -> Recorded:
+    """A record read and its traces analysed; refused where a trace holds no whole valve
+    event."""
+    duration = read.duration
     for valve, trace in traces.items():
         if not trace.events:
-            raise InputError(f"channel '{names[valve]}' holds no whole valve event above its "
-                             f"noise (σ = {trace.noise:.3g}) over its {duration:.3g} s, "
-                             f"{duration / cam_turn:.1f} camshaft revolutions",
+            raise InputError(f"channel '{read.names[valve]}' holds no whole valve event above "
+                             f"its noise (σ = {trace.noise:.3g}) over its {duration:.3g} s, "
+                             f"{duration / read.cam_turn:.1f} camshaft revolutions",
                              "record at least two camshaft revolutions and check the channel "
                              "names, the preload P0 and the amplifier's gain",
-                             file=str(entry["signal"]), field=f"{where}.signal")
-    return Recorded(i + 1, Path(entry["signal"]), entry["clearance"].value, speed, revs,
-                    traces, photos)
+                             file=str(read.entry["signal"]), field=f"{read.where}.signal")
+    return Recorded(read.number, Path(read.entry["signal"]), read.entry["clearance"].value,
+                    read.speed, read.revs, traces, read.photos)
 
 
-@by_content(lambda time, raw, preloads, photos: (
-    time, raw, preloads, {v: (p.stroke_value, p.stroke_time, p.unit) for v, p in photos.items()}),
-    shared=True)
-def _traces(time, raw: dict, preloads: dict, photos: dict) -> dict:
-    """Each valve's force channel of a record analysed
-    (:func:`processing.valvetrain.valve_force.valve_events_each`, the free oscillations of
-    both fitted together) with its preload in the trace's unit: a function of the samples,
-    the preloads and, on a photograph, the strokes' widths alone."""
-    zeros = {v: trace_zero(x) for v, x in raw.items()}
-    strokes = {v: photos[v].stroke_value * _paper_mm(photos[v]) if v in photos else 0.0
-               for v in raw}
-    events = valve_events_each([(time, x - zeros[v].level, preloads[v], zeros[v].noise,
-                                 strokes[v] / 2, clipped_mask(x)) for v, x in raw.items()])
-    return {v: Trace(v, time, x - zeros[v].level, zeros[v].noise, found,
-                     photos[v].stroke_time if v in photos else 0.0, strokes[v])
-            for (v, x), found in zip(raw.items(), events)}
+def _traces(records: list[tuple]) -> list[dict]:
+    """Each valve's force channel of each record (time, the valves' traces, their preloads in
+    the trace's unit, the photographed channels) analysed
+    (:func:`processing.valvetrain.valve_force.valve_events_each`: the free oscillations of all
+    of them fitted together, each once inside a scope: the valves' traces swapped meet the
+    fits made before)."""
+    prepared = []
+    for time, raw, preloads, photos in records:
+        zeros = {v: trace_zero(x) for v, x in raw.items()}
+        strokes = {v: photos[v].stroke_value * _paper_mm(photos[v]) if v in photos else 0.0
+                   for v in raw}
+        prepared.append((time, raw, photos, zeros, strokes))
+    events = iter(valve_events_each([
+        (time, x - zeros[v].level, preloads[v], zeros[v].noise, strokes[v] / 2, clipped_mask(x))
+        for (time, raw, _, zeros, strokes), (_, _, preloads, _) in zip(prepared, records)
+        for v, x in raw.items()]))
+    return [{v: Trace(v, time, x - zeros[v].level, zeros[v].noise, next(events),
+                      photos[v].stroke_time if v in photos else 0.0, strokes[v])
+             for v, x in raw.items()} for time, raw, photos, zeros, strokes in prepared]
 
 
 def _few_marks(inputs: Inputs, entry: dict, found: int, duration: float,
@@ -462,13 +501,13 @@ def _few_marks(inputs: Inputs, entry: dict, found: int, duration: float,
     if duration < need and not photos:
         return InputError(f"{found} TDC mark(s) on the record: it lasts {duration:.3g} s, "
                           f"shorter than the two camshaft revolutions its speed and a whole "
-                          f"valve event need ({need:.3g} s at n = {n.value / report.RPM_SI:.0f} "
+                          f"valve event need ({need:.3g} s at n = {n.value / lab_report.RPM_SI:.0f} "
                           "min⁻¹)", "record at least two camshaft revolutions",
                           file=str(entry["signal"]), field=f"{where}.signal",
                           ru=(f"отметок ВМТ в записи: {found}; она длится {duration:.3g} с, "
                               "меньше двух оборотов распределительного вала, нужных для "
                               "частоты вращения и целого события клапана "
-                              f"({need:.3g} с при n = {n.value / report.RPM_SI:.0f} мин⁻¹)",
+                              f"({need:.3g} с при n = {n.value / lab_report.RPM_SI:.0f} мин⁻¹)",
                               "запишите хотя бы два оборота распределительного вала"))
     if photos:
         channel = next(iter(photos.values()))
@@ -502,8 +541,8 @@ def _check_speed(entry: dict, omega: float, where: str, photos: dict) -> None:
     n = entry["n"]
 
     def refuse(gap):
-        said = (f"the TDC marks give {omega / report.RPM_SI:.0f} min⁻¹ but n = "
-                f"{n.value / report.RPM_SI:.0f} min⁻¹ ({100 * gap:+.0f} %)")
+        said = (f"the TDC marks give {omega / lab_report.RPM_SI:.0f} min⁻¹ but n = "
+                f"{n.value / lab_report.RPM_SI:.0f} min⁻¹ ({100 * gap:+.0f} %)")
         if photos:
             channel = next(iter(photos.values()))
             return InputError(
@@ -511,15 +550,15 @@ def _check_speed(entry: dict, omega: float, where: str, photos: dict) -> None:
                 f"them ({channel.lines})", "look at the overlay: photograph or scan the TDC-mark "
                 "line whole and sharp, or give the record as a recording; check n",
                 file=str(entry["signal"]), field=f"{where}.signal",
-                ru=(f"отметки ВМТ дают {omega / report.RPM_SI:.0f} мин⁻¹, а n = "
-                    f"{n.value / report.RPM_SI:.0f} мин⁻¹ ({100 * gap:+.0f} %): за отметки ВМТ "
+                ru=(f"отметки ВМТ дают {omega / lab_report.RPM_SI:.0f} мин⁻¹, а n = "
+                    f"{n.value / lab_report.RPM_SI:.0f} мин⁻¹ ({100 * gap:+.0f} %): за отметки ВМТ "
                     f"приняты другие метки или часть их пропущена ({channel.lines_ru})", "посмотрите на наложение: снимите или отсканируйте линию "
                     "отметок ВМТ целиком и резко или дайте запись файлом сигналов; проверьте n"))
         return InputError(f"{said}: a mark per revolution too many or too few, or the wrong "
                           "record", "check n, the TDC channel and tdc_per_revolution in "
                           "[engine]", file=str(entry["signal"]), field=f"{where}.n")
 
-    check_tachometer(omega, n, refuse, lambda: report.speed_disagrees(where, omega, n.value))
+    check_tachometer(omega, n, refuse, lambda: lab_report.speed_disagrees(where, omega, n.value))
 
 
 # ------------------------------------------------------------------------ calibration
@@ -575,7 +614,7 @@ def _valves(inputs: Inputs) -> dict:
         k, fit, bend = _calibration(inputs, entry, where)
         if bend is not None and bend.significant(CURVATURE_LEVEL) \
                 and bend.relative_bend > CURVATURE_BEND:
-            warnings.warn(report.bent_calibration(entry["name"], bend))
+            warnings.warn(lab_report.bent_calibration(entry["name"], bend))
         out[entry["name"]] = {**entry, "k": k.value, "k_measured": k, "fit": fit}
     return out
 
@@ -725,7 +764,8 @@ def _model(recorded, seps, strokes: int):
     return model
 
 
-def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20036) -> LabResult:
+def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20036,
+           report: bool = True) -> LabResult:
     """Reduce lab 6's calibrations and records to the forces, the drive's frequency, the
     contact losses, the opening durations, the valve timing and the separation speeds.
 
@@ -736,6 +776,9 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20036) -> LabR
         record paths are relative to the file.
     n_samples, seed : int
         Monte Carlo draws and their seed.
+    report : bool
+        Also the report's tables, figures and conclusion (False: the results and warnings
+        alone, what a check and its slips read).
 
     Returns
     -------
@@ -756,22 +799,24 @@ def reduce(inputs: Inputs, *, n_samples: int = 20000, seed: int = 20036) -> LabR
     strokes = inputs["engine"]["strokes"]
     with scope(), collect_notices() as notices:      # a stretch met twice is fitted once
         valves = _valves(inputs)
-        recorded = [_record(inputs, i, e, valves) for i, e in enumerate(inputs["record"])]
+        recorded = _records(inputs, valves)
         flat = _flat(recorded, valves)
         seps = separations(recorded, flat)
         for s in seps:
             flat[f"{s.name}.model"] = Measured(0.0, limit=SEPARATION_MODEL)
         prop = propagate(_model(recorded, seps, strokes), flat, n_samples=n_samples,
                          seed=seed)
-        results = result_values(prop, report.result_names(recorded, valves, seps))
+        results = result_values(prop, lab_report.result_names(recorded, valves, seps))
         _warn(recorded, flat, results, seps)
         flag_estimates(results, [])
+    if not report:
+        return LabResult.of(inputs, results, warnings=notices)
     parts = dict(recorded=recorded, valves=valves, results=results, seps=seps)
     photos = read_figures([c for r in recorded for c in r.channels.values()])
-    return LabResult.of(inputs, results, tables=report.tables(**parts),
-                        figures=report.figures(**parts) + photos, formulas=report.FORMULAS,
-                        references=report.REFERENCES, warnings=notices,
-                        conclusion=report.conclusion(**parts))
+    return LabResult.of(inputs, results, tables=lab_report.tables(**parts),
+                        figures=lab_report.figures(**parts) + photos, formulas=lab_report.FORMULAS,
+                        references=lab_report.REFERENCES, warnings=notices,
+                        conclusion=lab_report.conclusion(**parts))
 
 
 def _warn(recorded, flat, results, seps) -> None:
@@ -779,7 +824,7 @@ def _warn(recorded, flat, results, seps) -> None:
     lost = [(r.number, v, results[f"loss_{v}_{r.number}"].value, r.clearance, r.speed.value)
             for r in recorded for v in r.traces if _lost(flat, r.number, v)]
     if lost:
-        warnings.warn(report.contact_lost(lost, seps, results))
+        warnings.warn(lab_report.contact_lost(lost, seps, results))
     poor = []
     for r in recorded:
         for v in r.traces:
@@ -789,7 +834,7 @@ def _warn(recorded, flat, results, seps) -> None:
             elif results[name].u > NU_POOR * results[name].value:
                 poor.append((r.number, v, results[name].u / results[name].value))
     if poor:
-        warnings.warn(report.poor_oscillation(poor, NU_POOR))
+        warnings.warn(lab_report.poor_oscillation(poor, NU_POOR))
 
 
 # ------------------------------------------------------------------------ slips

@@ -361,9 +361,11 @@ class Recorded:
     """The torsiograph's channel (a photographed record carries its overlay)."""
 
 
+@by_content(shared=True)
 def _marks(x, rate: float) -> np.ndarray:
     """Times of the pulses of a mark channel (their falling edges, a local cubic through
-    each: :mod:`processing.speed.edges`). [s]"""
+    each: :mod:`processing.speed.edges`), found once for the same samples inside a scope (a
+    slip of the tachometer's n reads the record again). [s]"""
     return detect_edges(np.asarray(x, dtype=float), "fit") / rate
 
 

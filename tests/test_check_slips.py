@@ -268,6 +268,27 @@ def test_a_stage_reused_by_content_gives_a_copy_and_its_warnings_again():
     assert runs[-1] == "d"
 
 
+def test_a_stage_of_many_items_computes_only_the_items_not_met_before():
+    """Inside a scope a stage marked by_content_each is passed only the items whose content
+    it has not met (each once), and returns every item's result in order; outside every
+    scope it is passed them all."""
+    from processing.inputs.reuse import by_content_each, scope
+
+    passed = []
+
+    @by_content_each
+    def stage(items):
+        passed.append(len(items))
+        return [float(x.sum()) for x in items]
+
+    a, b = np.arange(3.0), np.arange(4.0)
+    with scope():
+        assert stage([a, b, a.copy()]) == [3.0, 6.0, 3.0]
+        assert stage([b.copy(), a + 1, b]) == [6.0, 6.0, 6.0]
+    assert passed == [2, 1]
+    assert stage([a, a]) == [3.0, 3.0] and passed[-1] == 2
+
+
 # ------------------------------------------------------------ formula slips, recorded labs
 
 @pytest.mark.parametrize("lab, slip, symbol", [

@@ -7,7 +7,9 @@ the values it reads) keeps its result, keyed by the content of the arguments tha
 (:func:`content_key`: an array's bytes, a file's path, size and time of change, a value as
 itself), for as long as the outermost :func:`scope` lasts; outside every scope it is computed
 each time. The warnings the stage raised are raised again where its result is reused, so a
-reduction's report is the same either way; a stage that raises is not kept."""
+reduction's report is the same either way; a stage that raises is not kept. A stage of many
+items at once (:func:`by_content_each`: fits made together) keeps each item's result by the
+item's content, and computes only the items not met before."""
 from __future__ import annotations
 
 import copy
@@ -106,3 +108,29 @@ def by_content(decisive: Callable[..., tuple] | None = None, *, shared: bool = F
             return result
         return reused
     return mark
+
+
+def by_content_each(stage: Callable[[list], list]):
+    """Mark a stage of many items at once, ``stage(items)`` one result per item, each item's
+    a function of that item's content alone (fits made together for their speed, not for
+    each other): inside a :func:`scope` each item's result is kept by the item's
+    :func:`content_key`, and a call passes the stage only the items not met before (each
+    once), in their order. The results are shared (no caller changes them); the stage
+    raises no warning a report reads (none is kept)."""
+    @functools.wraps(stage)
+    def reused(items):
+        kept = _KEPT.get()
+        if kept is None:
+            return stage(list(items))
+        try:
+            keys = [(stage.__qualname__, content_key(item)) for item in items]
+        except (TypeError, OSError):
+            return stage(list(items))
+        fresh = {}
+        for key, item in zip(keys, items):
+            if key not in kept:
+                fresh.setdefault(key, item)
+        if fresh:
+            kept.update(zip(fresh, stage(list(fresh.values()))))
+        return [kept[key] for key in keys]
+    return reused

@@ -682,9 +682,9 @@ class _Projection:
         self.kept = np.arange(base.shape[2]) < self.widths[:, None]
         self.base = base * self.kept[:, None]                         # (K, samples, columns)
         self.basis = basis.transpose(0, 2, 1) * self.kept[..., None]  # Q_kᵀ
-        self.base_inverse = [_inverse(R[k, :b, :b]) for k, b in enumerate(self.widths)]
+        self.base_inverse = _inverses(R, self.widths)
         self.free = x - self._projected(x[:, None])[:, 0]             # x̃ = P_k⊥x
-        self._key = None
+        self._key, self._parts = None, (None, None)
 
     def _projected(self, rows):
         """``rows`` (K, m, samples) on each baseline: Q_kQ_kᵀ."""
@@ -754,6 +754,26 @@ class _Projection:
     def jacobian(self, p):
         return self.solve(p)[2][0]
 
+    def _part(self, index: np.ndarray) -> _Projection:
+        """The projection of the fits ``index`` alone, the one made last for the same ones
+        (its arrays taken, no QR made again): a step solves only the fits still stepping,
+        each as it would among all of them."""
+        if len(index) == self.widths.size:
+            return self
+        if self._parts[0] is not None and np.array_equal(self._parts[0], index):
+            return self._parts[1]
+        part = object.__new__(_Projection)
+        part.problems = [self.problems[k] for k in index]
+        for name in ("tau", "x", "mask", "moments", "widths", "kept", "base", "basis",
+                     "free"):
+            setattr(part, name, getattr(self, name)[index])
+        part.gamma_unit = None if self.gamma_unit is None else self.gamma_unit[index]
+        part.powers = self.powers[:, index]
+        part.base_inverse = [self.base_inverse[k] for k in index]
+        part._key, part._parts = None, (None, None)
+        self._parts = (index, part)
+        return part
+
     def minimise(self, p0, scale) -> tuple[np.ndarray, np.ndarray]:
         """The p of least |r(p)|² of each fit, by Levenberg–Marquardt steps from ``p0``
         (K, parameters), and whether each converged.
@@ -790,16 +810,20 @@ class _Projection:
             running &= ~done
             if not running.any():
                 break
-            trial = np.where(running[:, None], p + scale * h, p)
-            _, r_new, J_new = self.solve(trial)
+            run = np.flatnonzero(running)
+            trial = p[run] + scale[run] * h[run]
+            _, r_new, J_new = self._part(run).solve(trial)
             cost_new = np.einsum("kn,kn->k", r_new, r_new)
-            kept = running & (cost_new < cost)
+            better = cost_new < cost[run]
+            kept = np.zeros(cost.size, bool)
+            kept[run[better]] = True
+            gain = np.zeros(cost.size)
             with np.errstate(divide="ignore", invalid="ignore"):
-                gain = (cost - cost_new) / predicted
+                gain[run] = (cost[run] - cost_new) / predicted[run]
             small = np.linalg.norm(h, axis=1) <= xtol * (np.linalg.norm(p / scale, axis=1)
                                                           + xtol)
-            p[kept], r[kept], J[kept], cost[kept] = trial[kept], r_new[kept], J_new[kept], \
-                cost_new[kept]
+            p[kept], r[kept], J[kept], cost[kept] = trial[better], r_new[better], \
+                J_new[better], cost_new[better]
             converged |= kept & small
             running &= ~(kept & small)
             refused = running & ~kept
@@ -818,7 +842,9 @@ def _projection(problems, curved: bool = False) -> _Projection:
     mask, base = np.zeros((len(problems), n)), np.zeros((len(problems), n, top + 1))
     for k, (t, y, _) in enumerate(problems):
         tau[k, :t.size], x[k, :t.size], mask[k, :t.size] = t, y, 1.0
-        base[k, :t.size] = _baseline_columns(t, _span(t), top)
+    u = tau / np.array([_span(t) for t, _, _ in problems])[:, None]
+    for j in range(top + 1):            # _baseline_columns of every record at once
+        base[..., j] = u**j * mask
     return _Projection(problems, tau, x, mask, base, curved)
 
 
@@ -845,6 +871,22 @@ def _solve_each(H: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             except np.linalg.LinAlgError:
                 solved[k] = False
         return h, solved
+
+
+def _inverses(R: np.ndarray, widths: np.ndarray) -> list[np.ndarray]:
+    """R_k⁻¹ of the leading ``widths[k]`` columns of each R (K, m, m) of a QR
+    (:func:`_inverse`), those of one width inverted together."""
+    out = [None] * len(widths)
+    for b in np.unique(widths):
+        which = np.flatnonzero(widths == b)
+        try:
+            inverses = np.linalg.inv(R[which, :b, :b])
+        except np.linalg.LinAlgError:
+            inverses = np.stack([_inverse(R[k, :b, :b]) for k in which])
+        finite = np.isfinite(inverses).all(axis=(1, 2))
+        for k, inverse, ok in zip(which, inverses, finite):
+            out[k] = inverse if ok else np.linalg.pinv(R[k, :b, :b])
+    return out
 
 
 def _inverse(R) -> np.ndarray:

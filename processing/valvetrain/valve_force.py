@@ -46,7 +46,7 @@ from scipy.signal import savgol_coeffs
 from processing.oscillations.decay import BaselineChoice, DampedSineFit, fit_baselines_each
 from processing.oscillations.savgol import savgol
 from processing.result import Record
-from processing.inputs.reuse import by_content
+from processing.inputs.reuse import by_content, by_content_each
 
 ZERO_BAND = 5.0
 """Half-width of the zero's band, in noise standard deviations: samples within it of the
@@ -361,10 +361,13 @@ def _vertex(t, y, k: int) -> tuple[float, float]:
     return float(t[k] + shift * (t[1] - t[0])), float(b - 0.25 * (a - c) * shift)
 
 
+@by_content(shared=True)
 def oscillation_period(time, force) -> float:
     """Period of the strongest oscillation over one event: the peak of the spectrum of the
     force less a polynomial of degree :data:`EVENT_DEGREE` in time (the cam's slow hump),
-    above :data:`EVENT_CYCLES` cycles per event. [s]
+    above :data:`EVENT_CYCLES` cycles per event; found once for the same samples inside a
+    :func:`processing.inputs.reuse.scope` (an opening read again with the other valve's
+    preload spans the same samples unless its crossings move past one). [s]
 
     Examples
     --------
@@ -385,14 +388,13 @@ def oscillation_period(time, force) -> float:
     return 1.0 / float(f[np.argmax(spectrum)])
 
 
-@by_content(shared=True)
-def _fitted(stretches: tuple[_Stretch, ...]) -> list[BaselineChoice | None]:
+@by_content_each
+def _fitted(stretches: list[_Stretch]) -> list[BaselineChoice | None]:
     """:func:`processing.oscillations.decay.fit_baselines_each` of stretches (:func:`_stretch`),
-    fitted together,
-    once inside a :func:`processing.inputs.reuse.scope`: the fits are a function of the
-    samples alone, so the fits made before of the same stretches (a trace's met again by the
-    other valve's calibration, or by a check's slip that leaves the trace as it was) are the
-    ones new fits would give."""
+    fitted together, each once inside a :func:`processing.inputs.reuse.scope`: a fit is a
+    function of its stretch's samples alone, so the fit made before of the same stretch (a
+    trace's met again by the other valve's calibration, or by a check's slip that leaves the
+    trace as it was) is the one a new fit would give."""
     with np.errstate(over="ignore", invalid="ignore"):
         return fit_baselines_each([s[:5] for s in stretches])
 
@@ -439,7 +441,7 @@ def free_oscillation(time, force, start: float, stop: float,
     450.0
     """
     stretch = _stretch(time, force, start, stop, period, exclude)
-    models = _fitted((stretch,))[0]
+    models = _fitted([stretch])[0]
     if models is None:
         raise RuntimeError("free_oscillation: no baseline's fit converged")
     return _oscillation(stretch, models)
@@ -447,17 +449,17 @@ def free_oscillation(time, force, start: float, stop: float,
 
 def free_oscillations(openings, period: float | None = None) -> list[FreeOscillation | None]:
     """:func:`free_oscillation` of each of ``openings`` (time, force, start, stop, exclude:
-    as its arguments; of one trace or of several), the stretches fitted together in the
-    order of their starts (the same stretches met again in another order, a record's valves'
-    traces swapped, are the fits made before); None where it raises."""
+    as its arguments; of one trace or of several records' traces), the stretches fitted
+    together (:func:`_fitted`: a stretch met before, a record's valves' traces swapped, is the
+    fit made before); None where it raises."""
     stretches = []
     for time, force, start, stop, exclude in openings:
         try:
             stretches.append(_stretch(time, force, start, stop, period, exclude))
         except RuntimeError:
             stretches.append(None)
-    ordered = sorted((s for s in stretches if s is not None), key=lambda s: s.start)
-    fitted = dict(zip(map(id, ordered), _fitted(tuple(ordered))))
+    found = [s for s in stretches if s is not None]
+    fitted = dict(zip(map(id, found), _fitted(found)))
     out = []
     for stretch in stretches:
         models = fitted.get(id(stretch))
