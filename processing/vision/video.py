@@ -1115,8 +1115,10 @@ def period_of(fit: AnharmonicFit, t: np.ndarray, s: np.ndarray,
     structure", Trabajos de Estadística 3, 1952) — the codec's noise, carried from frame
     to frame, and the tracker's errors at the swing's harmonics weigh each as much as they
     move ω_d; ν = 2 per frequency averaged. The fit's frequency also leaks noise from the
-    frequencies well below the swing's (a slow wander over the film's length), each weighed
-    by its own power (:func:`_spread`). Type B: the tracker's error that is a function
+    frequencies well below the swing's (a slow wander over the film's length): where that
+    noise weighed by its own power (:func:`_spread`) gives the larger variance, it is the
+    u (the density about the swing stays its floor: off the swing a white track's
+    periodogram scatters below it as often as above). Type B: the tracker's error that is a function
     of the marker's place (:data:`LOCKING` px) repeats every swing, so it does not average
     out; slowly shifted by the decay, it moves the phase by up to LOCKING/A over the film
     of N oscillations: u_B(T) = T·LOCKING/(2π A N).
@@ -1135,8 +1137,11 @@ def period_of(fit: AnharmonicFit, t: np.ndarray, s: np.ndarray,
         across, crossing = _density_at(t, radial, 1 / fit.period, radial_shape)
         if across > density:
             density, bins = across, crossing
-    variance, dof = _spread(fit.sensitivity("omega_d"), t, r, 1 / fit.period, density,
-                            2 * bins)
+    i = fit.params.index("omega_d")
+    variance, dof = density * fit.normal[i, i], 2 * bins
+    leaked = _spread(fit.sensitivity("omega_d"), t, r, 1 / fit.period, density, dof)
+    if leaked[0] > variance:
+        variance, dof = leaked
     u_a = fit.period / fit.omega_d * math.sqrt(variance)
     oscillations = (t[-1] - t[0]) / fit.period
     u_b = fit.period * LOCKING / (2 * math.pi * abs(fit.amplitude) * oscillations)
