@@ -415,3 +415,22 @@ def test_a_colour_that_does_not_swing_in_the_film_is_refused_at_its_field(short)
         evaluate(_lab1_pendulum(folder, "short.mp4", 'colour = "green"\n'), n_samples=200)
     assert exc.value.field == "pendulum.colour" and "roi" in exc.value.fix
     assert exc.value.ru is not None
+
+
+@pytest.mark.parametrize("phase", [math.pi / 4, math.pi / 2])
+def test_a_wander_over_the_films_length_is_carried_in_the_periods_u(phase):
+    """A phone's slow shake wanders most at one cycle over the film, far below the swing's
+    frequency, where the fit's frequency still leaks it: a wander of 0.42 px amplitude
+    beside 0.01 px of tracker noise moves a 6° swing's period by up to 5·10⁻⁴, 3 times
+    the U the residual's density about the swing gave (the slow-motion films that missed
+    by 2.3–5.2 u). Weighed by its own power the u carries it at every phase."""
+    from processing.vision.video import _fitted, period_of
+
+    swinger = Swinger.decaying("pendulum", 1.1, math.radians(6.0), 0.5)
+    t = np.arange(int(8 * 1.1 * 30)) / 30.0
+    theta, _ = swinger.motion(t[-1] + 0.1)
+    truth = _fitted(t, 100 * theta(t))[1].period
+    wander = 0.3 * math.sqrt(2) * np.sin(2 * np.pi * t / t[-1] + phase)
+    s = 100 * theta(t) + wander + np.random.default_rng(1).normal(0.0, 0.01, t.size)
+    period = period_of(_fitted(t, s)[1], t, s)
+    assert _held(period, truth)

@@ -65,6 +65,8 @@ class AnharmonicFit:
     residual_sd : float
     start, span : float
         t₀ and τ_max. [s]
+    jacobian : numpy.ndarray
+        J: each sample's derivative by each parameter, at the fit (rows the samples).
     """
 
     omega_d: float
@@ -76,6 +78,7 @@ class AnharmonicFit:
     residual_sd: float
     start: float
     span: float
+    jacobian: np.ndarray
     _p: np.ndarray
     _fit_drift: bool
 
@@ -83,6 +86,11 @@ class AnharmonicFit:
     def period(self) -> float:
         """2π/ω̄, the mean period over the record. [s]"""
         return 2.0 * math.pi / self.omega_d
+
+    def sensitivity(self, name: str) -> np.ndarray:
+        """How the parameter ``name`` moves with each sample: its row of (JᵀJ)⁻¹Jᵀ (a
+        parameter's error is this row times the samples' errors, to first order)."""
+        return self.normal[self.params.index(name)] @ self.jacobian.T
 
     def predict(self, time) -> np.ndarray:
         """The fitted record at ``time`` (within the record's span). [record's unit]"""
@@ -164,4 +172,4 @@ def fit_anharmonic_decay(time, x, start: DampedSineFit) -> AnharmonicFit:
     return AnharmonicFit(float(p[2]), float(p[3]) if fit_drift else 0.0, amplitude,
                          amplitude * math.sqrt(m), names, normal,
                          float(math.sqrt(r @ r / max(r.size - p.size, 1))), start.start, span,
-                         p, fit_drift)
+                         J, p, fit_drift)

@@ -188,6 +188,15 @@ REFITS = 3
 NOTCH_BEYOND = 3
 """Frequency spacings past the notch the residual's density is taken over at least."""
 
+LEAK_BAND = 2.0
+"""Multiple of the swing's frequency up to which each frequency of the residual weighs the
+period's u by its own periodogram (:func:`_spread`): a phone's slow shake wanders most over
+the film's whole length, at 1/duration, where its power can be a hundred times the density
+about the swing's frequency, and the fit's frequency leaks from there. (Measured on a
+slow-motion film that missed its interval by 2.6 u: half the period's error came from the
+bins under a quarter of the swing's frequency, 0.9 % of the fit's weight but 117 times the
+noise about it.)"""
+
 
 @dataclass(frozen=True)
 class Track:
@@ -1105,7 +1114,11 @@ def period_of(fit: AnharmonicFit, t: np.ndarray, s: np.ndarray,
     "The simultaneous estimation of a time series' harmonic components and covariance
     structure", Trabajos de Estadística 3, 1952) — the codec's noise, carried from frame
     to frame, and the tracker's errors at the swing's harmonics weigh each as much as they
-    move ω_d; ν = 2 per frequency averaged. Type B: the tracker's error that is a function
+    move ω_d; ν = 2 per frequency averaged. The fit's frequency also leaks noise from the
+    frequencies well below the swing's (a slow wander over the film's length): where that
+    noise weighed by its own power (:func:`_spread`) gives the larger variance, it is the
+    u (the density about the swing stays its floor: off the swing a white track's
+    periodogram scatters below it as often as above). Type B: the tracker's error that is a function
     of the marker's place (:data:`LOCKING` px) repeats every swing, so it does not average
     out; slowly shifted by the decay, it moves the phase by up to LOCKING/A over the film
     of N oscillations: u_B(T) = T·LOCKING/(2π A N).
@@ -1125,10 +1138,42 @@ def period_of(fit: AnharmonicFit, t: np.ndarray, s: np.ndarray,
         if across > density:
             density, bins = across, crossing
     i = fit.params.index("omega_d")
-    u_a = fit.period / fit.omega_d * math.sqrt(density * fit.normal[i, i])
+    variance, dof = density * fit.normal[i, i], 2 * bins
+    leaked = _spread(fit.sensitivity("omega_d"), t, r, 1 / fit.period, density, dof)
+    if leaked[0] > variance:
+        variance, dof = leaked
+    u_a = fit.period / fit.omega_d * math.sqrt(variance)
     oscillations = (t[-1] - t[0]) / fit.period
     u_b = fit.period * LOCKING / (2 * math.pi * abs(fit.amplitude) * oscillations)
-    return Measured(fit.period, float(u_a), 2 * bins, u_b=float(u_b))
+    return Measured(fit.period, float(u_a), dof, u_b=float(u_b))
+
+
+def _spread(gain: np.ndarray, t: np.ndarray, r: np.ndarray, f0: float, density: float,
+            dof: float) -> tuple[float, float]:
+    r"""The variance of a fitted parameter whose error is ``gain``·(the track's noise), and
+    its effective degrees of freedom.
+
+    In stationary noise of spectrum S the variance is Σ_f w_f S_f, w_f = 2|G_f|²/n the
+    share of the gain's ‖G‖² at each frequency 1/duration apart (G_f = Σ g e^{−2πift},
+    over the frames' own times; Whittle's approximation, as in :func:`_timing_steps`). Up
+    to :data:`LEAK_BAND` times the swing's frequency, outside the :data:`NOTCH` the fit
+    empties about it, S_f is the residual's own periodogram there; in the notch and beyond
+    the band, the ``density`` about the swing's frequency (:func:`_density_near`, with its
+    ``dof``): σ²‖G‖² for white noise, as the least squares state it. A slow wander (a
+    phone's shake over the film's length) is weighed by its own power rather than the
+    smaller one about the swing. ν is Welch–Satterthwaite's over the density's share and
+    the periodogram's ordinates (2 each).
+    """
+    duration = float(t[-1] - t[0])
+    k = np.arange(1, math.ceil(LEAK_BAND * f0 * duration) + 1)
+    k = k[np.abs(k - f0 * duration) > NOTCH]
+    waves = np.exp(-2j * np.pi * np.outer(k / duration, t - t[0]))
+    weight = 2 * np.abs(waves @ gain) ** 2 / t.size
+    own = weight * np.abs(waves @ r) ** 2 / t.size
+    shared = max(float(gain @ gain - weight.sum()), 0.0) * density
+    variance = shared + float(own.sum())
+    spread = shared ** 2 / dof + float(np.sum(own ** 2)) / 2
+    return variance, variance ** 2 / spread if spread > 0 else math.nan
 
 
 def arc(track: Track) -> tuple[float, float, float]:
