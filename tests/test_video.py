@@ -217,6 +217,26 @@ def test_small_swing_from_above_is_warned_in_the_lab(from_above, tmp_path):
     assert math.degrees(amplitude.limit) > AMPLITUDE_LIMIT
 
 
+def test_a_hand_passing_far_from_the_swing_is_off_the_path():
+    """A 15° swing on an 85 px arm, and a hand's false matches moving smoothly across the
+    picture (a path of their own to the local test): four frames 200 px from the swing, then
+    eight coming in towards it. Those far beyond the swing's reach are left out, and the arc
+    keeps the arm's radius; with them it came out at 272 000 px, and its u failed."""
+    from processing.vision.video import Track, arc, arc_radius_u
+
+    rng = np.random.default_rng(8)
+    t = np.arange(2000) / 240.0
+    theta = math.radians(15.0) * np.exp(-0.05 * t) * np.cos(2 * np.pi * t / 1.12)
+    x = 408.0 + 85 * np.sin(theta) + rng.normal(0, 0.3, t.size)
+    y = 63.0 + 85 * np.cos(theta) + rng.normal(0, 0.3, t.size)
+    x[1000:1004], y[1000:1004] = 200.0 + 5 * np.arange(4), y[1000] + 6
+    x[1010:1018], y[1010:1018] = 330.0 + 8 * np.arange(8), y[1010] + 12 + 3 * np.arange(8)
+    track = Track("synthetic", t, x, y, np.ones_like(t), 239, 0.0)
+    assert not track.on_path[1000:1004].any() and track.on_path.sum() >= t.size - 30
+    assert arc(track)[2] == pytest.approx(85.0, rel=0.01)
+    assert 0 < arc_radius_u(track) < 10.0      # the false matches near the swing still in it
+
+
 def test_a_frame_off_the_path_does_not_bend_a_short_arc():
     """A 3° swing on a 200 px arm (its sag 0.27 px) with one false match 15 px off: the
     frame is left out of the arc (and its neighbours of the local quadratic), whose radius

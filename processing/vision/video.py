@@ -98,6 +98,14 @@ through its this-many neighbouring frames (a moment's false match: one frame of 
 bench's 3° film from above sat 15 px off a path its others follow within 0.07 px, and bent
 that short arc's circle to a 355 000 px radius)."""
 
+SWING_REACH = 4.0
+"""A kept frame further from the track's median place than this many times the kept frames'
+median distance from it is off the marker's path (:attr:`Track.on_path`), whatever its
+neighbours: a swing stays within about 1.5 times that distance (its decay to a quarter over
+the film included); a false match held over several frames need not (three frames of a
+240 fps film 68–209 px from a swing 14 px from its median place, each beside others as far,
+passed the local test and bent a 85 px arc to a 990 000 px radius, whose u then failed)."""
+
 SURVEY_AGREES = 0.15
 """Relative difference between the fitted swing's frequency and the one the survey saw
 (on its coarse grid, from a few seconds) beyond which the track is not of the swing: a
@@ -250,8 +258,8 @@ class Track:
 
     @cached_property
     def on_path(self) -> np.ndarray:
-        """The kept frames on the marker's smooth path (:data:`OFF_PATH`): those the arc is
-        fitted through. A frame beside one left out (a hand over the marker) is held
+        """The kept frames on the marker's smooth path (:data:`OFF_PATH`) and within the swing's
+        reach (:data:`SWING_REACH`): those the arc is fitted through. A frame beside one left out (a hand over the marker) is held
         against the quadratic in time through the kept frames of its window, not through
         frames that the gap puts out of step."""
         sigmas, floor, window = OFF_PATH
@@ -271,7 +279,9 @@ class Track:
             dt = self.time[near] - self.time[index[j]]
             smooth[j] = [np.polyval(np.polyfit(dt, v[near], 2), 0.0) for v in (self.x, self.y)]
         off = np.hypot(self.x[k] - smooth[:, 0], self.y[k] - smooth[:, 1])
-        on[k] = off <= max(sigmas * 1.4826 * float(np.median(off)), floor)
+        far = np.hypot(self.x[k] - np.median(self.x[k]), self.y[k] - np.median(self.y[k]))
+        on[k] = (off <= max(sigmas * 1.4826 * float(np.median(off)), floor)) \
+            & (far <= SWING_REACH * float(np.median(far)))
         return on
 
     @property
