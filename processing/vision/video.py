@@ -258,10 +258,10 @@ class Track:
 
     @cached_property
     def on_path(self) -> np.ndarray:
-        """The kept frames on the marker's smooth path (:data:`OFF_PATH`) and within the swing's
-        reach (:data:`SWING_REACH`): those the arc is fitted through. A frame beside one left out (a hand over the marker) is held
-        against the quadratic in time through the kept frames of its window, not through
-        frames that the gap puts out of step."""
+        """The kept frames on the marker's smooth path (:data:`OFF_PATH`) and within the
+        swing's reach (:data:`SWING_REACH`): those the arc is fitted through. A frame beside
+        one left out (a hand over the marker) is held against the quadratic in time through
+        the kept frames of its window, not through frames that the gap puts out of step."""
         sigmas, floor, window = OFF_PATH
         k = self.kept
         on = k.copy()
@@ -1084,8 +1084,15 @@ def _density_near(t: np.ndarray, r: np.ndarray, f0: float) -> tuple[float, int]:
         f = f[(np.abs(f - f0) * duration > NOTCH) & (f > 0)]
         if f.size:
             break
-    power = np.abs(np.exp(-2j * np.pi * np.outer(f, t - t[0])) @ r) ** 2 / r.size
+    power = np.abs(_waves(f, t) @ r) ** 2 / r.size
     return float(power.mean()), int(f.size)
+
+
+def _waves(f: np.ndarray, t: np.ndarray) -> np.ndarray:
+    """e^{−2πif(t − t₀)} of each frequency ``f`` (rows) at the frames' own times ``t``
+    (columns): a row times a series is its discrete Fourier transform at that frequency,
+    whatever the frame rate's steps. [1]"""
+    return np.exp(-2j * np.pi * np.outer(f, t - t[0]))
 
 
 def _density_at(t: np.ndarray, r: np.ndarray, f0: float,
@@ -1104,7 +1111,7 @@ def _density_at(t: np.ndarray, r: np.ndarray, f0: float,
     duration = float(t[-1] - t[0])
     f = f0 + np.arange(-math.floor(NOTCH), math.floor(NOTCH) + 1) / duration
     f = f[f > 0]
-    waves = np.exp(-2j * np.pi * np.outer(f, t - t[0]))
+    waves = _waves(f, t)
     power = np.abs(waves @ r) ** 2 / r.size
     left = np.ones(f.size)
     if basis is not None:
@@ -1177,7 +1184,7 @@ def _spread(gain: np.ndarray, t: np.ndarray, r: np.ndarray, f0: float, density: 
     duration = float(t[-1] - t[0])
     k = np.arange(1, math.ceil(LEAK_BAND * f0 * duration) + 1)
     k = k[np.abs(k - f0 * duration) > NOTCH]
-    waves = np.exp(-2j * np.pi * np.outer(k / duration, t - t[0]))
+    waves = _waves(k / duration, t)
     weight = 2 * np.abs(waves @ gain) ** 2 / t.size
     own = weight * np.abs(waves @ r) ** 2 / t.size
     shared = max(float(gain @ gain - weight.sum()), 0.0) * density
