@@ -33,7 +33,8 @@ References
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import InitVar, dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -116,30 +117,64 @@ class RecordQuality(Record):
         Share of the samples at a clipped extreme (:func:`clipped_mask`). [1]
     spread : float
         Peak-to-peak of the record. [record's unit]
-    step : float
-        The record's resolution: its smallest step between distinct values (an ADC code),
-        0 for a constant record. [record's unit]
     roughness : float
         :func:`roughness`: 1 for white noise, ≪ 1 for an oscillation the sample rate
         resolves; nan for a constant record. [1]
+    step : float
+        The record's resolution: its smallest step between distinct values (an ADC code)
+        among its first 2¹⁶ samples (``head``), 0 for a constant record; found when first
+        asked for (it sorts them). [record's unit]
     """
 
     samples: int
     duration: float
     clipped: float
     spread: float
-    step: float
     roughness: float
+    head: InitVar[np.ndarray]
+
+    def __post_init__(self, head: np.ndarray) -> None:
+        object.__setattr__(self, "_head", head)
+
+    @cached_property
+    def step(self) -> float:
+        gaps = np.diff(np.sort(self._head))
+        gaps = gaps[gaps > 0]           # between distinct values
+        return float(gaps.min()) if gaps.size else 0.0
 
     @property
     def flat(self) -> bool:
-        """Whether the record never moves by more than :data:`FLAT_STEPS` of its steps."""
-        return self.spread == 0.0 or self.spread <= FLAT_STEPS * self.step
+        """Whether the record never moves by more than :data:`FLAT_STEPS` of its steps.
+
+        A head of more than FLAT_STEPS + 1 distinct values has a step of at most
+        spread/(FLAT_STEPS + 1), and the record is not flat whatever its step: the sort that
+        finds the step is left to the records of a few values."""
+        if self.spread == 0.0:
+            return True
+        if _distinct_at_least(self._head, FLAT_STEPS + 2):
+            return False
+        return self.spread <= FLAT_STEPS * self.step
 
     @property
     def noise_only(self) -> bool:
         """Whether its noise carries more power than anything the sample rate resolves."""
         return not self.flat and self.roughness > NOISE_ROUGHNESS
+
+    def to_dict(self) -> dict:
+        """The measures by name, ``step`` among them (between ``spread`` and ``roughness``)."""
+        out = super().to_dict()
+        roughness = out.pop("roughness")
+        return {**out, "step": self.step, "roughness": roughness}
+
+
+def _distinct_at_least(x: np.ndarray, count: int) -> bool:
+    """Whether ``x`` holds at least ``count`` distinct values (its least value taken off
+    ``count`` − 1 times; no sort)."""
+    for _ in range(count - 1):
+        if x.size == 0:
+            return False
+        x = x[x > x.min()]
+    return x.size > 0
 
 
 def clipped_mask(x) -> np.ndarray:
@@ -175,6 +210,9 @@ def clipped_mask(x) -> np.ndarray:
     width = np.ptp(x)
     for side in (x, -x):
         top = side.max()
+        if np.count_nonzero(side >= np.nextafter(top, -np.inf)) <= 2:
+            continue    # at most two samples at the top, or a float below it (no other value
+                        # lies within half a step of it): count ≤ 2 below
         near = np.unique(side[side >= top - 0.05 * width])
         step = np.diff(near).min() if near.size > 1 else 0.0
         at_top = side >= top - 0.5 * step
@@ -255,11 +293,9 @@ def assess(x, rate: float) -> RecordQuality:
     (True, 0.5, False)
     """
     x = np.asarray(x, dtype=float)
-    gaps = np.diff(np.sort(x[: min(x.size, 1 << 16)]))
-    gaps = gaps[gaps > 0]           # between distinct values
-    step = float(gaps.min()) if gaps.size else 0.0
     return RecordQuality(int(x.size), x.size / rate, clipped_share(x),
-                         float(np.ptp(x)) if x.size else 0.0, step, roughness(x))
+                         float(np.ptp(x)) if x.size else 0.0, roughness(x),
+                         x[: min(x.size, 1 << 16)].copy())
 
 
 def check_record(x, rate: float, *, file: str, field: str | None, channel: str,
