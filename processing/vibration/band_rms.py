@@ -587,27 +587,26 @@ def _spectra(records: list[np.ndarray], length: int) -> np.ndarray:
     records x, y share one complex transform Z of x + iy, unpacked by the symmetry of a real
     record's spectrum: X_k = (Z_k + Z̄_{−k})/2, Y_k = (Z_k − Z̄_{−k})/(2i) [1]_, which halves
     the cost and leaves each spectrum within a few units of the last place of the larger
-    record's.
+    record's. The pairs, and an odd record left over (as a complex one), are transformed in
+    one call, which prepares the length's transform (its chirp and the chirp's spectrum) once.
 
     References
     ----------
     .. [1] W. H. Press et al., Numerical Recipes, 3rd ed., Cambridge, 2007, §12.3.1 (two
            real FFTs for the price of one complex one).
     """
+    if len(records) == 1 or scipy.fft.next_fast_len(length, real=True) == length:
+        return np.array([scipy.fft.rfft(r, length) for r in records])
     bins = length // 2 + 1
+    pairs = len(records) // 2
+    z = scipy.fft.fft(np.array([records[k] + 1j * records[k + 1] for k in range(0, 2 * pairs, 2)]
+                               + ([records[-1] + 0j] if len(records) % 2 else [])), length)
+    mirror = np.conj(z[:pairs, -np.arange(bins) % length])
     out = np.empty((len(records), bins), complex)
-    packed = len(records) > 1 and scipy.fft.next_fast_len(length, real=True) != length
-    k = 0
-    while k < len(records):
-        if not packed or k + 1 == len(records):
-            out[k] = scipy.fft.rfft(records[k], length)
-            k += 1
-            continue
-        z = scipy.fft.fft(records[k] + 1j * records[k + 1], length)
-        mirror = np.conj(z[-np.arange(bins) % length])
-        out[k] = 0.5 * (z[:bins] + mirror)
-        out[k + 1] = -0.5j * (z[:bins] - mirror)
-        k += 2
+    out[0:2 * pairs:2] = 0.5 * (z[:pairs, :bins] + mirror)
+    out[1:2 * pairs:2] = -0.5j * (z[:pairs, :bins] - mirror)
+    if len(records) % 2:
+        out[-1] = z[-1, :bins]
     return out
 
 
