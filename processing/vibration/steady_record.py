@@ -82,10 +82,12 @@ def mean_cycles(signals, angle, cycle: float) -> np.ndarray:
     offset = grid - angle[left]
     width = angle[left + 1] - angle[left]
     beyond = grid >= angle[-1]
+    right = left + 1
     out = []
     for signal in signals:
         y = np.asarray(signal, dtype=float)
-        value = (y[left + 1] - y[left]) / width * offset + y[left]
+        low = y[left]
+        value = (y[right] - low) / width * offset + low
         value[beyond] = y[-1]
         out.append(value.reshape(count, points).mean(axis=0))
     return np.array(out)
