@@ -434,3 +434,35 @@ def test_a_wander_over_the_films_length_is_carried_in_the_periods_u(phase):
     s = 100 * theta(t) + wander + np.random.default_rng(1).normal(0.0, 0.01, t.size)
     period = period_of(_fitted(t, s)[1], t, s)
     assert _held(period, truth)
+
+
+def test_a_few_frames_matched_off_and_back_are_no_dropped_frame(monkeypatch):
+    """At 120 frames per second the marker is matched off along its way over 6 frames
+    (drifting to 2.5 intervals' worth of the swing's motion) and snaps back: the snap is an
+    edge of the swing's timing standing out as a dropped frame's would, and the scan alone
+    takes it for one. Judged away from its edge, the frames after it are nearer on time
+    than an interval late (a 240 fps film warned so: 0.10 ± 0.33 of an interval late), so
+    no frame is found; the same film with a frame dropped there is found, its later frames
+    an interval late."""
+    from processing.vision import video
+
+    fps = 120.0
+    stamps, s = _shaken_track(5, fps=fps)
+    _, drifting = video._fitted(stamps, s)
+    velocity = (drifting.predict(stamps + 0.25 / fps) - drifting.predict(stamps - 0.25 / fps)) \
+        * 2 * fps
+    third = stamps.size // 3
+    d = third + int(np.argmax(np.abs(velocity[third:2 * third])))
+    off = s.copy()
+    off[d - 6:d] -= 2.5 * velocity[d] / fps * np.sqrt(np.arange(1, 7) / 6)
+    late, se = video._late_beyond(stamps, off, 1 / fps, [], d)
+    assert late * fps < 0.5 and late * fps < 1 - 2 * se * fps
+    assert video._find_drops(stamps, off, 1 / fps) == []
+    with monkeypatch.context() as patched:
+        patched.setattr(video, "_lasting", lambda *args: True)
+        assert [m for _, m in video._find_drops(stamps, off, 1 / fps)] == [1]
+    stamps, s = _shaken_track(5, dropped=(d,), fps=fps)
+    found = video._find_drops(stamps, s, 1 / fps)
+    assert [m for _, m in found] == [1] and abs(found[0][0] - d / fps) <= 1.5 / fps
+    late, se = video._late_beyond(stamps, s, 1 / fps, [], d)
+    assert abs(late * fps - 1) < 3 * se * fps
