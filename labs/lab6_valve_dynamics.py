@@ -482,12 +482,20 @@ def _traces(records: list[tuple]) -> list[dict]:
                    for v in raw}
         prepared.append((time, raw, photos, zeros, strokes))
     events = iter(valve_events_each([
-        (time, x - zeros[v].level, preloads[v], zeros[v].noise, strokes[v] / 2, clipped_mask(x))
+        (time, x - zeros[v].level, preloads[v], zeros[v].noise, strokes[v] / 2, _clipped(x))
         for (time, raw, _, zeros, strokes), (_, _, preloads, _) in zip(prepared, records)
         for v, x in raw.items()]))
     return [{v: Trace(v, time, x - zeros[v].level, zeros[v].noise, next(events),
                       photos[v].stroke_time if v in photos else 0.0, strokes[v])
              for v, x in raw.items()} for time, raw, photos, zeros, strokes in prepared]
+
+
+@by_content(shared=True)
+def _clipped(x) -> np.ndarray:
+    """The clipped samples of a valve's trace
+    (:func:`processing.inputs.record_quality.clipped_mask`), found once for the same samples
+    inside a scope (the valves' traces swapped meet them again)."""
+    return clipped_mask(x)
 
 
 def _few_marks(inputs: Inputs, entry: dict, found: int, duration: float,

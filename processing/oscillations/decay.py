@@ -40,13 +40,12 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import optimize, stats
 from scipy.ndimage import uniform_filter1d
-from scipy.signal import savgol_coeffs
 
 from processing.diagnostics import Reason
 
 from .half_range import neighbour_baseline
 from processing.regression import CurvatureTest, LineFit, curvature_test, fit_line
-from .savgol import savgol
+from .savgol import coefficients, savgol
 from processing.result import Record
 from processing.uncertainty import Measured
 
@@ -99,7 +98,7 @@ def noise_sd(x, window: int | None = None, *, exclude=None) -> float:
             if d2.size else 0.0
     window = max(int(window) | 1, 7)
     r = (x - savgol(x, window, 3))[keep]
-    h0 = float(savgol_coeffs(window, 3)[window // 2])
+    h0 = float(coefficients(window, 3)[window // 2])
     return float(1.4826 * np.median(np.abs(r - np.median(r))) / math.sqrt(1.0 - h0)) \
         if r.size else 0.0
 

@@ -1,8 +1,8 @@
 """Savitzky–Golay smoothing as :func:`scipy.signal.savgol_filter` does it with
 ``mode="interp"`` (each end fitted by one polynomial over the first or last window), with
-the end rows' coefficients worked out once per window and kept: scipy fits the ends by a
-least-squares solve on every call, which on the short stretches of a valve's events costs
-more than the smoothing itself.
+the end rows' coefficients (and the centre's, :func:`coefficients`) worked out once per
+window and kept: scipy fits them by a least-squares solve on every call, which on the short
+stretches of a valve's events costs more than the smoothing itself.
 
 References
 ----------
@@ -26,6 +26,16 @@ def _rows(window: int, order: int) -> tuple[np.ndarray, np.ndarray]:
                      for i in range(window // 2)]).reshape(window // 2, window)
     centre.flags.writeable = ends.flags.writeable = False
     return centre, ends
+
+
+@lru_cache(maxsize=32)
+def coefficients(window: int, order: int) -> np.ndarray:
+    """The smoothing's coefficients, as :func:`scipy.signal.savgol_coeffs` gives them (in a
+    convolution's order), worked out once per window and kept (read-only): their sum of
+    squares is the smoothed white noise's share, the centre's the smoother's own weight."""
+    c = savgol_coeffs(window, order)
+    c.flags.writeable = False
+    return c
 
 
 def savgol(x, window: int, order: int) -> np.ndarray:

@@ -25,6 +25,7 @@ per-block thresholds; only the few samples around each edge are ever converted t
 from __future__ import annotations
 
 from collections.abc import Iterable
+from functools import lru_cache
 
 import numpy as np
 
@@ -139,9 +140,8 @@ def _place(y: np.ndarray, method: str, window: int) -> np.ndarray:
     # least-squares cubic in coordinates centred between samples c-1 and c; with noise the
     # first sample below the level may be several samples past the crossing, so the root
     # may move within the middle half of the window
-    x = np.arange(2 * w, dtype=np.float64) - (w - 0.5)
-    basis = np.vander(x, 4, increasing=True)
-    coef = y @ np.linalg.pinv(basis).T
+    basis, to_cubic = _cubic(w)
+    coef = y @ to_cubic
     rows = np.flatnonzero((y[:, 1:] == y[:, :-1]).any(axis=1))   # a value held: clipped?
     flat = _saturated(y[rows])
     usable = flat.any(axis=1) & (np.sum(~flat, axis=1) >= 6)
@@ -157,6 +157,19 @@ def _place(y: np.ndarray, method: str, window: int) -> np.ndarray:
         df = coef[:, 1] + root * (2 * coef[:, 2] + 3 * root * coef[:, 3])
         root = np.clip(root - f / df, -w / 2, w / 2)
     return root + (w - 0.5)
+
+
+@lru_cache(maxsize=16)
+def _cubic(window: int) -> tuple[np.ndarray, np.ndarray]:
+    """The least-squares cubic of :func:`_place` over 2·``window`` samples, in coordinates
+    centred between samples ``window`` − 1 and ``window``: its basis (1, x, x², x³ per
+    sample) and the transposed pseudo-inverse that takes a row of samples to the cubic's
+    coefficients, made once per window and kept (read-only)."""
+    x = np.arange(2 * window, dtype=np.float64) - (window - 0.5)
+    basis = np.vander(x, 4, increasing=True)
+    rows = np.linalg.pinv(basis).T
+    basis.flags.writeable = rows.flags.writeable = False
+    return basis, rows
 
 
 def _saturated(y: np.ndarray) -> np.ndarray:

@@ -41,10 +41,9 @@ from dataclasses import dataclass, replace
 from typing import NamedTuple
 
 import numpy as np
-from scipy.signal import savgol_coeffs
 
 from processing.oscillations.decay import BaselineChoice, DampedSineFit, fit_baselines_each
-from processing.oscillations.savgol import savgol
+from processing.oscillations.savgol import coefficients, savgol
 from processing.result import Record
 from processing.inputs.reuse import by_content, by_content_each
 
@@ -296,7 +295,7 @@ def _openings(time, force, preload: float, noise: float, resolution: float, clip
     if y.size <= SMOOTH_WINDOW:
         return t, y, cut, []
     smooth = savgol(y, SMOOTH_WINDOW, 2)
-    gain = float(np.sqrt(np.sum(savgol_coeffs(SMOOTH_WINDOW, 2) ** 2)))
+    gain = float(np.sqrt(np.sum(coefficients(SMOOTH_WINDOW, 2) ** 2)))
     s_noise = noise * gain
     loaded = smooth > max(CONTACT_LEVEL * s_noise, resolution)
     runs = _stretches(loaded)
