@@ -79,10 +79,10 @@ def mean_cycles(signals, angle, cycle: float) -> np.ndarray:
     grid = (angle[0] + (np.arange(count)[:, None] * cycle
                         + np.arange(points)[None, :] * (cycle / points))).ravel()
     left = np.clip(np.searchsorted(angle, grid, "right") - 1, 0, angle.size - 2)
-    offset = grid - angle[left]
-    width = angle[left + 1] - angle[left]
-    beyond = grid >= angle[-1]
     right = left + 1
+    offset = grid - angle[left]
+    width = angle[right] - angle[left]
+    beyond = grid >= angle[-1]
     out = []
     for signal in signals:
         y = np.asarray(signal, dtype=float)
