@@ -19,7 +19,8 @@ of its aim); the sensor adds shot and read noise and vignetting; the film is com
 H.264 (libx264 via PyAV: B-frames, a constant rate factor) in MP4 with each frame's
 presentation timestamp — a variable frame rate and dropped frames are in the container — or
 into AVI, which holds only a nominal rate. A 4K film is drawn at a quarter of its pixels and
-enlarged by the camera's homography.
+enlarged by the camera's homography. The same scene and seed give the same file
+(:func:`_x264_options`).
 """
 from __future__ import annotations
 
@@ -355,6 +356,27 @@ def _camera(phone: Phone, w: int, h: int, offset: tuple[float, float], scale: fl
     return S @ H
 
 
+def _x264_options(crf: int) -> dict[str, str]:
+    """libx264's options: a constant rate factor, B-frames, and its instruction sets capped
+    at AVX2 where the processor has AVX-512.
+
+    x264's AVX-512 code makes a different file of the same frames from one encode to the
+    next (measured with PyAV 18 and FFmpeg 8's libx264 on an AVX-512 processor: one film
+    of 197 frames encoded four times in a process gave two to three files, the first
+    different in every fresh process; single-threaded as well; at ``asm=AVX2``, or with no
+    assembly at all, the same file every time, as fast as before). Capped, a scene's film
+    is the same file on every run, so the benchmark's figures are too.
+    """
+    options = {"crf": str(crf), "preset": "veryfast", "bf": "2"}
+    try:
+        from numpy._core._multiarray_umath import __cpu_features__ as features
+    except ImportError:                     # another NumPy: x264 left to choose
+        features = {}
+    if features.get("AVX512F") and features.get("AVX2"):
+        options["x264-params"] = "asm=AVX2"
+    return options
+
+
 class _Encoder:
     """H.264 in MP4 with each frame's timestamp, or MPEG-4 in AVI at a nominal rate (PyAV)."""
 
@@ -368,8 +390,7 @@ class _Encoder:
             self._stream.codec_context.bit_rate = 8_000_000
         else:
             self._stream = self._box.add_stream("libx264", rate=Fraction(round(phone.fps)),
-                                                options={"crf": str(phone.crf),
-                                                         "preset": "veryfast", "bf": "2"})
+                                                options=_x264_options(phone.crf))
             self._stream.time_base = Fraction(1, TIMESCALE)
             self._stream.codec_context.time_base = Fraction(1, TIMESCALE)
         self._stream.width, self._stream.height = size
