@@ -1208,17 +1208,19 @@ def _warn_hidden_drops(track: Track, t, s, drifting, period: Measured, interval:
         f"could go unseen: at {100 * share:.0f} % of its frames its step in the swing's phase "
         f"would stand under the {needed:.1f} standard errors the search needs ({stands:.1f} at "
         f"the median frame) and move the period by more than its u; one dropped mid-film "
-        f"moves it {moved:.2g} % ({times:.1f} U). This does not say that one was dropped; to "
-        "be sure none was, give the phone's original file, with each frame's own time (not "
-        "a re-encoded copy), or swing wider, film more oscillations, or film a slow swing at "
-        "a lower frame rate",
+        f"moves it {moved:.2g} % ({times:.1f} U). This does not say that one was dropped (in "
+        "the phone's own file, which keeps each frame's time, a drop leaves a gap, and none "
+        "is there); to be sure none was, give the phone's original file, not a re-encoded "
+        "copy, or swing wider, film more oscillations, or film a slow swing at a lower frame "
+        "rate",
         f"{name}: время кадров в файле — с постоянной частотой, и пропущенный камерой кадр "
         f"мог бы остаться незамеченным: на {100 * share:.0f} % кадров его скачок фазы качаний "
         f"был бы меньше {needed:.1f} стандартных ошибки, нужных поиску ({stands:.1f} на "
         f"медианном кадре), и сдвинул бы период больше его u; один пропуск в середине видео "
-        f"сдвигает его на {moved:.2g} % ({times:.1f} U). Это не значит, что кадр пропал; "
-        "чтобы быть уверенным, что пропусков нет, дайте исходный файл телефона со временем "
-        "каждого кадра (не перекодированную копию) или раскачайте шире, снимите больше "
+        f"сдвигает его на {moved:.2g} % ({times:.1f} U). Это не значит, что кадр пропал (в "
+        "исходном файле телефона, где хранится время каждого кадра, пропуск оставляет "
+        "промежуток, а его нет); чтобы быть уверенным, что пропусков нет, дайте исходный "
+        "файл телефона, не перекодированную копию, или раскачайте шире, снимите больше "
         "колебаний, снимайте медленные качания с меньшей частотой кадров"))
 
 
