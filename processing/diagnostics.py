@@ -286,6 +286,15 @@ class DroppedFramesWarning(DynlabWarning):
     code = "dropped_frames"
 
 
+class HiddenDropsWarning(DynlabWarning):
+    """A film whose times claim a constant rate cannot show a dropped frame: a single one's
+    step in the swing's phase would stand under what the search needs to find it, and one
+    dropped mid-film would move the period beyond its stated uncertainty. Not that a frame
+    was dropped: that, were one dropped, nothing here would tell."""
+
+    code = "hidden_drops"
+
+
 class NominalFrameRateWarning(DynlabWarning):
     """A film's container holds no time for its frames (AVI): they are taken 1/rate apart,
     and a variable rate or a dropped frame would go unseen."""

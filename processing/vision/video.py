@@ -37,12 +37,12 @@ from scipy.ndimage import minimum_filter1d
 
 from processing.oscillations.anharmonic import AnharmonicFit, fit_anharmonic_decay
 from processing.oscillations.decay import fit_damped_sine
-from ..diagnostics import (DroppedFramesWarning, FilmAmplitudeWarning,
+from ..diagnostics import (DroppedFramesWarning, FilmAmplitudeWarning, HiddenDropsWarning,
                            InconsistentInputWarning, InputError)
 from processing.oscillations.savgol import savgol
 from processing.inputs.reuse import by_content, scope
 from ..measurement import Field, bi
-from ..uncertainty import Measured
+from ..uncertainty import Measured, coverage_factor
 from .frames import (DROPPED, IRREGULAR, frame_clock, frames, interval_spread, open_film,
                      typical_interval)
 from .marker import (COLOURS, SURVEY_FRAMES, SURVEY_SECONDS, TURNS, colour_mask, survey,
@@ -141,7 +141,7 @@ noise alone passes it as seldom (:func:`scanned`)."""
 
 DROP_DETECTABLE = 3.0
 """Standard errors a single dropped frame's step must stand out by at the film's median frame
-for dropped frames to be sought at all (:func:`_detectable`): where it would stand less, the
+for dropped frames to be sought at all (:func:`_drop_power`): where it would stand less, the
 scan sees no frame's edge, only a level raised over seconds, which a slow-motion film's slow
 noise raises as well (clean films at 240 frames per second: at 1.0, 32 frames "found" and the
 period put 3.8 u off; at 2.0 and 2.4, 4–12 frames in bursts of 3–5). Of 200 films of 8
@@ -180,6 +180,21 @@ warned of). On 100 films of 8 oscillations at 30 and 60 frames per second with t
 dropped, 9 were left unwarned and 7 of them hold their period within U (5 carrying such a
 step, 2–6 U off without it); of their 100 clean twins, 2 carry one (u 1.3 and 1.7 times
 wider); of 40 clean films at 240 frames per second, 5."""
+
+HIDDEN_SHARE = 0.05
+"""Share of a film's frames above which a film whose times claim a constant rate is warned
+that a dropped frame could hide in it (:func:`_warn_hidden_drops`): frames where a single
+one's step would stand under what the search needs (:func:`_drop_reach`) and move the period
+by more than its u, so that two would move it beyond U. Against u, not U: a phone that drops
+frames drops more than one, and held against U the warning left 3 of 30 films at 240 frames
+per second with two frames dropped neither warned nor within their U (2.4–5.1 u off); held
+against u, none. (Set before the films were read, not tuned: on fresh films of 8
+oscillations, 320 × 180, restamped — 240 fps, seeds 4001–4088 step 3, and 30/60 fps, seeds
+4200–4219 — the shares of those not warned reached 0.049 and of those warned began at 0.06;
+the clean 30/60 fps films whose drops the search sees reach 0.03.) The period's u does not
+carry such a drop: on the 19 clean 240 fps films warned, a single one's shift carried as a
+limit would widen the u 1.2–4.1 times (median 2.0) for a drop nothing shows, where all 30
+held their period within U as stated."""
 
 DOUBT_STEPS = 3
 """Most steps too faint to be sure of that the period's u carries (:func:`_further_drops`)."""
@@ -732,14 +747,15 @@ def swing_of(track: Track, *, field: str | None = None) -> Swing:
     shape = track.radial_shape()
     try:
         fit, drifting = _fitted(t, s)
-        drops, doubt = [], None
+        drops, doubt, reach = [], None, None
         if _evenly_stamped(track) and (t[-1] - t[0]) / fit.period >= DROP_OSCILLATIONS:
             interval = typical_interval(track.time)
             keep = _consistent(s - drifting.predict(t))
             with scope():           # the scan with no drop retimed is met twice or more
-                if _detectable(t[keep], s[keep], interval):
+                if _drop_power(t[keep], s[keep], interval) >= DROP_DETECTABLE:
                     drops = _find_drops(t[keep], s[keep], interval)
                     doubt = _doubt(t, s, keep, interval, drops)
+                reach = _drop_reach(t[keep], s[keep], interval, drops)
             if drops:
                 t = _shifted(t, drops, interval)
                 fit, drifting = _fitted(t, s)
@@ -801,6 +817,8 @@ def swing_of(track: Track, *, field: str | None = None) -> Swing:
                       "oscillations or more (the manual times 20)",
                       (f"погрешность периода не определить по {span:.1f} колебаниям на видео",
                        f"снимите {FEW_OSCILLATIONS} колебаний или больше (по методичке — 20)"))
+    if reach is not None:
+        _warn_hidden_drops(track, t, s, drifting, period, typical_interval(track.time), reach)
     return Swing(drifting, period, float(span), float(drifting.amplitude),
                  t.size / track.time.size, float(drifting.reference_amplitude))
 
@@ -937,11 +955,26 @@ def scanned(sigmas: float, frames: int) -> float:
     return float(stats.norm.isf(SCAN_FRAMES * stats.norm.sf(sigmas) / max(frames, 1)))
 
 
-def _detectable(t, s, interval: float) -> bool:
-    """Whether a single dropped frame's step would stand :data:`DROP_DETECTABLE` standard
-    errors out at the film's median frame (:func:`_timing_steps`)."""
-    _, root, valid, _ = _steps(t, s, interval, [])
-    return bool(valid.any() and np.median(root[valid]) * interval >= DROP_DETECTABLE)
+def _drop_power(t, s, interval: float) -> float:
+    """Standard errors a single dropped frame's step would stand out by at the film's median
+    frame (:func:`_timing_steps`; 0 where no step can be told): dropped frames are sought
+    where it reaches :data:`DROP_DETECTABLE`, and found surely where it reaches
+    :func:`scanned` of :data:`DROP_SIGMAS` (a step's own power follows the swing's speed at
+    its frame, so some stand above the median and some below)."""
+    _, z, _ = _drop_reach(t, s, interval, [])
+    return float(np.median(z)) if z.size else 0.0
+
+
+def _drop_reach(t, s, interval: float, drops) -> tuple[np.ndarray, np.ndarray, float]:
+    """Where a single dropped frame's step can be told (:func:`_steps`, the ``drops`` found
+    retimed: untimed, their steps raise the noise a further one is weighed against, and 8
+    of the 15 films at 30/60 fps whose drops were found, seeds 4200–4219, were warned by
+    :func:`_warn_hidden_drops` that one could hide; so retimed, none): those
+    frames' times, the standard errors a step of one interval would stand out by at each,
+    and the standard errors the search needs to take one on this many frames
+    (:func:`scanned` of :data:`DROP_SIGMAS`). [s], [-], [-]"""
+    _, root, valid, _ = _steps(t, s, interval, drops)
+    return t[valid], root[valid] * interval, scanned(DROP_SIGMAS, t.size)
 
 
 @by_content()
@@ -951,7 +984,7 @@ def _steps(t, s, interval: float, drops):
     of an end rests on those few, and the fit's phase and the camera's shake bend them
     alike: on a clean film a step four frames from its end stood 4.7 standard errors
     out). Inside a :func:`~processing.inputs.reuse.scope`, made once for the same track and
-    drops (:func:`_detectable`, :func:`_find_drops` and :func:`_further_drops` each scan the
+    drops (:func:`_drop_power`, :func:`_find_drops` and :func:`_further_drops` each scan the
     track with none retimed first)."""
     retimed = _shifted(t, drops, interval)
     try:
@@ -1122,6 +1155,73 @@ def _warn_unstamped_drops(track: Track, drops: int, doubt=None) -> None:
         f"{more_ru}; снимайте в "
         "исходном формате телефона (со временем каждого кадра) и закройте другие "
         "приложения"))
+
+
+def _drop_cost(t: np.ndarray, s: np.ndarray, drifting, interval: float) -> float:
+    """The period's relative shift were a single frame dropped mid-film and not found: the
+    fit through the frames from the film's middle on timed an interval later. (White noise
+    aside, a step of δ at a of a film of length D moves the fitted frequency by
+    6a(D − a)δ/D³ of it, most at a = D/2: 1.5 δ/D.) NaN where that fit fails."""
+    middle = 0.5 * float(t[0] + t[-1])
+    try:
+        moved = _fitted(_shifted(t, [(middle, 1)], interval), s)[1]
+    except RuntimeError:
+        return math.nan
+    return abs(moved.period / drifting.period - 1)
+
+
+def _hidden_share(t, s, drifting, period: Measured, interval: float, reach) -> tuple:
+    """The share of the frames where a single dropped frame would both go unseen and move
+    the period by more than its u (:data:`HIDDEN_SHARE`), and the shift one would make
+    mid-film (:func:`_drop_cost`; elsewhere that times 4a(D − a)/D², the white-noise
+    sketch's shape; 0 where a drop would be seen at every frame, and then not refitted).
+    ``reach`` is :func:`_drop_reach` of the film's scan."""
+    at, z, needed = reach
+    unseen = z < needed
+    if not unseen.any():
+        return 0.0, 0.0
+    cost = _drop_cost(t, s, drifting, interval)
+    if not math.isfinite(cost):
+        return 0.0, cost
+    span = float(at[-1] - at[0]) if at.size > 1 else 1.0
+    shape = 4 * (at - at[0]) * (at[-1] - at) / span ** 2
+    return float(np.mean(unseen & (cost * shape * period.value > period.u))), cost
+
+
+def _warn_hidden_drops(track: Track, t, s, drifting, period: Measured, interval: float,
+                       reach) -> None:
+    """Warn where a film whose times claim a constant rate cannot show the dropped frames
+    that would move its period: at more than :data:`HIDDEN_SHARE` of its frames a single
+    one's step would stand under what the search needs and move the period by more than
+    its u (:func:`_hidden_share`). The warning says what a drop would cost, not that one
+    happened."""
+    share, cost = _hidden_share(t, s, drifting, period, interval, reach)
+    if not share > HIDDEN_SHARE:
+        return
+    name = Path(track.path).name
+    _, z, needed = reach
+    stands = float(np.median(z))
+    U = coverage_factor(period.dof) * period.u
+    moved, times = 100 * cost, cost * period.value / U
+    warnings.warn(HiddenDropsWarning(
+        f"{name}: the film's times claim a constant rate, and a frame dropped by the camera "
+        f"could go unseen: at {100 * share:.0f} % of its frames its step in the swing's phase "
+        f"would stand under the {needed:.1f} standard errors the search needs ({stands:.1f} at "
+        f"the median frame) and move the period by more than its u; one dropped mid-film "
+        f"moves it {moved:.2g} % ({times:.1f} U). This does not say that one was dropped (in "
+        "the phone's own file, which keeps each frame's time, a drop leaves a gap, and none "
+        "is there); to be sure none was, give the phone's original file, not a re-encoded "
+        "copy, or swing wider, film more oscillations, or film a slow swing at a lower frame "
+        "rate",
+        f"{name}: время кадров в файле — с постоянной частотой, и пропущенный камерой кадр "
+        f"мог бы остаться незамеченным: на {100 * share:.0f} % кадров его скачок фазы качаний "
+        f"был бы меньше {needed:.1f} стандартных ошибки, нужных поиску ({stands:.1f} на "
+        f"медианном кадре), и сдвинул бы период больше его u; один пропуск в середине видео "
+        f"сдвигает его на {moved:.2g} % ({times:.1f} U). Это не значит, что кадр пропал (в "
+        "исходном файле телефона, где хранится время каждого кадра, пропуск оставляет "
+        "промежуток, а его нет); чтобы быть уверенным, что пропусков нет, дайте исходный "
+        "файл телефона, не перекодированную копию, или раскачайте шире, снимите больше "
+        "колебаний, снимайте медленные качания с меньшей частотой кадров"))
 
 
 def _consistent(r: np.ndarray) -> np.ndarray:
