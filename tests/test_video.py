@@ -237,6 +237,22 @@ def test_a_hand_passing_far_from_the_swing_is_off_the_path():
     assert 0 < arc_radius_u(track) < 10.0      # the false matches near the swing still in it
 
 
+def test_a_straight_path_has_no_radius_to_tell_and_says_so():
+    """A marker swinging 12 px along a straight line (an arc whose sag is lost in 0.3 px of
+    noise) at 240 frames per second: the circle's fit runs off to thousands of px, and its
+    radius's u is a third of it or more. JᵀJ inverted as it stood gave a negative variance
+    (a math domain error) on 2 of these 40 tracks, and once on a slow 240 fps film."""
+    from processing.vision.video import Track, arc_radius_u
+
+    t = np.arange(1200) / 240.0
+    swing = 12 * np.exp(-0.05 * t) * np.cos(2 * np.pi * t / 1.1)
+    for seed in range(40):
+        rng = np.random.default_rng(seed)
+        track = Track("synthetic", t, 160 + swing + rng.normal(0, 0.3, t.size),
+                      40 + rng.normal(0, 0.3, t.size), np.ones_like(t), 239, 0.0)
+        assert arc_radius_u(track) > 0.3 * track.circle[2], seed
+
+
 def test_a_frame_off_the_path_does_not_bend_a_short_arc():
     """A 3° swing on a 200 px arm (its sag 0.27 px) with one false match 15 px off: the
     frame is left out of the arc (and its neighbours of the local quadratic), whose radius

@@ -1399,11 +1399,19 @@ def correlation_time(r: np.ndarray) -> float:
     return float(1 + 2 * used.sum())
 
 
+ILL_POSED = 1e-10
+"""Smallest ratio of the arc fit's Jacobian's singular values at which its radius is told
+(:func:`arc_radius_u`); below it the radius's u is infinite."""
+
+
 def arc_radius_u(track: Track) -> float:
     """Standard uncertainty of the arc's radius (:func:`arc`) from the track's scatter about
     it: s²(JᵀJ)⁻¹ of the geometric fit, s² widened by the residuals' integrated
     autocorrelation time (:func:`correlation_time`: a frame's error carried into the next,
-    the phone's shake carried over many). [px]"""
+    the phone's shake carried over many); (JᵀJ)⁻¹ from J's singular values, never negative,
+    and infinite where the arc is too short and straight for its radius to be told
+    (:data:`ILL_POSED`; JᵀJ inverted as it stood gave a negative variance on one such film,
+    a slow 240 fps swing). [px]"""
     k = track.on_path
     xc, yc, R = track.circle
     dx, dy = track.x[k] - xc, track.y[k] - yc
@@ -1411,11 +1419,10 @@ def arc_radius_u(track: Track) -> float:
     r = d - R
     s2 = float(r @ r) / max(r.size - 3, 1) * correlation_time(r)
     J = np.column_stack([dx / d, dy / d, np.ones_like(d)])
-    try:
-        normal = np.linalg.inv(J.T @ J)
-    except np.linalg.LinAlgError:
+    _, sv, vt = np.linalg.svd(J, full_matrices=False)
+    if not sv[-1] > ILL_POSED * sv[0]:    # a short, nearly straight arc: no radius to tell
         return math.inf
-    return float(math.sqrt(s2 * normal[2, 2]))
+    return float(math.sqrt(s2 * np.sum((vt[:, 2] / sv) ** 2)))
 
 
 @dataclass(frozen=True)
