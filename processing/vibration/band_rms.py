@@ -569,13 +569,13 @@ def band_signals(acceleration, sample_rate: float, quantities=QUANTITIES, *,
         w[:edge], w[size - edge:] = ramp, ramp[::-1]
     length = size if periodic else scipy.fft.next_fast_len(2 * size, real=True)
     back = scipy.fft.next_fast_len(size, real=True) if periodic else length
-    spectrum = _spectra([(r - r.mean()) * w for r in np.atleast_2d(x)], length) \
-        * (back / length)
+    spectrum = _spectra([(r - r.mean()) * w for r in np.atleast_2d(x)], length)
     if back > length and length % 2 == 0:
         spectrum[:, -1] *= 0.5
     keep = slice(0, back) if periodic else slice(edge, size - edge)
+    scale = back / length
     signals = {q: scipy.fft.irfft(spectrum * (_response(length, float(sample_rate), bands[q], q)
-                                              * _PHASE[INTEGRATIONS[q]]), back)[:, keep]
+                                              * (_PHASE[INTEGRATIONS[q]] * scale)), back)[:, keep]
                for q in quantities}
     if x.ndim == 1:
         signals = {q: s[0] for q, s in signals.items()}
@@ -611,19 +611,22 @@ def _spectra(records: list[np.ndarray], length: int) -> np.ndarray:
     if length % 2 == 0:
         x = np.zeros((len(records), length))
         for row, r in zip(x, records):
-            row[:r.size] = r
-        z = scipy.fft.fft(x[:, 0::2] + 1j * x[:, 1::2])
-        k = np.arange(bins)
-        half = length // 2
-        ahead, mirror = z[:, k % half], np.conj(z[:, -k % half])
-        return 0.5 * (ahead + mirror) \
-            - 0.5j * np.exp(-2j * np.pi * k / length) * (ahead - mirror)
+            row[:len(r)] = r
+        z = scipy.fft.fft(x.view(complex))          # x_{2n} + i x_{2n+1}, n < N/2
+        ahead = np.concatenate([z, z[:, :1]], axis=1)                       # Z_k
+        mirror = np.conj(np.concatenate([z[:, :1], z[:, :0:-1], z[:, :1]], axis=1))  # Z̄_{−k}
+        odd = ahead - mirror
+        odd *= -0.5j * np.exp(-2j * np.pi * np.arange(bins) / length)
+        ahead += mirror
+        ahead *= 0.5
+        ahead += odd
+        return ahead
     if len(records) == 1:
         return np.array([scipy.fft.rfft(records[0], length)])
     pairs = len(records) // 2
     z = scipy.fft.fft(np.array([records[k] + 1j * records[k + 1] for k in range(0, 2 * pairs, 2)]
                                + ([records[-1] + 0j] if len(records) % 2 else [])), length)
-    mirror = np.conj(z[:pairs, -np.arange(bins) % length])
+    mirror = np.conj(np.concatenate([z[:pairs, :1], z[:pairs, :length - bins:-1]], axis=1))
     out = np.empty((len(records), bins), complex)
     out[0:2 * pairs:2] = 0.5 * (z[:pairs, :bins] + mirror)
     out[1:2 * pairs:2] = -0.5j * (z[:pairs, :bins] - mirror)
