@@ -51,7 +51,7 @@ from processing.vibration.misfire import CutCylinder, find_cut_cylinder
 from processing.torsional.orders import OrderFit, order_fits
 from processing.inputs.record_checks import check_tachometer, whole_ratio
 from processing.result import LabResult, compare, flag_estimates, result_values
-from processing.inputs.signals import open_channels
+from processing.inputs.signals import kept_open, open_channels
 from processing.inputs.record_quality import check_record, irregular_marks
 from processing.inputs.reuse import by_content
 from processing.vibration.steady_record import decimate, mean_cycles
@@ -504,16 +504,18 @@ def _read(i: int, entry: dict, names: list[str]):
     without the channel): a function of the recording, the channels named and the sample
     rate alone (a slip of the tachometer's n finds it done)."""
     where = f"record[{i}]"
-    accelerometers, tdc = _open(entry, names, where)
-    rate = accelerometers[0].sample_rate
-    data = [c.read().astype(float) * c.volts_per_code for c in accelerometers]
-    for name, x in zip(names, data):
-        check_record(x, rate, file=str(entry["signal"]), field=f"{where}.channels", channel=name,
-                     least_duration=LEAST_DURATION, purpose={"en": "the meter's band reading", "ru": "показания прибора в полосе"},
-                     broadband=True)
-    if tdc is None:
-        return rate, data, None
-    marks = tdc.read().astype(float) * tdc.volts_per_code
+    with kept_open():       # the recording opened once for its channels and their samples
+        accelerometers, tdc = _open(entry, names, where)
+        rate = accelerometers[0].sample_rate
+        data = [c.read().astype(float) * c.volts_per_code for c in accelerometers]
+        for name, x in zip(names, data):
+            check_record(x, rate, file=str(entry["signal"]), field=f"{where}.channels",
+                         channel=name, least_duration=LEAST_DURATION,
+                         purpose={"en": "the meter's band reading",
+                                  "ru": "показания прибора в полосе"}, broadband=True)
+        if tdc is None:
+            return rate, data, None
+        marks = tdc.read().astype(float) * tdc.volts_per_code
     return rate, data, (marks, _tdc_times(marks, rate))
 
 

@@ -169,3 +169,20 @@ def test_mean_cycles_interpolate_as_numpy_does():
     for row, got in zip(signals, mean_cycles(signals, angle, cycle)):
         want = np.interp(grid.ravel(), angle, row).reshape(count, points).mean(axis=0)
         assert np.array_equal(got, want)
+
+
+@pytest.mark.parametrize("length", [51206, 51203, 51200, 998])
+@pytest.mark.parametrize("count", [1, 2, 3])
+def test_records_transformed_together_have_their_own_spectra(length, count):
+    # a slow even length (halves as complex records), a slow odd one (pairs), a fast one:
+    # each record's spectrum is rfft's to a few units of the last place of the largest
+    # record's, a record a thousand times smaller than its partner's included
+    from processing.vibration.band_rms import _spectra
+
+    rng = np.random.default_rng(length + count)
+    records = [rng.standard_normal(length) * s for s in (1.0, 1e-3, 5.0)[:count]]
+    got = _spectra(records, length)
+    largest = max(np.abs(np.fft.rfft(r)).max() for r in records)
+    assert got.shape == (count, length // 2 + 1)
+    for row, r in zip(got, records):
+        assert np.max(np.abs(row - np.fft.rfft(r))) < 1e-13 * largest

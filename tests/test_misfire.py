@@ -1,12 +1,15 @@
 """The engine-on-mounts scene against the band chain, and the cut cylinder's finding: every
 cylinder with marks per working cycle, twins split with marks per revolution, none in
 healthy pairs."""
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
 from processing.vibration.band_rms import QUANTITIES, band_rms
 from processing.crank.dynamics import firing_phases
 from processing.speed.edges import detect_edges
+from processing.inputs.reuse import scope
 from processing.vibration.misfire import find_cut_cylinder
 from processing.torsional.orders import order_fit
 from processing.synth.engine import Engine
@@ -89,6 +92,20 @@ def test_marks_per_revolution_split_cylinders_a_revolution_apart(scenes):
                               cycle_marks=False)
     shares = dict(enumerate(found.shares, 1))
     assert shares[3] == pytest.approx(shares[2]) and shares[3] + shares[2] > 0.95
+
+
+def test_a_finding_is_kept_by_the_fits_orders_coefficients_and_covariances(scenes):
+    # inside a scope: a fit differing in its drift and fitted signal alone (what the finding
+    # does not read) finds the finding done; one differing in a coefficient does not
+    phases = firing_phases(4, firing_order=FIRING)
+    healthy, suspect = _fit(scenes[None]), _fit(scenes[2])
+    with scope():
+        first = find_cut_cylinder(healthy, suspect, phases)
+        other = replace(suspect, drift=suspect.drift + 1.0, periodic=suspect.periodic * 0.0)
+        assert find_cut_cylinder(healthy, other, phases) is first
+        moved = replace(suspect, coefficient=suspect.coefficient * 1.5)
+        assert find_cut_cylinder(healthy, moved, phases) is not first
+        assert find_cut_cylinder(healthy, suspect, phases, seed=1) is not first
 
 
 def test_fits_of_different_orders_are_refused(scenes):

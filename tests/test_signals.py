@@ -9,7 +9,9 @@ import pytest
 from scipy.io import wavfile
 
 from processing.diagnostics import InputError
+from processing.inputs import signals
 from processing.inputs.signals import (
+    kept_open,
     open_channel,
     open_channels,
     read_edge_times,
@@ -115,6 +117,31 @@ def test_hdf5_written_from_blocks_reads_back_by_slices(tmp_path):
     with h5py.File(tmp_path / "rec.h5") as f:
         assert f.attrs["rig"] == "D-240 stand"
         assert f["raw/tooth"].chunks is not None and f["raw/tdc"].attrs["sample_rate"] == 1e6
+
+
+def test_kept_open_opens_a_recording_once_for_its_channels_and_their_samples(tmp_path,
+                                                                           monkeypatch):
+    data = {"acc": rng.normal(size=3000), "tdc": rng.integers(0, 2, 3000).astype(np.int16)}
+    write_hdf5(tmp_path / "rec.h5", data, 25600.0)
+    outside = [c.read() for c in open_channels(tmp_path / "rec.h5", ["acc", "tdc"])]
+    opened, plain = [], h5py.File
+
+    def counted(*args, **kwargs):
+        opened.append(plain(*args, **kwargs))
+        return opened[-1]
+
+    monkeypatch.setattr(signals.h5py, "File", counted)
+    with kept_open():
+        channels = open_channels(tmp_path / "rec.h5", ["acc", "tdc"])
+        with kept_open():
+            inside = [c.read() for c in channels]
+        assert len(opened) == 1 and opened[0].id.valid
+    assert not opened[0].id.valid            # closed when the outermost block ends
+    for a, b, x in zip(outside, inside, data.values()):
+        np.testing.assert_array_equal(a, x)
+        np.testing.assert_array_equal(b, x)
+    inside[0] = channels[0].read()            # outside the block: opened and closed again
+    assert len(opened) == 2 and not opened[1].id.valid
 
 
 def test_hdf5_blocks_fill_a_declared_length(tmp_path):

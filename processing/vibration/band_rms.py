@@ -481,14 +481,18 @@ TAPER = 0.1
 
 
 @lru_cache(maxsize=16)
-def _response(length: int, sample_rate: float, band: Band, integrations: int) -> np.ndarray:
-    """H(f)/(i2πf)ⁿ on the bins of an rfft of ``length`` samples (0 at f = 0); cached, as a
+def _response(length: int, sample_rate: float, band: Band, quantity: str) -> np.ndarray:
+    """|H(f)|/(2πf)ⁿ on the bins of an rfft of ``length`` samples (0 at f = 0), the modulus
+    of the band's H(f)/(i2πf)ⁿ, whose phase is (−i)ⁿ whatever f (:data:`_PHASE`): a real
+    array, which a spectrum is multiplied by at half a complex one's cost; cached, as a
     record's channels are cut alike."""
-    f = np.fft.rfftfreq(length, 1.0 / sample_rate)
-    positive = np.where(f > 0, f, 1.0)
-    h = np.where(f > 0, band.gain(f) / (2j * np.pi * positive) ** integrations, 0.0)
+    h = meter_gain(np.fft.rfftfreq(length, 1.0 / sample_rate), quantity, band)
     h.flags.writeable = False
     return h
+
+
+_PHASE = (1.0, -1j, -1.0)
+"""1/iⁿ, the phase of n integrations in the frequency domain."""
 
 
 @dataclass(frozen=True)
@@ -565,13 +569,13 @@ def band_signals(acceleration, sample_rate: float, quantities=QUANTITIES, *,
         w[:edge], w[size - edge:] = ramp, ramp[::-1]
     length = size if periodic else scipy.fft.next_fast_len(2 * size, real=True)
     back = scipy.fft.next_fast_len(size, real=True) if periodic else length
-    spectrum = _spectra([(r - r.mean()) * w for r in np.atleast_2d(x)], length) \
-        * (back / length)
+    spectrum = _spectra([(r - r.mean()) * w for r in np.atleast_2d(x)], length)
     if back > length and length % 2 == 0:
         spectrum[:, -1] *= 0.5
     keep = slice(0, back) if periodic else slice(edge, size - edge)
-    signals = {q: scipy.fft.irfft(spectrum * _response(length, float(sample_rate), bands[q],
-                                                       INTEGRATIONS[q]), back)[:, keep]
+    scale = back / length
+    signals = {q: scipy.fft.irfft(spectrum * (_response(length, float(sample_rate), bands[q], q)
+                                              * (_PHASE[INTEGRATIONS[q]] * scale)), back)[:, keep]
                for q in quantities}
     if x.ndim == 1:
         signals = {q: s[0] for q, s in signals.items()}
@@ -583,25 +587,46 @@ def _spectra(records: list[np.ndarray], length: int) -> np.ndarray:
     """The rfft of each record at ``length`` (zero-padded), as rows.
 
     Where ``length`` is not one the FFT factors fast (a record cut to whole cycles: its
-    transform runs Bluestein's algorithm, a complex transform whatever the input), two real
-    records x, y share one complex transform Z of x + iy, unpacked by the symmetry of a real
-    record's spectrum: X_k = (Z_k + Z̄_{−k})/2, Y_k = (Z_k − Z̄_{−k})/(2i) [1]_, which halves
-    the cost and leaves each spectrum within a few units of the last place of the larger
-    record's. The pairs, and an odd record left over (as a complex one), are transformed in
-    one call, which prepares the length's transform (its chirp and the chirp's spectrum) once.
+    transform runs Bluestein's algorithm, a complex transform whatever the input), a real
+    transform is packed into a complex one [1]_. Of an even length N, each record's even and
+    odd samples are one complex record z_n = x_{2n} + i x_{2n+1} of N/2 samples, whose
+    transform Z gives the record's: X_k = E_k + e^{−2πik/N} O_k, E_k = (Z_k + Z̄_{−k})/2,
+    O_k = (Z_k − Z̄_{−k})/(2i) (the transforms of the even and the odd samples), k = 0 … N/2
+    (Z periodic in N/2), which halves the cost. Of an odd length, two real records x, y share
+    one complex transform Z of x + iy: X_k = (Z_k + Z̄_{−k})/2, Y_k = (Z_k − Z̄_{−k})/(2i), and
+    an odd record left over is transformed as a complex one. Either way each spectrum comes
+    within a few units of the last place of the largest record's, and the records are
+    transformed in one call, which prepares the length's transform (its chirp and the chirp's
+    spectrum) once.
 
     References
     ----------
     .. [1] W. H. Press et al., Numerical Recipes, 3rd ed., Cambridge, 2007, §12.3.1 (two
-           real FFTs for the price of one complex one).
+           real FFTs for the price of one complex one; one real FFT of 2N points by a complex
+           one of N).
     """
-    if len(records) == 1 or scipy.fft.next_fast_len(length, real=True) == length:
+    if scipy.fft.next_fast_len(length, real=True) == length:
         return np.array([scipy.fft.rfft(r, length) for r in records])
     bins = length // 2 + 1
+    if length % 2 == 0:
+        x = np.zeros((len(records), length))
+        for row, r in zip(x, records):
+            row[:len(r)] = r
+        z = scipy.fft.fft(x.view(complex))          # x_{2n} + i x_{2n+1}, n < N/2
+        ahead = np.concatenate([z, z[:, :1]], axis=1)                       # Z_k
+        mirror = np.conj(np.concatenate([z[:, :1], z[:, :0:-1], z[:, :1]], axis=1))  # Z̄_{−k}
+        odd = ahead - mirror
+        odd *= -0.5j * np.exp(-2j * np.pi * np.arange(bins) / length)
+        ahead += mirror
+        ahead *= 0.5
+        ahead += odd
+        return ahead
+    if len(records) == 1:
+        return np.array([scipy.fft.rfft(records[0], length)])
     pairs = len(records) // 2
     z = scipy.fft.fft(np.array([records[k] + 1j * records[k + 1] for k in range(0, 2 * pairs, 2)]
                                + ([records[-1] + 0j] if len(records) % 2 else [])), length)
-    mirror = np.conj(z[:pairs, -np.arange(bins) % length])
+    mirror = np.conj(np.concatenate([z[:pairs, :1], z[:pairs, :length - bins:-1]], axis=1))
     out = np.empty((len(records), bins), complex)
     out[0:2 * pairs:2] = 0.5 * (z[:pairs, :bins] + mirror)
     out[1:2 * pairs:2] = -0.5j * (z[:pairs, :bins] - mirror)

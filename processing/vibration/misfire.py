@@ -108,7 +108,16 @@ def _significance(healthy: OrderFit, suspect: OrderFit, half: np.ndarray,
     return float(stats.chi2.sf(float(np.sum(change ** 2 / var)), int(half.sum())))
 
 
-@by_content(shared=True)
+def _decisive(healthy: OrderFit, suspect: OrderFit, phases, *, cycle_marks: bool = True,
+                  seed: int = 0) -> tuple:
+    """What :func:`find_cut_cylinder` reads of its arguments: the fits' orders, coefficients
+    and covariances (not their drift and fitted signal, each as long as the record), the
+    phases and the options: its result is kept by their content alone."""
+    return (*((f.order, f.coefficient, f.covariance) for f in (healthy, suspect)), phases,
+            cycle_marks, seed)
+
+
+@by_content(_decisive, shared=True)
 def find_cut_cylinder(healthy: OrderFit, suspect: OrderFit, phases, *, cycle_marks: bool = True,
                       seed: int = 0) -> CutCylinder:
     """Which cylinder, if any, does not fire in ``suspect``, against ``healthy``.
