@@ -109,7 +109,7 @@ def _significance(healthy: OrderFit, suspect: OrderFit, half: np.ndarray,
 
 
 def _decisive(healthy: OrderFit, suspect: OrderFit, phases, *, cycle_marks: bool = True,
-                  seed: int = 0) -> tuple:
+              seed: int = 0) -> tuple:
     """What :func:`find_cut_cylinder` reads of its arguments: the fits' orders, coefficients
     and covariances (not their drift and fitted signal, each as long as the record), the
     phases and the options: its result is kept by their content alone."""
