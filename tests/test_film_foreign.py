@@ -329,7 +329,7 @@ def test_a_drop_the_film_cannot_show_is_warned_of_where_it_would_move_the_period
 
     slow = swing(240.0)
     assert [w.category for w in slow] == [HiddenDropsWarning]
-    assert "could go unseen" in str(slow[0].message) and "U)" in str(slow[0].message)
+    assert "could not show one" in str(slow[0].message) and "U)" in str(slow[0].message)
     assert "Это не значит, что кадр пропал" in slow[0].message.text("ru")
     assert swing(30.0) == []
 

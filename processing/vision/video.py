@@ -1204,24 +1204,24 @@ def _warn_hidden_drops(track: Track, t, s, drifting, period: Measured, interval:
     U = coverage_factor(period.dof) * period.u
     moved, times = 100 * cost, cost * period.value / U
     warnings.warn(HiddenDropsWarning(
-        f"{name}: the film's times claim a constant rate, and a frame dropped by the camera "
-        f"could go unseen: at {100 * share:.0f} % of its frames its step in the swing's phase "
-        f"would stand under the {needed:.1f} standard errors the search needs ({stands:.1f} at "
-        f"the median frame) and move the period by more than its u; one dropped mid-film "
-        f"moves it {moved:.2g} % ({times:.1f} U). This does not say that one was dropped (in "
-        "the phone's own file, which keeps each frame's time, a drop leaves a gap, and none "
-        "is there); to be sure none was, give the phone's original file, not a re-encoded "
-        "copy, or swing wider, film more oscillations, or film a slow swing at a lower frame "
-        "rate",
-        f"{name}: время кадров в файле — с постоянной частотой, и пропущенный камерой кадр "
-        f"мог бы остаться незамеченным: на {100 * share:.0f} % кадров его скачок фазы качаний "
-        f"был бы меньше {needed:.1f} стандартных ошибки, нужных поиску ({stands:.1f} на "
-        f"медианном кадре), и сдвинул бы период больше его u; один пропуск в середине видео "
-        f"сдвигает его на {moved:.2g} % ({times:.1f} U). Это не значит, что кадр пропал (в "
-        "исходном файле телефона, где хранится время каждого кадра, пропуск оставляет "
-        "промежуток, а его нет); чтобы быть уверенным, что пропусков нет, дайте исходный "
-        "файл телефона, не перекодированную копию, или раскачайте шире, снимите больше "
-        "колебаний, снимайте медленные качания с меньшей частотой кадров"))
+        f"{name}: the film's times claim a constant rate, so a frame dropped by the camera "
+        "would leave no gap in them, and the swing could not show one either: at "
+        f"{100 * share:.0f} % of its frames a dropped frame's step in the swing's phase would "
+        f"stand under the {needed:.1f} standard errors the search needs ({stands:.1f} at the "
+        f"median frame) and move the period by more than its u; one dropped mid-film would "
+        f"move it {moved:.2g} % ({times:.1f} U). This does not say that a frame was dropped. "
+        "To be sure none was, give the phone's original file (it keeps each frame's time), "
+        "not a re-encoded copy; or swing wider, film more oscillations, or film a slow swing "
+        "at a lower frame rate",
+        f"{name}: время кадров в файле — с постоянной частотой, так что пропущенный камерой "
+        "кадр не оставил бы в нём промежутка, и качания его тоже не показали бы: на "
+        f"{100 * share:.0f} % кадров скачок фазы качаний от пропуска был бы меньше "
+        f"{needed:.1f} стандартных ошибки, нужных поиску ({stands:.1f} на медианном кадре), и "
+        f"сдвинул бы период больше его u; один пропуск в середине видео сдвинул бы его на "
+        f"{moved:.2g} % ({times:.1f} U). Это не значит, что кадр пропал. Чтобы быть уверенным, "
+        "что пропусков нет, дайте исходный файл телефона (в нём хранится время каждого "
+        "кадра), а не перекодированную копию; или раскачайте шире, снимите больше колебаний, "
+        "снимайте медленные качания с меньшей частотой кадров"))
 
 
 def _consistent(r: np.ndarray) -> np.ndarray:
