@@ -241,7 +241,7 @@ def test_a_straight_path_has_no_radius_to_tell_and_says_so():
     """A marker swinging 12 px along a straight line (an arc whose sag is lost in 0.3 px of
     noise) at 240 frames per second: the circle's fit runs off to thousands of px, and its
     radius's u is a third of it or more. JᵀJ inverted as it stood gave a negative variance
-    (a math domain error) on 2 of these 40 tracks, and once on a slow 240 fps film."""
+    (a math domain error) on 2 of these 40 tracks, and once on a 60 fps film."""
     from processing.vision.video import Track, arc_radius_u
 
     t = np.arange(1200) / 240.0

@@ -1411,7 +1411,7 @@ def arc_radius_u(track: Track) -> float:
     the phone's shake carried over many); (JᵀJ)⁻¹ from J's singular values, never negative,
     and infinite where the arc is too short and straight for its radius to be told
     (:data:`ILL_POSED`; JᵀJ inverted as it stood gave a negative variance on one such film,
-    a slow 240 fps swing). [px]"""
+    a 60 fps swing of 12 px). [px]"""
     k = track.on_path
     xc, yc, R = track.circle
     dx, dy = track.x[k] - xc, track.y[k] - yc
