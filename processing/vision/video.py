@@ -818,7 +818,7 @@ def swing_of(track: Track, *, field: str | None = None) -> Swing:
                       (f"погрешность периода не определить по {span:.1f} колебаниям на видео",
                        f"снимите {FEW_OSCILLATIONS} колебаний или больше (по методичке — 20)"))
     if reach is not None:
-        _warn_hidden_drops(track, t, s, drifting, period, typical_interval(track.time), reach)
+        _warn_hidden_drops(track, t, s, drifting, period, interval, reach)
     return Swing(drifting, period, float(span), float(drifting.amplitude),
                  t.size / track.time.size, float(drifting.reference_amplitude))
 
@@ -986,15 +986,13 @@ def _steps(t, s, interval: float, drops):
     out). Inside a :func:`~processing.inputs.reuse.scope`, made once for the same track and
     drops (:func:`_drop_power`, :func:`_find_drops` and :func:`_further_drops` each scan the
     track with none retimed first)."""
-    retimed = _shifted(t, drops, interval)
-    try:
-        fit, drifting = _fitted(retimed, s)
-    except RuntimeError:                   # so retimed, no swing fits: no step to tell
+    timing = _timing_of(t, s, interval, drops)
+    if timing is None:                     # so retimed, no swing fits: no step to tell
         return np.zeros_like(t), np.zeros_like(t), np.zeros(t.size, bool), 0.0
-    step, root = _timing_steps(retimed, s, fit, drifting, interval)
+    retimed, period, model = timing
+    step, root = _timing_steps(*model)
     valid = np.isfinite(step * root)
-    valid &= (retimed - retimed[0] >= 0.25 * drifting.period) \
-        & (retimed[-1] - retimed >= 0.25 * drifting.period)
+    valid &= (retimed - retimed[0] >= 0.25 * period) & (retimed[-1] - retimed >= 0.25 * period)
     z = np.where(valid, step * root, 0.0)
     floor = -float(z.min())
     frames, back, share = DROP_TRANSIENT
@@ -1012,8 +1010,9 @@ def _gain(step, root, valid, interval: float) -> np.ndarray:
                     -np.inf)
 
 
-def _timing_steps(t, s, fit, drifting, interval: float) -> tuple[np.ndarray, np.ndarray]:
-    r"""A step of the swing's timing at each frame: its size and its inverse standard error.
+def _timing_steps(v, B, r, inverse, length: int) -> tuple[np.ndarray, np.ndarray]:
+    r"""A step of the swing's timing at each frame: its size and its inverse standard error,
+    from the track's :func:`_timing_model`.
 
     A step δ at frame d makes the residual from the fit r ≈ δ·g_d, g_d = v·H(k − d) with v
     the fitted swing's velocity and H the unit step. Its generalised least-squares estimate,
@@ -1039,8 +1038,7 @@ def _timing_steps(t, s, fit, drifting, interval: float) -> tuple[np.ndarray, np.
            Matematik 2, 1953, 423–434 (a stationary series' likelihood by its spectrum: the
            circulant approximation of its covariance).
     """
-    v, B, r, inverse, length = _timing_model(t, s, fit, drifting, interval)
-    n = t.size
+    n = r.size
     filtered = _weighed(np.column_stack([r, B]), inverse, length)
     Cr, CB = filtered[:, 0], filtered[:, 1:]
     M_inv = np.linalg.pinv(B.T @ CB)
@@ -1053,6 +1051,21 @@ def _timing_steps(t, s, fit, drifting, interval: float) -> tuple[np.ndarray, np.
     denominator = gCg - np.einsum("ij,jk,ik->i", gCB, M_inv, gCB)
     denominator[~(denominator > 1e-12 * np.max(denominator))] = np.nan
     return numerator / denominator, np.sqrt(denominator)
+
+
+@by_content(shared=True)
+def _timing_of(t, s, interval: float, drops):
+    """The track with ``drops`` retimed, its fitted swing's period and what a step of its
+    timing is judged with (:func:`_timing_model`), or None where no swing fits it so
+    retimed. Inside a :func:`~processing.inputs.reuse.scope`, made once for the same track
+    and drops: :func:`_steps` and :func:`_late_beyond` judge the same retimed track (a step
+    taken is then judged for lasting). Shared: no caller changes it."""
+    retimed = _shifted(t, drops, interval)
+    try:
+        fit, drifting = _fitted(retimed, s)
+    except RuntimeError:
+        return None
+    return retimed, drifting.period, _timing_model(retimed, s, fit, drifting, interval)
 
 
 def _timing_model(t, s, fit, drifting, interval: float):
@@ -1090,12 +1103,10 @@ def _late_beyond(t, s, interval: float, drops, k: int) -> tuple[float, float]:
 
     A dropped frame makes every later frame late by its intervals; a few frames matched off
     and back make an edge but no lasting lateness (:data:`DROP_PERSISTS`). [s]"""
-    retimed = _shifted(t, drops, interval)
-    try:
-        fit, drifting = _fitted(retimed, s)
-    except RuntimeError:
+    timing = _timing_of(t, s, interval, drops)
+    if timing is None:
         return 0.0, math.inf
-    v, B, r, inverse, length = _timing_model(retimed, s, fit, drifting, interval)
+    v, B, r, inverse, length = timing[2]
     n = t.size
     frames = DROP_TRANSIENT[0]
     edge = np.arange(max(k - frames, 0), min(k + frames, n))
