@@ -28,14 +28,12 @@ def _rows(window: int, order: int) -> tuple[np.ndarray, np.ndarray]:
     return centre, ends
 
 
-@lru_cache(maxsize=32)
 def coefficients(window: int, order: int) -> np.ndarray:
-    """The smoothing's coefficients, as :func:`scipy.signal.savgol_coeffs` gives them (in a
-    convolution's order), worked out once per window and kept (read-only): their sum of
-    squares is the smoothed white noise's share, the centre's the smoother's own weight."""
-    c = savgol_coeffs(window, order)
-    c.flags.writeable = False
-    return c
+    """The smoothing's coefficients, as :func:`scipy.signal.savgol_coeffs` gives them (the
+    centre's, symmetric: a convolution's order and a dot's are one), kept read-only with the
+    ends' (:func:`_rows`): their sum of squares is the smoothed white noise's share, the
+    centre's the smoother's own weight."""
+    return _rows(window, order)[0]
 
 
 def savgol(x, window: int, order: int) -> np.ndarray:
