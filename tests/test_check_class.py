@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from labs.teachers.check import Check, asked, check, copies, read_variants
+from labs.teachers.check_report import terminal
 from labs.bench.check import copy_of
 from labs.cli.main import main
 from labs.registry import evaluate
@@ -101,6 +102,8 @@ def test_a_copy_reporting_the_other_variants_values_names_them_by_its_readings(t
     wrong = [v for v in c.verdicts if v.verdict == "wrong"]
     assert c.readings_of == "s01" and wrong
     assert {v.slip.name if v.slip else None for v in wrong} == {"readings_of_variant"}, wrong
+    shown = terminal(c)             # ours is the student's own key, which has no U
+    assert "(s03's key)" in shown and " ± 0 " not in shown
 
 
 def test_a_perfect_student_reporting_what_the_lab_asks_scores_full(tmp_path, variants):

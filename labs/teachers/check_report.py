@@ -110,6 +110,9 @@ def terminal(check: Check, lang: str = "en") -> str:
         got = "—" if v.reported is None else plain(shown(check, v.name, v.reported.value))
         ours = (f"{plain(shown(check, v.name, v.value))} ± "
                 f"{plain(_expanded(check, v), 2)} {unit}").rstrip()
+        if check.readings_of and v.u == 0:     # judged against the student's own key
+            ours = (f"{plain(shown(check, v.name, v.value))} {unit}".rstrip()
+                    + (f" ({check.sid}'s key)" if lang == "en" else f" (ключ {check.sid})"))
         z = "" if not math.isfinite(v.z) else f"  z = {v.z:+.1f}"
         line = f"  {v.name:{width}}  {verdict_word(v.verdict, lang):14} {got:>12}  vs  {ours}{z}"
         if because := why(v, lang):
