@@ -484,7 +484,41 @@ def _to_si(s: str, expected_unit: str, whole: str) -> float:
             ru=(f"{whole!r} — {_dimension_name(given, 'ru')}, а ожидается "
                 f"{_dimension_name(expected_unit, 'ru')} (единица вроде '{expected_unit}')",
                 None))
+    if not same_kind(unit, expected_unit):
+        raise QuantityError(*_angle_for_ratio(whole, expected_unit))
     return number_to_si(float(number), unit, expected_unit)
+
+
+def same_kind(unit: str, declared: str) -> bool:
+    """Whether a value written in ``unit`` may stand for a field declared in ``declared``:
+    the same dimension, and of dimensionless units either both angles or neither (pint takes
+    an angle for a plain number).
+
+    Examples
+    --------
+    >>> same_kind("kN/mm", "N/m"), same_kind("deg", "rad"), same_kind("%", "")
+    (True, True, True)
+    >>> same_kind("deg", ""), same_kind("%", "deg"), same_kind("mm", "kg")
+    (False, False, False)
+    """
+    dims = _dimensionality(unit)
+    return dims == _dimensionality(declared) and (bool(dims) or
+                                                   _radians(unit) == _radians(declared))
+
+
+def _angle_for_ratio(whole: str, expected_unit: str) -> tuple[str, tuple[str, None]]:
+    """Why an angle is refused for a plain number (a ratio, a share) or a plain number for an
+    angle: pint takes both for dimensionless, so 1.5 deg would be read 0.026 as a rocker
+    ratio, 30 % 0.3 rad as an angle."""
+    if _radians(expected_unit):
+        return (f"{whole!r} is a plain number or share, but an angle is expected (in deg or "
+                f"rad)",
+                (f"{whole!r} — безразмерное число или доля, а ожидается угол (в градусах или "
+                 f"радианах)", None))
+    return (f"{whole!r} is an angle, but a plain number is expected (a ratio or share: no "
+            f"unit, or %)",
+            (f"{whole!r} — угол, а ожидается безразмерное число (отношение или доля: без "
+             f"единицы или %)", None))
 
 
 SLIP_UNITS = ("mg", "g", "kg", "t", "um", "mm", "cm", "m", "ms", "s", "min", "rpm", "rps",

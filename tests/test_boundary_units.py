@@ -679,3 +679,34 @@ def test_lab4_sensitivity_takes_a_limit_in_per_cent_with_a_decimal_comma(text, v
     s = sensitivity(text)
     assert s.value == pytest.approx(value, rel=1e-12)
     assert s.limit == pytest.approx(limit, rel=1e-12)
+
+
+# -------------------------------------------- an angle for a plain number, or back
+
+@pytest.mark.parametrize("text, unit, problem", [
+    ("1.5 deg", "", "is an angle, but a plain number is expected"),
+    ("2 rad", "%", "is an angle, but a plain number is expected"),
+    ("30 %", "deg", "is a plain number or share, but an angle is expected"),
+    ("0,5 %", "rad", "is a plain number or share, but an angle is expected"),
+])
+def test_an_angle_is_not_taken_for_a_ratio_nor_a_share_for_an_angle(text, unit, problem):
+    """pint takes both for dimensionless: 1.5 deg would be read 0.026 as a rocker ratio."""
+    with pytest.raises(QuantityError, match=problem):
+        parse_quantity(text, unit)
+
+
+@pytest.mark.parametrize("text, unit, si", [
+    ("5 %", "", 0.05), ("30 deg", "rad", math.pi / 6), ("90 deg", "deg", math.pi / 2),
+    ("1.509", "", 1.509), ("12 mrad", "deg", 0.012), ("5 N*m", "N*m/rad", 5.0),
+])
+def test_a_ratio_a_share_and_an_angle_are_read_in_their_own_units(text, unit, si):
+    assert parse_quantity(text, unit)[0] == pytest.approx(si, rel=1e-12)
+
+
+def test_a_rocker_ratio_in_degrees_is_refused_naming_the_field(tmp_path, capsys):
+    data = _sample(ROOT / "sample_data/lab5/valve_train.toml")
+    data["rig"]["i"] = "1.509 deg"
+    path = tmp_path / "student.toml"
+    path.write_text(dumps(data), encoding="utf-8")
+    code, out, err = run(capsys, "run", path, "--out", tmp_path / "out")
+    assert_one_clear_error(code, out, err, path, "rig.i", "is an angle", tmp_path / "out")

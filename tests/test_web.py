@@ -490,3 +490,15 @@ def test_a_zip_bomb_is_cut_off_at_the_limit(tmp_path):
         assert reply.status_code == 422 and "unpacks to more than" in reply.text
         stored = [p.stat().st_size for p in (tmp_path / "sessions").rglob("decay.csv")]
         assert stored and max(stored) <= 100_000
+
+
+def test_a_ratio_is_offered_no_angle_units_and_an_angle_no_share():
+    """The units beside a field are of its kind: a rocker ratio's plain number or %, never
+    degrees (pint takes both for dimensionless; the reading would be refused)."""
+    fields = {f"{lab}.{s.name}.{f.name}": f for lab in LABS for s in LABS[lab].SPEC.sections
+              for f in s.fields if f.kind == "quantity" and f.unit is not None}
+    offered = {name: {c.value for c in forms.unit_choices(f, "en")} for name, f in fields.items()}
+    assert offered["lab5.rig.i"] == {"", "%"}
+    angles, plain = {"deg", "rad", "mrad"}, {"", "%"}
+    for name, units in offered.items():
+        assert not (units & angles and units & plain), (name, units)

@@ -25,7 +25,7 @@ from functools import cache
 from processing.diagnostics import InputError
 from processing.measurement import META_KEYS, Field, LabSpec
 from processing.inputs.toml_writer import value_text
-from processing.units import SLIP_UNITS, dimension, unit_text
+from processing.units import SLIP_UNITS, same_kind, unit_text
 
 FILE_ACCEPT = "image/*,video/*,.csv,.tsv,.txt,.wav,.h5,.hdf5"
 """What a file field offers to pick: a phone's camera (photographs, films) and recordings."""
@@ -70,9 +70,9 @@ def warm(specs) -> None:
 
 @cache
 def _units_like(unit: str) -> tuple[str, ...]:
-    """``unit``, then the usual units of its dimension (a page asks for each field's)."""
-    own = dimension(unit)
-    return (unit, *[u for u in SLIP_UNITS if u and u != unit and dimension(u) == own])
+    """``unit``, then the usual units of its kind (:func:`processing.units.same_kind`: no
+    degrees beside a ratio); a page asks for each field's."""
+    return (unit, *[u for u in SLIP_UNITS if u and u != unit and same_kind(u, unit)])
 
 
 def hint(f: Field, lang: str) -> str:
