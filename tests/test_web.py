@@ -201,7 +201,7 @@ def test_lab1_decimal_commas_report_zip_and_reopen(client, tmp_path):
     assert comparable(json.loads(to_json(evaluate(toml)))) == comparable(result)
     token = csrf(client, "/")
     form = client.post("/open", data={"csrf": token},
-                       files={"file": ("lab1.zip", blob, "application/zip")})
+                       files={"files": ("lab1.zip", blob, "application/zip")})
     assert form.status_code == 200
     assert 'value="36,07; 36,21; 36,22"' in form.text and 'value="99,8"' in form.text
 
@@ -446,12 +446,46 @@ def test_a_zip_with_its_recording_opens_for_editing_and_reduces_the_same(client)
         z.write(sample, "damper/damper.toml")
         z.write(sample.parent / "decay.csv", "damper/decay.csv")
     form = client.post("/open", data={"csrf": csrf(client, "/")},
-                       files={"file": ("damper.zip", blob.getvalue())})
+                       files={"files": ("damper.zip", blob.getvalue())})
     assert form.status_code == 200 and "decay.csv" in form.text
     values = {k: v for k, v in _posted(form.text).items() if k != "csrf"}
     assert values["decay.signal:kept"] == "decay.csv" and values["run[1].direction"] == "reverse"
     run = run_of(client, post(client, "lab9", values))
     assert comparable(client.get(f"{run}/report.json").json()) == expected_json(sample)
+
+
+def test_a_toml_opened_with_its_recording_opens_as_its_zip_does(client):
+    """A handout (``dynlab synth --students``) is a .toml and the files it names: chosen
+    together, they open for editing and reduce as the zip of them does."""
+    sample = SAMPLES / "lab9/synthetic_damper.toml"
+    form = client.post("/open", data={"csrf": csrf(client, "/")},
+                       files=[("files", ("damper.toml", sample.read_bytes())),
+                              ("files", ("decay.csv", (sample.parent / "decay.csv").read_bytes()))])
+    assert form.status_code == 200
+    values = {k: v for k, v in _posted(form.text).items() if k != "csrf"}
+    assert values["decay.signal:kept"] == "decay.csv"
+    run = run_of(client, post(client, "lab9", values))
+    assert comparable(client.get(f"{run}/report.json").json()) == expected_json(sample)
+
+
+def test_a_toml_opened_without_the_recording_it_names_is_refused_naming_it(client):
+    sample = SAMPLES / "lab9/synthetic_damper.toml"
+    reply = client.post("/open", data={"csrf": csrf(client, "/")},
+                        files=[("files", ("damper.toml", sample.read_bytes()))])
+    assert reply.status_code == 422
+    assert "names decay.csv (decay.signal), not given with it" in reply.text
+
+
+@pytest.mark.parametrize("names, problem", [
+    (["a.toml", "b.toml"], "2 .toml files chosen, not one"),
+    (["decay.csv", "notes.txt"], "0 .toml files chosen, not one"),
+])
+def test_files_chosen_without_one_toml_are_refused_saying_what_to_choose(client, names,
+                                                                         problem):
+    reply = client.post("/open", data={"csrf": csrf(client, "/")},
+                        files=[("files", (n, b'lab = "lab9"\n')) for n in names])
+    assert reply.status_code == 422 and problem in reply.text
+    assert "select them all" in reply.text
 
 
 @pytest.mark.parametrize("argv, file, problem", [
@@ -486,7 +520,7 @@ def test_a_zip_bomb_is_cut_off_at_the_limit(tmp_path):
             z.writestr("m/decay.csv", b"0" * 50_000_000)         # 50 MB in about 50 kB
         assert len(blob.getvalue()) < 100_000
         reply = c.post("/open", data={"csrf": csrf(c, "/")},
-                       files={"file": ("m.zip", blob.getvalue())})
+                       files={"files": ("m.zip", blob.getvalue())})
         assert reply.status_code == 422 and "unpacks to more than" in reply.text
         stored = [p.stat().st_size for p in (tmp_path / "sessions").rglob("decay.csv")]
         assert stored and max(stored) <= 100_000

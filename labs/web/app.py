@@ -187,7 +187,10 @@ class WebApp:
             raise PermissionError(str(exc)) from None
         if not hmac.compare_digest(str(data.get("csrf", "")), session.csrf):
             raise PermissionError("csrf")
-        return {k: v for k, v in data.multi_items()}
+        form = {k: v for k, v in data.multi_items()}
+        if "files" in form:                     # a .toml opened with its files
+            form["files"] = data.getlist("files")
+        return form
 
     async def guarded(self, request: Request, handler) -> Response:
         """Run a POST handler, answering a refused upload or a forged form plainly."""
@@ -346,22 +349,30 @@ class WebApp:
         return await self.guarded(request, self._open_zip)
 
     async def _open_zip(self, request: Request, session: Session, form: dict) -> Response:
-        upload = form.get("file")
-        if not isinstance(upload, UploadFile) or not upload.filename:
+        uploads = form.get("files", [])
+        if not any(isinstance(u, UploadFile) and u.filename for u in uploads):
             return self.refuse(request, session, "bad_zip", 422)
         run = self.store.new_run(session, "")
         try:
             doc, renamed = await asyncio.to_thread(
-                _unpack, upload.file, run.folder, self.s.file_limit, self.s.submission_limit,
+                _opened, uploads, run.folder, self.s.file_limit, self.s.submission_limit,
                 self.s.max_files)
         except InputError as exc:
             return self.refuse(request, session, "bad_zip", 422, exc.text(session.lang))
         lab = doc.get("lab")
         if lab not in CATALOGUE:
             return self.refuse(request, session, "bad_zip", 422, str(lab)[:80])
+        missing = {path: name for path, name in forms.named_files(doc, _spec(lab)).items()
+                   if _base_name(name) not in renamed}
+        if missing:
+            listed = ", ".join(f"{name} ({path})" for path, name in missing.items())
+            return self.refuse(request, session, "bad_zip", 422, _bad_opening(
+                f"the .toml names {listed}, not given with it",
+                f"в .toml названы {listed}, но не даны вместе с ним").text(session.lang))
         run.lab = lab
         values, counts = forms.values(doc, _spec(lab))
-        values = {k: renamed.get(v, v) for k, v in values.items()}
+        values = {k: renamed.get(_base_name(v), v) if isinstance(v, str) else v
+                  for k, v in values.items()}
         (run.folder / MEASUREMENT).write_text(dumps(doc), encoding="utf-8")
         return self.form_page(request, session, lab, values, counts, run)
 
@@ -466,60 +477,92 @@ def _error(exc: InputError) -> dict:
     return {"field": exc.field, "en": exc.text("en"), "ru": exc.text("ru")}
 
 
+def _base_name(name: str) -> str:
+    """A file's name without its folders, of either separator (a zip made on Windows)."""
+    return name.replace("\\", "/").rsplit("/", 1)[-1]
+
+
+def _bad_opening(problem: str, problem_ru: str) -> InputError:
+    return InputError(problem, "open the measurement's .toml together with the files it names "
+                      "(select them all), or the measurement zip downloaded from this page",
+                      ru=(problem_ru, "откройте .toml измерения вместе с файлами, которые в нём "
+                          "названы (выберите их все), или zip измерения, скачанный с этой "
+                          "страницы"))
+
+
+def _opened(uploads: list, folder: Path, file_limit: int, total_limit: int,
+            max_files: int) -> tuple[TomlDocument, dict[str, str]]:
+    """What a student opens: a measurement zip downloaded from this page (:func:`_unpack`), or
+    a measurement's .toml with the files it names selected with it (a handout of
+    ``dynlab synth --students``), each read as :func:`_stored` reads a zip's files."""
+    uploads = [u for u in uploads if isinstance(u, UploadFile) and u.filename]
+    if not uploads:
+        raise _bad_opening("no file chosen", "файл не выбран")
+    if len(uploads) == 1 and not uploads[0].filename.lower().endswith(".toml"):
+        return _unpack(uploads[0].file, folder, file_limit, total_limit, max_files)
+    return _stored([(u.filename, lambda u=u: contextlib.nullcontext(u.file)) for u in uploads],
+                   folder, file_limit, total_limit, max_files, "chosen")
+
+
 def _unpack(source, folder: Path, file_limit: int, total_limit: int,
             max_files: int) -> tuple[TomlDocument, dict[str, str]]:
-    """A measurement zip's TOML document, its other files written into ``folder`` under safe
-    names (returned: name in the zip → name stored), within the limits: one .toml, at most
-    ``max_files`` files, each at most ``file_limit`` bytes and all at most ``total_limit``
-    unpacked (counted as they are written, whatever the zip declares)."""
-    def bad(problem: str, problem_ru: str) -> InputError:
-        return InputError(problem, "download the measurement zip from this page again, or "
-                          "put one .toml and its files in a zip", ru=(
-                              problem_ru, "скачайте zip измерения с этой страницы снова или "
-                              "сложите в zip один .toml и его файлы"))
-
+    """A measurement zip's TOML document and its other files, stored by :func:`_stored`."""
     try:
         z = zipfile.ZipFile(source)
         infos = [i for i in z.infolist() if not i.is_dir()]
     except (zipfile.BadZipFile, OSError):
-        raise bad("not a zip file", "не zip-файл") from None
-    if len(infos) > max_files:
-        raise bad(f"the zip holds {len(infos)} files, more than {max_files}",
-                  f"в zip {len(infos)} файлов, больше {max_files}")
-    tomls = [i for i in infos if i.filename.endswith(".toml")]
+        raise _bad_opening("not a zip file", "не zip-файл") from None
+    try:
+        return _stored([(i.filename, lambda i=i: z.open(i)) for i in infos], folder,
+                       file_limit, total_limit, max_files, "in the zip")
+    except (zipfile.BadZipFile, zlib.error, EOFError, NotImplementedError) as exc:
+        raise _bad_opening(f"the zip is damaged ({exc})", f"zip повреждён ({exc})") from None
+
+
+def _stored(entries: list, folder: Path, file_limit: int, total_limit: int, max_files: int,
+            where: str) -> tuple[TomlDocument, dict[str, str]]:
+    """The TOML document of ``entries`` ((name, opener) pairs: one .toml and its files), the
+    other files written into ``folder`` under safe names (returned: name given → name
+    stored), within the limits: at most ``max_files`` files, each at most ``file_limit``
+    bytes and all at most ``total_limit`` (counted as they are written, whatever a zip
+    declares)."""
+    ru_where = {"in the zip": "в zip", "chosen": "выбрано"}[where]
+    grows, grows_ru = (("unpacks to", "распаковывается больше чем в") if where == "in the zip"
+                       else ("is", "больше"))
+    if len(entries) > max_files:
+        raise _bad_opening(f"{len(entries)} files {where}, more than {max_files}",
+                           f"{ru_where} {len(entries)} файлов, больше {max_files}")
+    tomls = [e for e in entries if e[0].lower().endswith(".toml")]
     if len(tomls) != 1:
-        raise bad(f"the zip holds {len(tomls)} .toml files, not one",
-                  f"в zip {len(tomls)} файлов .toml, а не один")
+        raise _bad_opening(f"{len(tomls)} .toml files {where}, not one",
+                           f"{ru_where} {len(tomls)} файлов .toml, а не один")
     left, renamed, text = total_limit, {}, ""
 
-    def copy(info, target, limit: int) -> int:
+    def copy(name: str, opener, target, limit: int) -> int:
         size = 0
-        with z.open(info) as f:
+        with opener() as f:
             while chunk := f.read(1 << 20):
                 size += len(chunk)
                 if size > limit:
-                    raise bad(f"{info.filename} unpacks to more than {limit // MiB} MiB",
-                              f"{info.filename} распаковывается больше чем в {limit // MiB} МиБ")
+                    raise _bad_opening(f"{name} {grows} more than {limit // MiB} MiB",
+                                       f"{name} {grows_ru} {limit // MiB} МиБ")
                 target.write(chunk)
         return size
 
-    try:
-        for info in infos:
-            if info in tomls:
-                blob = io.BytesIO()
-                left -= copy(info, blob, min(MEASUREMENT_KIND.limit, left))
-                text = blob.getvalue().decode("utf-8-sig", errors="replace")
-                continue
-            name = info.filename.rsplit("/", 1)[-1]
-            renamed[name] = safe_name(name, set(renamed.values()))
-            with open(folder / renamed[name], "wb") as out:
-                left -= copy(info, out, min(file_limit, left))
-    except (zipfile.BadZipFile, zlib.error, EOFError, NotImplementedError) as exc:
-        raise bad(f"the zip is damaged ({exc})", f"zip повреждён ({exc})") from None
+    for name, opener in entries:
+        if name.lower().endswith(".toml"):
+            blob = io.BytesIO()
+            left -= copy(name, opener, blob, min(MEASUREMENT_KIND.limit, left))
+            text = blob.getvalue().decode("utf-8-sig", errors="replace")
+            continue
+        base = _base_name(name)
+        renamed[base] = safe_name(base, set(renamed.values()))
+        with open(folder / renamed[base], "wb") as out:
+            left -= copy(name, opener, out, min(file_limit, left))
     try:
         return TomlDocument(tomllib.loads(text), text), renamed
     except tomllib.TOMLDecodeError as exc:
-        raise bad(f"its .toml does not parse ({exc})", f"его .toml не читается ({exc})") \
+        raise _bad_opening(f"its .toml does not parse ({exc})", f"его .toml не читается ({exc})") \
             from None
 
 

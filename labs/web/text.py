@@ -4,7 +4,7 @@ TEXT = {
     "en": {
         "title": "dynlab — lab measurements to reports",
         "labs": "Labs", "choose": "Choose your lab, fill in what you measured, press Reduce.",
-        "open": "Open a measurement file (.zip downloaded from this page) to edit it again",
+        "open": "Open a measurement file to edit it: its .toml with the files it names (select them all), or the .zip downloaded from this page",
         "open_button": "Open", "meta": "Who and where",
         "student": "Student", "group": "Group", "date": "Date", "rig": "Rig", "notes": "Notes",
         "required": "required", "optional": "optional", "add": "Add", "remove": "Remove",
@@ -33,7 +33,7 @@ TEXT = {
         "submission_too_large": "The files together are larger than this page takes in one "
                                 "submission.",
         "report_missing": "The report could not be made in time.",
-        "bad_zip": "This is not a measurement zip this page can open.",
+        "bad_zip": "This is not a measurement this page can open.",
         "unknown_student": "That id is not in the class roster.",
         "failed": "The reduction failed", "no_token":
             "This page needs the link with its token: ask your teacher for it.",
@@ -43,7 +43,7 @@ TEXT = {
         "title": "dynlab — от измерений к отчёту",
         "labs": "Лабораторные работы",
         "choose": "Выберите работу, впишите измеренное, нажмите «Обработать».",
-        "open": "Открыть файл измерений (.zip, скачанный с этой страницы) для правки",
+        "open": "Открыть файл измерений для правки: его .toml вместе с файлами, которые в нём названы (выберите все), или .zip, скачанный с этой страницы",
         "open_button": "Открыть", "meta": "Кто и где",
         "student": "Студент", "group": "Группа", "date": "Дата", "rig": "Стенд",
         "notes": "Примечания", "required": "обязательно", "optional": "необязательно",
@@ -72,7 +72,7 @@ TEXT = {
         "file_too_large": "Файл больше, чем принимает эта страница",
         "submission_too_large": "Файлы вместе больше, чем страница принимает за одну отправку.",
         "report_missing": "Отчёт не удалось сделать вовремя.",
-        "bad_zip": "Это не zip измерения, который может открыть эта страница.",
+        "bad_zip": "Это не измерение, которое может открыть эта страница.",
         "unknown_student": "Такого номера нет в списке группы.",
         "failed": "Обработка не удалась", "no_token":
             "Эта страница открывается по ссылке с ключом: спросите её у преподавателя.",
