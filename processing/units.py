@@ -2,7 +2,7 @@
 
 SI inside the toolkit; the manual's customary units (mm, g, min⁻¹, degrees, kgf) only where
 data enter. Parsing uses `pint <https://pint.readthedocs.io>`_, which knows every unit a lab
-sheet may carry and checks dimensions for us. Three conventions of a Russian lab sheet are
+sheet may carry and checks dimensions for us. Four conventions of a Russian lab sheet are
 read here, the same for every field of every lab and for the values ``dynlab check`` reads:
 
 * **Decimal commas.** Inside a value written as text a comma between digits is a decimal
@@ -18,6 +18,9 @@ read here, the same for every field of every lab and for the values ``dynlab che
   pint preprocessor; pint itself reads ``·``, ``×``, ``²``, ``³``, ``⁻¹`` and ``°``), and as
   typed: in a case that cannot be confused (``КГ``; not ``МН`` for ``мН``), a power without
   its caret (``м2``, ``с-1``), a second typed as a Latin ``c`` (the key of ``с``).
+* **Numbers as written by hand or copied from a report** (:func:`plain_notation`): a power of
+  ten (``6,13·10⁶``, ``1,706*10^-1``, ``2×10**3``), a minus sign (``−0,5``), a value and its
+  limit in brackets (``(2,23 ± 0,06) кН/мм``, ``(6,13 ± 0,05)·10⁶ Н/м``).
 * **Rotational speeds count revolutions** (:func:`cycles_factor`): in a field declared as an
   angle per time (``rpm``, ``rad/s``) a speed written per time alone (``1/s``, ``s^-1``,
   ``с⁻¹``, ``Hz``, ``Гц``, ``1/min``, ``мин⁻¹``) is revolutions per that time, as are ``rps``,
@@ -345,6 +348,49 @@ def decimal_point(text: str) -> str:
     return _GROUPED.sub(point, text)
 
 
+_SUPERSCRIPT = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺", "0123456789-+")
+
+_POWER_OF_TEN = re.compile(
+    r"(?<![\w.])(?P<mantissa>\d+(?:\.\d*)?|\.\d+)\s*[·⋅*×]\s*10\s*"
+    r"(?:(?:\^|\*\*)\s*\(?\s*(?P<power>[-+]?\d+)(?:\s*\))?|(?P<super>[⁻⁺]?[⁰¹²³⁴⁵⁶⁷⁸⁹]+))")
+"""A number times a power of ten as written by hand or by a word processor: ``6.13·10⁶``,
+``1.706*10^-1``, ``2×10**3``, ``5·10^(-3)``."""
+
+_BRACKETED = re.compile(r"^\s*\((?P<inner>[^()]*±[^()]*)\)\s*(?P<times>[·⋅*×]\s*10\s*"
+                        r"(?:(?:\^|\*\*)\s*\(?\s*[-+]?\d+(?:\s*\))?|[⁻⁺]?[⁰¹²³⁴⁵⁶⁷⁸⁹]+))?"
+                        r"(?P<unit>.*)$")
+"""A value and its limit in brackets, as a report writes them: ``(2.23 ± 0.06) kN/mm``,
+``(6.13 ± 0.05)·10⁶ N/m``."""
+
+
+def plain_notation(text: str) -> str:
+    """``text`` (its decimal commas already points) with the ways a number is written by
+    hand or copied from a report put as Python writes it: a minus sign (−) as a hyphen, a
+    power of ten as an exponent, a value and its limit in brackets each followed by the power
+    and the unit.
+
+    Examples
+    --------
+    >>> plain_notation("6.13·10⁶ Н/м"), plain_notation("1.706*10^-1 kg*m^2")
+    ('6.13e6 Н/м', '1.706e-1 kg*m^2')
+    >>> plain_notation("(2.23 ± 0.06) kN/mm"), plain_notation("(6.13 ± 0.05)·10⁶ N/m")
+    ('2.23 kN/mm ± 0.06 kN/mm', '6.13e6 N/m ± 0.05e6 N/m')
+    >>> plain_notation("−0.5 mm")
+    '-0.5 mm'
+    """
+    text = text.replace("\u2212", "-")
+    bracketed = _BRACKETED.match(text)
+    if bracketed:
+        times, unit = bracketed["times"] or "", bracketed["unit"].strip()
+        value, limit = _PLUS_MINUS.split(bracketed["inner"].strip(), maxsplit=1)
+        if limit.rstrip().endswith("%"):
+            text = f"{value}{times} {unit} ± {limit}"
+        else:
+            text = f"{value}{times} {unit} ± {limit}{times} {unit}"
+    return _POWER_OF_TEN.sub(lambda m: f"{m['mantissa']}e"
+                             f"{m['power'] or m['super'].translate(_SUPERSCRIPT)}", text)
+
+
 def parse_quantity(text: str, expected_unit: str) -> tuple[float, float | None]:
     """Parse ``'850 mm'``, ``'850 ± 0.5 mm'``, ``'850 mm ± 0.5 mm'`` or ``'850 mm ± 0.1 %'``
     into SI.
@@ -391,7 +437,7 @@ def read_quantity(text: str, expected_unit: str) -> tuple[float, float | None, s
     >>> read_quantity("0,8 m", "mm")
     (0.8, None, 'm')
     """
-    written, text = text, decimal_point(text)
+    written, text = text, plain_notation(decimal_point(text))
     if "," in text:
         raise QuantityError(f"cannot read {written!r}: a comma that is no decimal comma (not "
                             f"between two digits) separates two values",

@@ -710,3 +710,36 @@ def test_a_rocker_ratio_in_degrees_is_refused_naming_the_field(tmp_path, capsys)
     path.write_text(dumps(data), encoding="utf-8")
     code, out, err = run(capsys, "run", path, "--out", tmp_path / "out")
     assert_one_clear_error(code, out, err, path, "rig.i", "is an angle", tmp_path / "out")
+
+
+# ------------------------------------ numbers as written by hand or copied from a report
+
+@pytest.mark.parametrize("text, unit, value, limit", [
+    ("6,13·10⁶ Н/м", "N/m", 6.13e6, None),
+    ("1,706*10^-1 kg*m^2", "kg*m^2", 0.1706, None),
+    ("1,706×10^-1 кг·м²", "kg*m^2", 0.1706, None),
+    ("5·10^(-3) m", "m", 0.005, None),
+    ("2×10**3 mm", "m", 2.0, None),
+    ("−0,5 мм", "m", -0.0005, None),
+    ("(2,23 ± 0,06) кН/мм", "N/m", 2.23e6, 6e4),
+    ("(6,13 ± 0,05)·10⁶ Н/м", "N/m", 6.13e6, 5e4),
+    ("(6,13 ± 1 %)·10⁶ Н/м", "N/m", 6.13e6, 6.13e4),
+    ("6,13·10⁶ ± 0,05·10⁶ Н/м", "N/m", 6.13e6, 5e4),
+])
+def test_powers_of_ten_minus_signs_and_bracketed_limits_are_read(text, unit, value, limit):
+    got = parse_quantity(text, unit)
+    assert got[0] == pytest.approx(value, rel=1e-12)
+    assert got[1] == (None if limit is None else pytest.approx(limit, rel=1e-12))
+
+
+def test_a_power_of_ten_reported_in_russian_is_judged(tmp_path):
+    """A student's c_total copied from a Russian report: '2,228·10⁶ Н/м' is the value."""
+    from labs.teachers.check import check
+
+    sample = ROOT / "sample_data/lab5/valve_train.toml"
+    ours = evaluate(sample, n_samples=0).results["c_total"].value
+    mantissa = f"{ours / 1e6:.3f}".replace(".", ",")
+    path = tmp_path / "student.toml"
+    path.write_text(sample.read_text("utf-8") + f'\n[reported]\nc_total = "{mantissa}·10⁶ Н/м"\n', encoding="utf-8")
+    (verdict,) = [v for v in check(path).verdicts if v.name == "c_total"]
+    assert verdict.verdict == "right", verdict

@@ -424,7 +424,7 @@ def _entry(path: str, field: str, entry) -> tuple:
 
 
 def _quantity(path: str, field: str, value, u, unit: str) -> Reported:
-    from processing.units import decimal_point, parse_quantity
+    from processing.units import decimal_point, parse_quantity, plain_notation
 
     if isinstance(value, bool) or not isinstance(value, (int, float, str)):
         raise InputError(f"{value!r} is not a value", "write a number with its unit, e.g. "
@@ -459,7 +459,7 @@ def _quantity(path: str, field: str, value, u, unit: str) -> Reported:
                              ru=(f"неопределённость дана дважды: ± в значении и u = {u!r}",
                                  "оставьте одно из двух"))
         u_si = _uncertainty(path, f"{field}.u", u, unit)
-    text = decimal_point(text)          # "0,1708" has the digits of 0.1708
+    text = plain_notation(decimal_point(text))   # "0,1708" has the digits of 0.1708
     digits, exponent = written_digits(text)
     scale = si / float(text.split()[0]) if _plain_number(text) and float(text.split()[0]) \
         else 1.0
