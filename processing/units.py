@@ -19,8 +19,8 @@ read here, the same for every field of every lab and for the values ``dynlab che
   typed: in a case that cannot be confused (``КГ``; not ``МН`` for ``мН``), a power without
   its caret (``м2``, ``с-1``), a second typed as a Latin ``c`` (the key of ``с``).
 * **Numbers as written by hand or copied from a report** (:func:`plain_notation`): a power of
-  ten (``6,13·10⁶``, ``1,706*10^-1``, ``2×10**3``), a minus sign (``−0,5``), a value and its
-  limit in brackets (``(2,23 ± 0,06) кН/мм``, ``(6,13 ± 0,05)·10⁶ Н/м``).
+  ten (``6,13·10⁶``, ``1,706*10^-1``, ``2×10**3``), a minus sign (``−0,5``), a stopwatch's
+  minutes and seconds (``1:05,32`` is 65.32 s), a value and its limit in brackets (``(2,23 ± 0,06) кН/мм``, ``(6,13 ± 0,05)·10⁶ Н/м``).
 * **Rotational speeds count revolutions** (:func:`cycles_factor`): in a field declared as an
   angle per time (``rpm``, ``rad/s``) a speed written per time alone (``1/s``, ``s^-1``,
   ``с⁻¹``, ``Hz``, ``Гц``, ``1/min``, ``мин⁻¹``) is revolutions per that time, as are ``rps``,
@@ -363,11 +363,18 @@ _BRACKETED = re.compile(r"^\s*\((?P<inner>[^()]*±[^()]*)\)\s*(?P<times>[·⋅*�
 ``(6.13 ± 0.05)·10⁶ N/m``."""
 
 
-def plain_notation(text: str) -> str:
+_CLOCK = re.compile(r"^\s*(?:(?P<h>\d+):(?=\d{2}:))?(?P<m>\d+):(?P<s>[0-5]\d(?:\.\d*)?)"
+                    r"(?=\s*(?:±|$))")
+"""A stopwatch's reading, minutes and seconds (``1:05.32``) or hours too (``1:02:05``), alone
+or before a ± limit."""
+
+
+def plain_notation(text: str, expected_unit: str = "") -> str:
     """``text`` (its decimal commas already points) with the ways a number is written by
     hand or copied from a report put as Python writes it: a minus sign (−) as a hyphen, a
-    power of ten as an exponent, a value and its limit in brackets each followed by the power
-    and the unit.
+    stopwatch's minutes and seconds as seconds (where ``expected_unit`` is a time: ``1:10``
+    is no lever ratio), a power of ten as an exponent, a value and its limit in brackets each
+    followed by the power and the unit.
 
     Examples
     --------
@@ -375,10 +382,15 @@ def plain_notation(text: str) -> str:
     ('6.13e6 Н/м', '1.706e-1 kg*m^2')
     >>> plain_notation("(2.23 ± 0.06) kN/mm"), plain_notation("(6.13 ± 0.05)·10⁶ N/m")
     ('2.23 kN/mm ± 0.06 kN/mm', '6.13e6 N/m ± 0.05e6 N/m')
-    >>> plain_notation("−0.5 mm")
-    '-0.5 mm'
+    >>> plain_notation("−0.5 mm"), plain_notation("1:05.32", "s"), plain_notation("1:05.3 ± 0.2 s", "s")
+    ('-0.5 mm', '65.32 s', '65.3 s ± 0.2 s')
     """
     text = text.replace("\u2212", "-")
+    clock = _CLOCK.match(text) if dimension(expected_unit) == dimension("s") else None
+    if clock:
+        h, m = int(clock["h"] or 0), int(clock["m"])
+        if clock["h"] is None or m < 60:
+            text = f"{(h * 60 + m) * 60 + float(clock['s']):.10g} s{text[clock.end():]}"
     bracketed = _BRACKETED.match(text)
     if bracketed:
         times, unit = bracketed["times"] or "", bracketed["unit"].strip()
@@ -437,7 +449,7 @@ def read_quantity(text: str, expected_unit: str) -> tuple[float, float | None, s
     >>> read_quantity("0,8 m", "mm")
     (0.8, None, 'm')
     """
-    written, text = text, plain_notation(decimal_point(text))
+    written, text = text, plain_notation(decimal_point(text), expected_unit)
     if "," in text:
         raise QuantityError(f"cannot read {written!r}: a comma that is no decimal comma (not "
                             f"between two digits) separates two values",
@@ -515,6 +527,8 @@ def _to_si(s: str, expected_unit: str, whole: str) -> float:
                             ru=(f"не прочесть {whole!r}: значение начинается с числа, например "
                                 f"'12,5 {expected_unit}'", None))
     number, unit = _NUMBER_AND_UNIT.match(s).group(1), _unit_of(s)
+    if ":" in s:
+        raise QuantityError(*_colon(whole, expected_unit))
     try:
         dimension = _dimensionality(unit)
     except Exception as exc:
@@ -533,6 +547,26 @@ def _to_si(s: str, expected_unit: str, whole: str) -> float:
     if not same_kind(unit, expected_unit):
         raise QuantityError(*_angle_for_ratio(whole, expected_unit))
     return number_to_si(float(number), unit, expected_unit)
+
+
+def _colon(whole: str, expected_unit: str) -> tuple:
+    """Why a text with a colon that is no stopwatch's time is refused, and the fix."""
+    if dimension(expected_unit) == dimension("s"):
+        return (f"cannot read {whole!r} as a stopwatch's time: minutes:seconds, the seconds "
+                f"under 60 (1:05,32), or hours:minutes:seconds",
+                "write the time as the stopwatch shows it, or in seconds (65,32 s)",
+                (f"не прочесть {whole!r} как время секундомера: минуты:секунды, секунд меньше "
+                 f"60 (1:05,32), или часы:минуты:секунды",
+                 "запишите время, как его показал секундомер, или в секундах (65,32 с)"))
+    example = f"12.5 {expected_unit}".strip()
+    return (f"cannot read {whole!r}: a colon is read only in a stopwatch's time (1:05,32), "
+            f"and here no time is expected",
+            f"write the value as a number and a unit, e.g. '{example}'; a ratio as its value "
+            f"(1:10 as 0.1)",
+            (f"не прочесть {whole!r}: двоеточие читается только во времени секундомера "
+             f"(1:05,32), а здесь ожидается не время",
+             f"запишите значение числом и единицей, например '{example.replace('.', ',')}'; "
+             f"отношение — его значением (1:10 как 0,1)"))
 
 
 def same_kind(unit: str, declared: str) -> bool:

@@ -743,3 +743,33 @@ def test_a_power_of_ten_reported_in_russian_is_judged(tmp_path):
     path.write_text(sample.read_text("utf-8") + f'\n[reported]\nc_total = "{mantissa}·10⁶ Н/м"\n', encoding="utf-8")
     (verdict,) = [v for v in check(path).verdicts if v.name == "c_total"]
     assert verdict.verdict == "right", verdict
+
+
+@pytest.mark.parametrize("text, seconds", [
+    ("1:05,32", 65.32), ("0:36.07", 36.07), ("1:02:05", 3725.0), ("2:30 ± 0,2 с", 150.0),
+])
+def test_a_stopwatch_reading_is_read_where_a_time_is_expected(text, seconds):
+    assert parse_quantity(text, "s")[0] == pytest.approx(seconds, rel=1e-12)
+
+
+@pytest.mark.parametrize("text, unit, problem", [
+    ("1:10", "", "and here no time is expected"),
+    ("1:05,32", "mm", "and here no time is expected"),
+    ("1:75", "s", "the seconds under 60"),
+])
+def test_a_colon_that_is_no_stopwatch_time_is_refused_saying_so(text, unit, problem):
+    with pytest.raises(QuantityError, match=problem):
+        parse_quantity(text, unit)
+
+
+def test_a_trifilar_timed_on_a_stopwatch_reduces_as_in_seconds(tmp_path):
+    """Twenty oscillations of 1.8 s show as 0:36,07 on a stopwatch."""
+    sample = next((ROOT / "sample_data/lab1").glob("*.toml"))
+    data = _sample(sample)
+    clock = [f"0:{t:05.2f}".replace(".", ",") for t in data["trifilar"]["t"]]
+    plain = evaluate(sample, n_samples=0).results
+    data["trifilar"]["t"] = clock
+    path = tmp_path / "student.toml"
+    path.write_text(dumps(data), encoding="utf-8")
+    timed = evaluate(path, n_samples=0).results
+    assert timed["J_trifilar"].value == pytest.approx(plain["J_trifilar"].value, rel=1e-12)

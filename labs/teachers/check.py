@@ -459,7 +459,7 @@ def _quantity(path: str, field: str, value, u, unit: str) -> Reported:
                              ru=(f"неопределённость дана дважды: ± в значении и u = {u!r}",
                                  "оставьте одно из двух"))
         u_si = _uncertainty(path, f"{field}.u", u, unit)
-    text = plain_notation(decimal_point(text))   # "0,1708" has the digits of 0.1708
+    text = plain_notation(decimal_point(text), unit or "")   # "0,1708": 0.1708's digits
     digits, exponent = written_digits(text)
     scale = si / float(text.split()[0]) if _plain_number(text) and float(text.split()[0]) \
         else 1.0
