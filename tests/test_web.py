@@ -353,6 +353,19 @@ def test_worker_time_and_memory_limits_leave_the_pool_working():
     assert greedy.status == "crash"
 
 
+def test_a_class_check_has_one_reductions_time_per_hand_in():
+    """The class's check reduces every hand-in: its time limit is one reduction's times
+    their number, so a class of 200 is not stopped at a single reduction's 120 s."""
+    pool = Pool(workers=1, limits=Limits(seconds=1.5, memory=1 << 30))
+
+    async def go():
+        return await pool.run(sleeper, 2.0), await pool.run(sleeper, 2.0, scale=4)
+
+    alone, scaled = asyncio.run(go())
+    assert alone.status == "timeout" and "1.5 s" in alone.error["en"]
+    assert scaled.status == "ok"
+
+
 # ------------------------------------------------------------------------------ teacher
 
 def test_hand_in_lands_where_dynlab_check_reads_it(tmp_path):

@@ -732,8 +732,10 @@ def parser(says: str = "en") -> argparse.ArgumentParser:
                      help=t("reductions at once (default 2)",
                             "обработок одновременно (по умолчанию 2)"))
     srv.add_argument("--time-limit", type=_seconds, default=120.0,
-                     help=t("seconds one reduction may take (default 120)",
-                            "секунд на одну обработку (по умолчанию 120)"))
+                     help=t("seconds one reduction may take (default 120; the class's "
+                            "check that per hand-in)",
+                            "секунд на одну обработку (по умолчанию 120; проверка класса — "
+                            "столько на каждую сданную работу)"))
     srv.add_argument("--memory-limit", type=_count(256, 1 << 20), default=3072,
                      help=t("MiB of address space one reduction may take (default 3072)",
                             "МиБ адресного пространства на одну обработку (по умолчанию "

@@ -93,7 +93,8 @@ class Classroom:
         return argv
 
     async def refresh(self, pool, lang: str) -> None:
-        """Check the class again in a worker (once more if a hand-in came meanwhile)."""
+        """Check the class again in a worker, with one reduction's time and CPU per hand-in
+        (once more if a hand-in came meanwhile)."""
         if self.state == "checking":
             self.dirty = True
             return
@@ -102,8 +103,10 @@ class Classroom:
             while True:
                 self.dirty = False
                 seen = self.version
+                handed_in = sum(1 for _ in self.folder.glob("*/*.toml"))
                 outcome = await pool.run(check_child, self.folder, self.out, lang, self.keys,
-                                         self.roster_file if self.keys is not None else None)
+                                         self.roster_file if self.keys is not None else None,
+                                         scale=handed_in)
                 self.log = (outcome.error or {}).get("en", "")
                 self.checked = seen
                 if not self.dirty:

@@ -18,7 +18,7 @@ import asyncio
 import os
 import resource
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 MEASUREMENT = "measurement.toml"
@@ -176,9 +176,12 @@ class Pool:
 
         forkserver.ensure_running()
 
-    async def run(self, target, *args) -> Outcome:
-        """Run ``target(conn, *args)`` in a child under the limits; the outcome it sends, or
+    async def run(self, target, *args, scale: int = 1) -> Outcome:
+        """Run ``target(conn, *args)`` in a child under the limits (its time and CPU ``scale``
+        times one reduction's: a class's check reduces each hand-in); the outcome it sends, or
         ``timeout``/``crash``. Raises :class:`Busy` when the queue is full."""
+        limits = replace(self.limits, seconds=self.limits.seconds * max(scale, 1),
+                         cpu=self.limits.cpu * max(scale, 1))
         if self._slots is None:
             self._slots = asyncio.Semaphore(self.workers)
         if self.waiting >= self.queue:
@@ -192,26 +195,26 @@ class Pool:
         start = time.monotonic()
         try:
             receive, send = self.ctx.Pipe(duplex=False)
-            child = self.ctx.Process(target=_child, args=(target, send, args, self.limits),
+            child = self.ctx.Process(target=_child, args=(target, send, args, limits),
                                      daemon=True)
             child.start()
             send.close()
         except BaseException:
             self._release()
             raise
-        outcome = await asyncio.to_thread(self._outcome, receive, child, start)
-        asyncio.get_running_loop().create_task(self._finish(child, start))
+        outcome = await asyncio.to_thread(self._outcome, receive, child, start, limits.seconds)
+        asyncio.get_running_loop().create_task(self._finish(child, start, limits.seconds))
         return outcome
 
-    def _outcome(self, receive, child, start: float) -> Outcome:
-        """Wait for the child's word, at most its time limit; kill it if it is late."""
-        late = not receive.poll(self.limits.seconds)
+    def _outcome(self, receive, child, start: float, limit: float) -> Outcome:
+        """Wait for the child's word, at most its time ``limit`` [s]; kill it if it is late."""
+        late = not receive.poll(limit)
         seconds = time.monotonic() - start
         if late:
             child.kill()
             return Outcome("timeout", {"en": f"the reduction took longer than "
-                                             f"{self.limits.seconds:g} s and was stopped",
-                                       "ru": f"обработка заняла больше {self.limits.seconds:g} с "
+                                             f"{limit:g} s and was stopped",
+                                       "ru": f"обработка заняла больше {limit:g} с "
                                              f"и была остановлена"}, seconds)
         try:
             status, error = receive.recv()
@@ -225,10 +228,10 @@ class Pool:
             receive.close()
         return Outcome(status, error, seconds)
 
-    async def _finish(self, child, start: float) -> None:
-        """Let the child finish its PDF within its time, then free its slot."""
+    async def _finish(self, child, start: float, limit: float) -> None:
+        """Let the child finish its PDF within its time ``limit`` [s], then free its slot."""
         try:
-            left = max(0.0, self.limits.seconds - (time.monotonic() - start))
+            left = max(0.0, limit - (time.monotonic() - start))
             await asyncio.to_thread(child.join, left)
             if child.is_alive():
                 child.kill()
