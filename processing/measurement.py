@@ -20,6 +20,8 @@ File format (ARCHITECTURE.md, "Measurement file")::
 """
 from __future__ import annotations
 
+import codecs
+import contextlib
 import difflib
 import math
 import os
@@ -429,20 +431,41 @@ class TomlDocument(dict):
         self.text = text
 
 
+def measurement_text(raw: bytes) -> str | None:
+    """A measurement file's text as a student's editor saved it: UTF-8 (a byte-order mark
+    dropped), UTF-16 with its byte-order mark (Notepad's "Unicode"), or Windows-1251 (an
+    older Russian Notepad's "ANSI") where that reads as TOML; None for anything else."""
+    if raw.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        with contextlib.suppress(UnicodeDecodeError):
+            return raw.decode("utf-16")
+        return None
+    with contextlib.suppress(UnicodeDecodeError):
+        return raw.decode("utf-8-sig")
+    try:
+        text = raw.decode("cp1251")
+        tomllib.loads(text)
+    except (UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return None
+    return text
+
+
 def read_toml(path: str | Path) -> TomlDocument:
     """Read a TOML measurement file (a regular file of at most 1 MiB,
-    :data:`processing.files.MEASUREMENT`), turning every failure into an :class:`InputError` (a
+    :data:`processing.files.MEASUREMENT`, in an encoding :func:`measurement_text` reads),
+    turning every failure into an :class:`InputError` (a
     decimal comma outside quotes named as such, with its line: :mod:`processing.decimal_comma`)."""
     path = Path(path)
-    raw = read_bytes(path, MEASUREMENT)
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        raise InputError("not a text file (not UTF-8)",
-                         "give a TOML measurement file; 'dynlab template LAB' writes one",
-                         file=str(path), ru=("не текстовый файл (не UTF-8)",
-                                             "укажите файл измерений TOML; его заготовку "
-                                             "пишет 'dynlab template LAB'")) from None
+    text = measurement_text(read_bytes(path, MEASUREMENT))
+    if text is None:
+        raise InputError("not a text file in UTF-8, UTF-16 or Windows-1251",
+                         "give a TOML measurement file saved as UTF-8 text (Notepad: Save as, "
+                         "Encoding UTF-8); 'dynlab template LAB' writes one",
+                         file=str(path), ru=("не текстовый файл в UTF-8, UTF-16 или "
+                                             "Windows-1251",
+                                             "укажите файл измерений TOML, сохранённый как "
+                                             "текст UTF-8 (Блокнот: Сохранить как, Кодировка "
+                                             "UTF-8); его заготовку пишет 'dynlab template "
+                                             "LAB'")) from None
     try:
         return TomlDocument(tomllib.loads(text), text)
     except tomllib.TOMLDecodeError as exc:

@@ -773,3 +773,21 @@ def test_a_trifilar_timed_on_a_stopwatch_reduces_as_in_seconds(tmp_path):
     path.write_text(dumps(data), encoding="utf-8")
     timed = evaluate(path, n_samples=0).results
     assert timed["J_trifilar"].value == pytest.approx(plain["J_trifilar"].value, rel=1e-12)
+
+
+# ------------------------------------------------ a measurement file as an editor saved it
+
+@pytest.mark.parametrize("encoding", ["cp1251", "utf-16", "utf-8-sig"])
+def test_a_file_saved_by_a_russian_notepad_reduces_as_utf8(tmp_path, encoding):
+    """Windows-1251 (an older Notepad's "ANSI"), UTF-16 with its mark ("Unicode") and UTF-8
+    with its mark read as UTF-8: the same student, the same result."""
+    sample = ROOT / "sample_data/lab2/" / next(p.name for p in (ROOT / "sample_data/lab2")
+                                              .glob("*.toml"))
+    text = re.sub(r'student = "[^"]*"', 'student = "Иванов Иван"',
+                  sample.read_text("utf-8").replace("[meta]", "[meta]\n# Лабораторная 2", 1))
+    plain, saved = tmp_path / "utf8.toml", tmp_path / f"{encoding}.toml"
+    plain.write_text(text, encoding="utf-8")
+    saved.write_bytes(text.encode(encoding, errors="replace"))    # its comments' Δ in 1251
+    a, b = evaluate(plain, n_samples=0), evaluate(saved, n_samples=0)
+    assert b.meta["student"] == "Иванов Иван"
+    assert {k: r.value for k, r in a.results.items()} == {k: r.value for k, r in b.results.items()}

@@ -39,7 +39,7 @@ from starlette.staticfiles import StaticFiles
 
 from processing.diagnostics import InputError
 from processing.files import MEASUREMENT as MEASUREMENT_KIND
-from processing.measurement import TomlDocument
+from processing.measurement import TomlDocument, measurement_text
 from processing.reporting.i18n import LANGS
 from processing.inputs.toml_writer import dumps
 
@@ -553,7 +553,11 @@ def _stored(entries: list, folder: Path, file_limit: int, total_limit: int, max_
         if name.lower().endswith(".toml"):
             blob = io.BytesIO()
             left -= copy(name, opener, blob, min(MEASUREMENT_KIND.limit, left))
-            text = blob.getvalue().decode("utf-8-sig", errors="replace")
+            text = measurement_text(blob.getvalue())
+            if text is None:
+                raise _bad_opening(f"{name} is not a text file in UTF-8, UTF-16 or "
+                                   f"Windows-1251", f"{name} — не текстовый файл в UTF-8, "
+                                   f"UTF-16 или Windows-1251")
             continue
         base = _base_name(name)
         renamed[base] = safe_name(base, set(renamed.values()))
