@@ -614,10 +614,27 @@ def test_every_quantity_field_declares_a_range():
     ("29,973 Гц", "rad/s", 29.973 * 2 * math.pi),
     ("188,33 рад/с", "rad/s", 188.33),
     ("1,25 мм", "m", 1.25e-3),
+    ("≈2,03 кН/мм", "N/m", 2.03e6),
+    ("~ 5,8 kN/mm", "N/m", 5.8e6),
+    ("c = 42,96 Н/мм", "N/m", 42960.0),
+    ("J_трифиляр = 0,1708 кг·м²", "kg*m^2", 0.1708),
+    ("2,228·10⁶ Н/м", "N/m", 2.228e6),
 ])
 def test_reported_values_pass_the_same_parsing(text, unit, si):
     reported = _quantity("s.toml", "reported.x", text, None, unit)
     assert reported.value == pytest.approx(si, rel=1e-12)
+
+
+def test_an_unreadable_reported_value_asks_for_the_labs_display_unit(tmp_path, capsys):
+    """A stiffness is asked for in kN/mm as the report shows it, not in SI's kg/s²."""
+    sample = ROOT / "sample_data/lab5/valve_train.toml"
+    path = tmp_path / "student.toml"
+    path.write_text(sample.read_text("utf-8") + '\n[reported]\nc_total = "две тысячи"\n',
+                    encoding="utf-8")
+    code, out, err = run(capsys, "check", path)
+    assert_one_clear_error(code, out, err, path, "reported.c_total", "should start with a "
+                           "number", tmp_path / "none")
+    assert "kN/mm" in err and "kg/s" not in err
 
 
 def test_reported_u_with_a_decimal_comma():

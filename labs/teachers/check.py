@@ -392,7 +392,7 @@ def _reported(path: str, table, results,
                                               _close(name, list(results), "результаты", "ru")))
         try:
             value, u = _entry(path, field, entry)
-            out[name] = _quantity(path, field, value, u, results[name].unit)
+            out[name] = _quantity(path, field, value, u, _expected_unit(results[name]))
         except InputError as exc:
             if unreadable is None:
                 raise
@@ -423,6 +423,23 @@ def _entry(path: str, field: str, entry) -> tuple:
     return entry["value"], entry.get("u")
 
 
+_STATED = re.compile(r"^\s*(?:[^\W\d]\w*\s*=\s*)?(?:[≈~]\s*)?")
+"""What a student may write before the value itself: the result's name or symbol and "="
+(``c = 42,96 Н/мм``), "about" (``≈2,03 кН/мм``, ``~5,8 kN/mm``)."""
+
+
+def _expected_unit(result) -> str:
+    """The unit a student is asked for a result in: the lab's display unit (kN/mm, not
+    kg/s²) where it is one of the result's kind, else the result's SI unit."""
+    from processing.units import same_kind
+
+    shown = result.display_unit
+    try:
+        return shown if shown and same_kind(shown, result.unit) else result.unit
+    except Exception:                   # a display unit pint cannot read
+        return result.unit
+
+
 def _quantity(path: str, field: str, value, u, unit: str) -> Reported:
     from processing.units import decimal_point, parse_quantity, plain_notation
 
@@ -431,7 +448,7 @@ def _quantity(path: str, field: str, value, u, unit: str) -> Reported:
                          "\"0.1234 kg*m^2\"", file=path, field=field,
                          ru=(f"{value!r} — не значение", "напишите число с единицей, например "
                              "\"0,1234 кг*м^2\""))
-    text = value if isinstance(value, str) else repr(value)
+    text = _STATED.sub("", value) if isinstance(value, str) else repr(value)
     if unit and not isinstance(value, str):
         raise InputError(f"{value!r} has no unit", f"write the value with its unit, as a "
                          f"string: \"{value} {unit}\" (or in the unit you used)", file=path,
