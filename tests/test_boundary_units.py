@@ -808,3 +808,16 @@ def test_a_file_saved_by_a_russian_notepad_reduces_as_utf8(tmp_path, encoding):
     a, b = evaluate(plain, n_samples=0), evaluate(saved, n_samples=0)
     assert b.meta["student"] == "Иванов Иван"
     assert {k: r.value for k, r in a.results.items()} == {k: r.value for k, r in b.results.items()}
+
+
+def test_a_reported_text_without_a_unit_is_read_in_the_labs_display_unit(tmp_path):
+    """'2,228' for the drive's stiffness is 2.228 kN/mm, as the report prints it."""
+    from labs.teachers.check import check
+
+    sample = ROOT / "sample_data/lab5/valve_train.toml"
+    ours = evaluate(sample, n_samples=0).results["c_total"].value
+    path = tmp_path / "student.toml"
+    path.write_text(sample.read_text("utf-8") + f'\n[reported]\nc_total = '
+                    f'"{ours / 1e6:.3f}"\n'.replace(".", ","), encoding="utf-8")
+    (verdict,) = [v for v in check(path).verdicts if v.name == "c_total"]
+    assert verdict.verdict == "right", verdict
