@@ -61,6 +61,7 @@ from scipy.io import wavfile
 from processing.diagnostics import InputError
 from processing.files import IMAGE, STREAMED, TABLE, read_text, regular
 from processing.inputs.reuse import by_content
+from processing.inputs.scope_exports import OVER, PREAMBLE_MOST, Layout, recognise
 
 CHUNK = 2**22
 """Default block length of :meth:`Channel.chunks` [samples]: 32 MB of float64."""
@@ -708,6 +709,7 @@ class _Table:
     text: str
     header: bool
     decimal: str
+    layout: Layout | None = None
 
     @classmethod
     def read(cls, src: _Source) -> _Table:
@@ -720,6 +722,10 @@ class _Table:
     @by_content(lambda cls, src: src.path, shared=True)
     def _parsed(cls, src: _Source) -> _Table:
         text = _read_text(src)
+        layout = recognise(list(itertools.islice(_content_lines(text), PREAMBLE_MOST + 1)),
+                           lambda problem, fix, ru: src.error(problem, fix, ru=ru))
+        if layout is not None:
+            return cls._export(src, text, layout)
         lines = _content_lines(text)
         first = next(lines, None)
         if first is None:
@@ -768,21 +774,73 @@ class _Table:
                                 "имя в заголовке")) from None
         return cls(src, _clean_columns(frame, header), text, header, decimal)
 
+    @classmethod
+    def _export(cls, src: _Source, text: str, layout: Layout) -> _Table:
+        """An instrument's export (:mod:`processing.inputs.scope_exports`): its columns of
+        numbers read under the instrument's names, the rows counted against its header."""
+        data = next(itertools.islice(_content_lines(text), layout.lead, None))[1]
+        decimal = "," if layout.sep != "," and "," in data else "."
+        try:
+            frame = pd.read_csv(_Slices(text), sep=layout.sep, header=None, skiprows=layout.skip,
+                                usecols=list(layout.usecols), decimal=decimal, comment="#",
+                                skipinitialspace=True, index_col=False, low_memory=False)
+        except (pd.errors.ParserError, ValueError) as exc:
+            raise src.error(f"the {layout.instrument} export is not a regular table after its "
+                            f"header ({exc})".replace("\n", " "),
+                            "export the waveform again, unedited",
+                            ru=(f"экспорт {layout.instrument} после заголовка — не правильная "
+                                "таблица", "экспортируйте осциллограмму заново, без правки")
+                            ) from None
+        table = cls(src, frame.set_axis(list(layout.names), axis=1), text, True, decimal, layout)
+        table._check_export()
+        return table
+
+    def _check_export(self) -> None:
+        """An export's rows against its header: the stated number of samples, a last row
+        cut short."""
+        layout, rows = self.layout, len(self.frame)
+        if layout.length is not None and rows != layout.length.value:
+            n, where = layout.length, f"'{layout.length.name}' (row {layout.length.row})"
+            raise self.src.error(
+                f"the header's {where} says {n.value:.0f} samples, but {rows} rows of numbers "
+                "follow: the file was cut short or edited",
+                "export the waveform again and copy the whole file; if rows were cut on "
+                f"purpose, correct {n.name} to {rows}",
+                ru=(f"{where} заголовка говорит {n.value:.0f} отсчётов, а строк чисел {rows}: "
+                    "файл обрезан или правлен", "экспортируйте осциллограмму заново и "
+                    f"скопируйте файл целиком; если строки убраны намеренно, исправьте "
+                    f"{n.name} на {rows}"))
+        last = self.frame.iloc[-1]
+        if last.isna().any():
+            row = self.line(rows - 1)
+            raise self.src.error(f"the last row (row {row}) is cut short: it lacks "
+                                 f"'{last.index[last.isna()][0]}'",
+                                 "copy the whole file again from the instrument, or delete the "
+                                 "cut row", ru=(f"последняя строка (строка {row}) обрезана",
+                                                "скопируйте файл с прибора заново целиком или "
+                                                "удалите обрезанную строку"))
+
     @property
     def names(self) -> list[str]:
         return list(self.frame.columns)
 
     def line(self, row: int) -> int:
         """The file's row number (as a spreadsheet counts them) of data row ``row`` (0-based)."""
-        return next(itertools.islice(_content_lines(self.text), row + self.header, None))[0]
+        lead = self.header if self.layout is None else self.layout.lead
+        return next(itertools.islice(_content_lines(self.text), row + lead, None))[0]
 
     def numbers(self, name: str) -> np.ndarray:
-        """Column ``name`` as numbers, every cell checked: numeric and finite."""
+        """Column ``name`` as numbers, every cell checked: numeric and finite; an export's in
+        seconds or volts, its over-range marks at the column's extremes (:meth:`_over`)."""
         column = self.frame[name]
+        over = None
         if column.dtype.kind not in "biuf":
-            text = column.astype(str)
+            text = column.astype(str).str.strip()
             if self.decimal == ",":
                 text = text.str.replace(",", ".", regex=False)
+            if self.layout is not None and self.layout.marks:
+                over = text.map(OVER).to_numpy(dtype=float, na_value=0.0)
+                text = text.where(over == 0, "0")
             numeric = pd.to_numeric(text, errors="coerce")
             bad = (numeric.isna() & column.notna()).to_numpy()
             if bad.any():
@@ -808,7 +866,42 @@ class _Table:
                                      "впишите недостающее значение или удалите строку (пропуск "
                                      "в оцифрованном сигнале значит, что запись надо разрезать "
                                      "здесь)"))
-        return values.copy()            # the caller's own: a table may be read again
+        if self.layout is None:
+            return values.copy()        # the caller's own: a table may be read again
+        if over is not None and over.any():
+            values = self._over(name, values, over)
+        return values * self._scale(name)
+
+    def _over(self, name: str, values: np.ndarray, over: np.ndarray) -> np.ndarray:
+        """Over-range samples (``over`` = +1 above the range, −1 below) put at the column's
+        highest or lowest reading, where a recorder's rail holds a clipped sample: there
+        :func:`~processing.inputs.record_quality.clipped_mask` counts them as clipped."""
+        values = values.astype(float)
+        inside = over == 0
+        if not inside.any():
+            raise self.src.error(f"every sample of '{name}' is marked over range (∞)",
+                                 "raise the channel's input range and record again",
+                                 ru=(f"все отсчёты '{name}' отмечены как вне диапазона (∞)",
+                                     "увеличьте диапазон входа канала и запишите заново"))
+        values[over > 0] = values[inside].max()
+        values[over < 0] = values[inside].min()
+        return values
+
+    def _scale(self, name: str) -> float:
+        """Seconds or volts per unit of an export's column ``name``."""
+        scale = self.layout.scale(name)
+        if scale is None:
+            unit = self.layout.units.get(name, "")
+            raise self.src.error(f"column '{name}' is in '{unit}', not in volts"
+                                 if name != self.layout.time else
+                                 f"the time column '{name}' is in '{unit}', not a unit of time",
+                                 "export the channel in volts (V or mV), the probe's scaling "
+                                 "off: the lab converts volts with the sensor's own sensitivity",
+                                 ru=(f"столбец '{name}' в '{unit}', а не в вольтах",
+                                     "экспортируйте канал в вольтах (V или mV), без пересчёта "
+                                     "пробника: лаб. работа пересчитывает вольты по "
+                                     "чувствительности датчика"))
+        return scale
 
 
 def _read_text(src: _Source) -> str:
@@ -906,17 +999,25 @@ def _memory_reader(values: np.ndarray) -> Iterator[_Reader]:
 
 
 def _time_base(src: _Source, table: _Table) -> tuple[str | None, float | None]:
-    """The time column's name and the sample rate it implies, or (None, None)."""
-    first = table.names[0]
-    scale = _time_scale(first) if table.header else None
-    if scale is None:
-        return None, None
-    t = table.numbers(first) * scale
+    """The time column's name and the sample rate it implies, or (None, None). An export's
+    header interval gives its rate, every step of its time column checked against it."""
+    layout, interval = table.layout, None
+    if layout is not None:
+        first, interval = layout.time, layout.interval
+        t = table.numbers(first)
+    else:
+        first = table.names[0]
+        scale = _time_scale(first) if table.header else None
+        if scale is None:
+            return None, None
+        t = table.numbers(first) * scale
     if len(t) < 2:
         raise src.error("one row: a sample rate needs at least two times",
                         "export the whole recording",
                         ru=("одна строка: для частоты отсчётов нужны хотя бы два момента "
                             "времени", "экспортируйте всю запись"))
+    if interval is not None:
+        return first, _stated_rate(src, table, t, interval)
     _check_rising(src, table, first, t)
     steps = np.diff(t)
     typical = np.median(steps)
@@ -929,6 +1030,27 @@ def _time_base(src: _Source, table: _Table) -> tuple[str | None, float | None]:
                         "stretch; if the times were rounded on export, write them with more "
                         "digits, or delete the time column and give sample_rate")
     return first, (len(t) - 1) / (t[-1] - t[0])  # the mean step: robust to rounded times
+
+
+def _stated_rate(src: _Source, table: _Table, t: np.ndarray, interval) -> float:
+    """1 / the interval an export's header states [Hz], once every step of its time column
+    (``t`` [s]) agrees with it."""
+    layout = table.layout
+    steps = np.diff(t)
+    off = np.abs(steps - interval.value) > RATE_TOLERANCE * interval.value
+    if off.any():
+        k = int(np.argmax(off))
+        raise src.error(f"row {table.line(k + 1)}: the time column '{layout.time}' steps by "
+                        f"{steps[k]:.6g} s, but the header's '{interval.name}' (row "
+                        f"{interval.row}) is {interval.value:.6g} s",
+                        "a jump means lost or deleted rows: export the waveform again whole "
+                        "and leave it unedited (or cut it to an unbroken stretch)",
+                        ru=(f"строка {table.line(k + 1)}: столбец времени '{layout.time}' "
+                            f"шагает на {steps[k]:.6g} с, а '{interval.name}' заголовка "
+                            f"(строка {interval.row}) равен {interval.value:.6g} с",
+                            "скачок значит потерянные или удалённые строки: экспортируйте "
+                            "осциллограмму заново целиком и не правьте её"))
+    return 1.0 / interval.value
 
 
 def _check_rising(src: _Source, table: _Table, name: str, t: np.ndarray) -> None:
