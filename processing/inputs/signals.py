@@ -18,6 +18,19 @@ CSV / TXT (``.csv``, ``.txt``, ``.tsv``, ``.dat``)
     ``t``, ``time`` or ``время``, optionally with a unit (``time_s``, ``t, ms``, ``t [us]``),
     is the time base: it must rise uniformly, and the sample rate follows from it. Rows are
     counted as a spreadsheet shows them (the header is row 1).
+CSV exported by an oscilloscope or acquisition program
+    Rigol DS1000Z and DS1000E, Tektronix TDS/TBS1000 and MSO/MDO, Siglent SDS, Keysight
+    InfiniiVision, PicoScope 6/7: recognised by their header rows, not the file's name
+    (:mod:`processing.inputs.scope_exports` lists the layouts). The channels keep the
+    instrument's names (``CH1``, ``Channel A``) and are also chosen by index; the header's
+    time base (Start and Increment, Sample Interval) or the time column with its unit row
+    gives the rate; times go to seconds and values to volts; the header's settings never
+    become data. A header the rows contradict (Record Length, a time column off the stated
+    interval, a skipped sample index, a cut last row, no rows at all) is refused naming the
+    setting and its row. An over-range mark (PicoScope's ``∞``, ``-∞``) is read as the
+    channel's highest (lowest) reading, where a recorder's rail holds a clipped sample, so
+    that :func:`~processing.inputs.record_quality.clipped_mask` and ``check_record`` count
+    it as clipped.
 WAV (``.wav``)
     A sound-card recording: uint8, int16, 24-bit, int32, float32 or float64 samples; the
     channel is its 0-based index or ``"left"`` / ``"right"``. The rate is the file's.
