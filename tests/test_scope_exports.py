@@ -140,23 +140,31 @@ def test_a_channel_in_another_unit_is_refused_when_read(tmp_path):
         open_channel(path, channel="Channel A")
 
 
+MARKS = {"pico": ("Time,Channel A\n(ms),(V)\n\n", {1: "∞", -1: "-∞"}),
+         "keysight": ("x-axis,1\nsecond,Volt\n", {1: "+9.9E+37", -1: "-9.9E+37"})}
+"""An export's header and its over-range marks: PicoScope's, SCPI's (±9.9E+37)."""
+
+
+@pytest.mark.parametrize("style", MARKS)
 @pytest.mark.parametrize("amplitude, decay, clipped", [(1.2, 0.01, "warned"),
                                                       (1.3, np.inf, "refused")])
-def test_over_range_marks_reach_the_clipping_diagnostics(tmp_path, amplitude, decay, clipped):
-    """An 8-bit PicoScope input on its ±1 V range: samples at or beyond full scale are
-    exported as ∞ / -∞; read, they sit at the channel's rail as clipped samples do. A free
-    decay whose first swings overrange (1.4 % of its samples) is warned about; a steady
+def test_over_range_marks_reach_the_clipping_diagnostics(tmp_path, style, amplitude, decay,
+                                                         clipped):
+    """An 8-bit input on its ±1 V range: samples at or beyond full scale are exported as
+    ∞ / -∞ (SCPI: ±9.9E+37); read, they sit at the channel's rail as clipped samples do. A
+    free decay whose first swings overrange (1.4 % of its samples) is warned about; a steady
     oscillation beyond the range (45 %) is refused."""
+    header, marks = MARKS[style]
     t = np.arange(N) / RATE
     swing = amplitude * np.exp(-t / decay) * np.sin(2 * np.pi * 250 * t)
     codes = np.clip(np.round(swing * 127), -127, 127)
     volts = codes / 127
     over = np.where(codes >= 127, 1, np.where(codes <= -127, -1, 0))
-    cells = [{1: "∞", -1: "-∞"}.get(o, repr(v)) for v, o in zip(volts.tolist(), over)]
-    path = tmp_path / "pico.csv"
-    path.write_text("Time,Channel A\n(ms),(V)\n\n"
-                    + "".join(f"{t!r},{c}\n" for t, c in zip((1e3 * np.arange(N) / RATE).tolist(),
-                                                                 cells)),
+    cells = [marks.get(o, repr(v)) for v, o in zip(volts.tolist(), over)]
+    scale = 1e3 if style == "pico" else 1.0
+    path = tmp_path / "export.csv"
+    path.write_text(header + "".join(f"{t!r},{c}\n" for t, c in
+                                     zip((scale * np.arange(N) / RATE).tolist(), cells)),
                     encoding="utf-8")
     x = open_channel(path).read()
     assert np.isfinite(x).all()
@@ -164,13 +172,23 @@ def test_over_range_marks_reach_the_clipping_diagnostics(tmp_path, amplitude, de
     np.testing.assert_array_equal(x[over < 0], volts[over == 0].min())
     np.testing.assert_array_equal(x[over == 0], volts[over == 0])
     assert clipped_mask(x)[over != 0].all(), "every over-range sample counts as clipped"
-    options = dict(file=str(path), field="decay.signal", channel="Channel A")
+    options = dict(file=str(path), field="decay.signal", channel="CH1")
     if clipped == "warned":
         with pytest.warns(ClippedRecordWarning, match="sit at the recorder's limits"):
             check_record(x, RATE, **options)
     else:
         with pytest.raises(InputError, match="is clipped"):
             check_record(x, RATE, **options)
+
+
+def test_an_scpi_not_a_number_is_refused_naming_its_row(tmp_path):
+    path = tmp_path / "keysight.csv"
+    text = "x-axis,1\nsecond,Volt\n" + rows(T[:4], [0.1, 0.2, 0.3, 0.4]).replace(
+        "0.3\n", "9.91E+37\n")
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(InputError, match="row 5, column 'CH1' holds 9.91e\\+37, the "
+                                         "instrument's mark of a sample it does not have"):
+        open_channel(path).read()
 
 
 def test_a_channel_all_over_range_is_refused(tmp_path):

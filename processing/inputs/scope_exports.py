@@ -27,6 +27,9 @@ PicoScope 6 / 7
     ``Time,Channel A,Channel B`` then the units ``(ms),(V),(mV)``, a blank row, then rows;
     ``∞`` and ``-∞`` mark a sample beyond the input range.
 
+In every layout a number of SCPI's, ±9.9E+37 (beyond the range) or 9.91E+37 (no reading), is a
+mark, never a value (:func:`scpi_marks`).
+
 Times are converted to seconds (``s``, ``ms``, ``µs``/``us``, ``ns``) and values to volts
 (``V``, ``mV``, ``µV``); a channel in any other unit is refused when it is read. A header that
 the rows contradict (a ``Record Length`` that is not the number of rows, a time column that
@@ -40,11 +43,20 @@ import math
 import re
 from collections.abc import Callable, Sequence
 
+import numpy as np
+
 PREAMBLE_MOST = 40
 """Rows an export's preamble may take before its first row of numbers."""
 
 OVER = {"∞": 1, "+∞": 1, "-∞": -1, "−∞": -1}
 """Over-range marks (PicoScope) and the side of the range they mark."""
+
+SCPI_INFINITY = 9.9e37
+"""SCPI's +∞ (−9.9E+37: −∞), which SCPI instruments write for a reading beyond their range
+(IEEE 488.2 / SCPI-99 vol. 1 §7.2.1.5); no recorded voltage comes near it."""
+
+SCPI_NAN = 9.91e37
+"""SCPI's not-a-number: a reading the instrument does not have (a hole in the record)."""
 
 TIME_UNITS = {"s": 1.0, "sec": 1.0, "second": 1.0, "seconds": 1.0, "ms": 1e-3, "us": 1e-6,
               "µs": 1e-6, "μs": 1e-6, "ns": 1e-9}
@@ -186,6 +198,32 @@ def recognise(lines: Sequence[tuple[int, str]], refuse: Refuse) -> Layout | None
                               "без данных или обрезан", "экспортируйте осциллограмму заново "
                               "(с точками данных) и скопируйте файл целиком"))
     return layout
+
+
+def scpi_marks(values: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The SCPI marks among an export's numbers.
+
+    Parameters
+    ----------
+    values : ndarray
+        A column as read.
+
+    Returns
+    -------
+    over : ndarray of float
+        +1 at SCPI +∞ (9.9E+37), −1 at −∞, 0 elsewhere.
+    holes : ndarray of bool
+        True at SCPI NaN (9.91E+37).
+
+    Examples
+    --------
+    >>> over, holes = scpi_marks(np.array([0.5, 9.9e37, -9.9e37, 9.91e37]))
+    >>> over.tolist(), holes.tolist()
+    ([0.0, 1.0, -1.0, 0.0], [False, False, False, True])
+    """
+    size = np.abs(values)
+    holes = size >= 0.5 * (SCPI_INFINITY + SCPI_NAN)
+    return np.sign(values) * ((size >= 0.5 * SCPI_INFINITY) & ~holes), holes
 
 
 def _rigol(preamble, sep: str, data) -> Layout | None:

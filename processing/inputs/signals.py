@@ -27,8 +27,8 @@ CSV exported by an oscilloscope or acquisition program
     gives the rate; times go to seconds and values to volts; the header's settings never
     become data. A header the rows contradict (Record Length, a time column off the stated
     interval, a skipped sample index, a cut last row, no rows at all) is refused naming the
-    setting and its row. An over-range mark (PicoScope's ``∞``, ``-∞``) is read as the
-    channel's highest (lowest) reading, where a recorder's rail holds a clipped sample, so
+    setting and its row. An over-range mark (PicoScope's ``∞``, ``-∞``; SCPI's ±9.9E+37) is
+    read as the channel's highest (lowest) reading, where a recorder's rail holds a clipped sample, so
     that :func:`~processing.inputs.record_quality.clipped_mask` and ``check_record`` count
     it as clipped.
 WAV (``.wav``)
@@ -74,7 +74,7 @@ from scipy.io import wavfile
 from processing.diagnostics import InputError
 from processing.files import IMAGE, STREAMED, TABLE, read_text, regular
 from processing.inputs.reuse import by_content
-from processing.inputs.scope_exports import OVER, PREAMBLE_MOST, Layout, recognise
+from processing.inputs.scope_exports import OVER, PREAMBLE_MOST, Layout, recognise, scpi_marks
 
 CHUNK = 2**22
 """Default block length of :meth:`Channel.chunks` [samples]: 32 MB of float64."""
@@ -881,7 +881,20 @@ class _Table:
                                      "здесь)"))
         if self.layout is None:
             return values.copy()        # the caller's own: a table may be read again
-        if over is not None and over.any():
+        over = np.zeros(len(values)) if over is None else over
+        if values.dtype.kind == "f":
+            scpi, holes = scpi_marks(values)
+            if holes.any():
+                row = self.line(int(np.argmax(holes)))
+                raise self.src.error(
+                    f"row {row}, column '{name}' holds {values[holes][0]:.4g}, the "
+                    "instrument's mark of a sample it does not have", "export the waveform "
+                    "again, or reduce a stretch without holes",
+                    ru=(f"строка {row}, столбец '{name}' содержит {values[holes][0]:.4g} — "
+                        "так прибор отмечает отсутствующий отсчёт", "экспортируйте "
+                        "осциллограмму заново или обработайте участок без пропусков"))
+            over = over + scpi
+        if over.any():
             values = self._over(name, values, over)
         return values * self._scale(name)
 
