@@ -17,6 +17,8 @@ the layouts are reproduced from where they are documented or quoted):
 - Siglent SDS: ``Record Length,Analog:4``, ``Sample Interval,1.000000E-07``, ``Vertical
   Units,V``, ``Horizontal Units,s``, ``Source,CH1``, ``Second,Value`` (a public parser's
   fixture);
+- Rigol DS1000E: ``Time,X(CH1),X(CH2),`` / ``Second,Volt,Volt,`` (quoted in a public
+  reader's comments; a public config's DS1102E signature ``Time,X(CH1),X(CH2)``);
 - Keysight InfiniiVision: ``x-axis,1,2`` / ``second,Volt,Volt`` / ``-1.000000E-03,+0.0E+00,
   -402.010E-06`` (the 3000 X-series files quoted by several public readers);
 - PicoScope 6: ``Time,Channel A,Channel B`` / ``(µs),(V),(V)`` (PicoScope 6 User's Guide,
@@ -32,7 +34,7 @@ from labs.registry import evaluate
 from processing.diagnostics import ClippedRecordWarning, InputError
 from processing.inputs.record_quality import check_record, clipped_mask
 from processing.inputs.scope_exports import recognise
-from processing.inputs.signals import open_channel, open_channels, write_csv
+from processing.inputs.signals import open_channel, open_channels, sample_digest, write_csv
 
 RATE = 50e3
 N = 2000
@@ -85,6 +87,10 @@ def keysight(a=A, b=B):
     return "x-axis,1,2\nsecond,Volt,Volt\n" + rows(T, a, b)
 
 
+def rigol_e(a=A, b=B):
+    return "Time,X(CH1),X(CH2),\nSecond,Volt,Volt,\n" + rows(T, a, b, end=",")
+
+
 def pico(a=A, b=B, time_unit="ms", scale=1e3, volt_unit="V", volts=1.0):
     return (f"Time,Channel A,Channel B\n({time_unit}),({volt_unit}),(V)\n\n"
             + rows(T * scale, a * volts, b))
@@ -99,7 +105,7 @@ def plain(tmp_path):
 
 @pytest.mark.parametrize("make, names", [
     (rigol, ("CH1", "CH2")), (mso, ("CH1", "CH2")), (keysight, ("CH1", "CH2")),
-    (pico, ("Channel A", "Channel B"))])
+    (rigol_e, ("CH1", "CH2")), (pico, ("Channel A", "Channel B"))])
 def test_exports_read_as_the_plain_csv_by_name_and_index(tmp_path, plain, make, names):
     path = tmp_path / "export.csv"
     path.write_text(make(), encoding="utf-8")
@@ -109,6 +115,7 @@ def test_exports_read_as_the_plain_csv_by_name_and_index(tmp_path, plain, make, 
         for c, p in zip(read, plain):
             np.testing.assert_array_equal(c.read(), p.read(), err_msg=f"{make.__name__} {c.name}")
             assert c.sample_rate == pytest.approx(p.sample_rate, rel=1e-9)
+    assert sample_digest(path) == sample_digest(plain[0].path), "the same recording saved again"
 
 
 @pytest.mark.parametrize("make, name", [(tektronix, "CH1"), (siglent, "CH1")])

@@ -257,10 +257,12 @@ def _units_row(preamble, sep: str, data) -> Layout | None:
                        re.fullmatch(r"\(.*\)", u) for u in units):
         return None
     keysight = names[0].lower() == "x-axis"
+    rigol = any(re.fullmatch(r"X\(.+\)", n) for n in names[1:])
     names = [names[0]] + [_channel(n) for n in names[1:]]
     pico = all(u.startswith("(") for u in units)
     return Layout("Keysight InfiniiVision" if keysight else "PicoScope" if pico else
-                  "header and units rows", _skip(preamble, data), 2, sep,
+                  "Rigol DS1000E" if rigol else "header and units rows",
+                  _skip(preamble, data), 2, sep,
                   tuple(range(len(names))), tuple(names), dict(zip(names, units)), marks=pico)
 
 

@@ -487,7 +487,8 @@ def read_edge_times(path, *, column: str | int | None = None,
     _file_format(src, ("csv",))
     table = _Table.read(src)
     name = _edge_column(src, table, column)
-    times = table.numbers(name).astype(np.float64) * (_time_scale(name) or 1.0)
+    scale = 1.0 if table.layout is not None else _time_scale(name) or 1.0  # an export's: s
+    times = table.numbers(name).astype(np.float64) * scale
     if len(times) < 3:
         raise src.error(f"only {len(times)} edge time(s) in column '{name}': at least 3 are "
                         "needed", "record longer, or check that the counter wrote every edge")
