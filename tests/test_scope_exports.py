@@ -272,3 +272,59 @@ def test_lab9_gives_the_same_result_from_an_instrument_export(tmp_path, export):
         exported = evaluate(folder / "synthetic_damper.toml", n_samples=2000)
     assert exported.to_dict()["results"] == original.to_dict()["results"]
     assert [w.code for w in exported.warnings] == [w.code for w in original.warnings]
+
+
+LVM = ROOT / "tests" / "data" / "lvm_read_short.lvm"
+"""A LabVIEW-written LVM file (ladisk/lvm_read's data/short.lvm, MIT; tests/data/README.md)."""
+
+
+def labview(a=A, b=B, x_columns="One", segments=1):
+    """A LabVIEW Measurement file as Write To Measurement File saves it (the layout of the
+    real file :data:`LVM`), tab-separated, decimal point."""
+    head = ("LabVIEW Measurement\t\nWriter_Version\t2\nReader_Version\t2\nSeparator\tTab\n"
+            "Decimal_Separator\t.\nMulti_Headings\tNo\n"
+            f"X_Columns\t{x_columns}\nTime_Pref\tRelative\nOperator\tlab\nDate\t2026/11/28\n"
+            "Time\t00:40:00.0\n***End_of_Header***\t\n\t\n")
+    segment = (f"Channels\t2\t\t\nSamples\t{N}\t{N}\t\nDate\t2026/11/28\t2026/11/28\t\n"
+               "Time\t00:40:00.0\t00:40:00.0\t\nY_Unit_Label\tVolts\tVolts\t\n"
+               f"X_Dimension\tTime\tTime\t\nX0\t{T[0]:.16E}\t{T[0]:.16E}\t\n"
+               f"Delta_X\t{1 / RATE:.6E}\t{1 / RATE:.6E}\t\n***End_of_Header***\t\t\t\n"
+               "X_Value\tacc\ttdc\tComment\n")
+    if x_columns == "One":
+        body = rows(T, a, b).replace(",", "\t")
+    else:
+        body = "".join(f"\t{x!r}\t{y!r}\n" for x, y in zip(a.tolist(), b.tolist()))
+    return head + (segment + body) * segments
+
+
+def test_a_labview_written_lvm_file_is_recognised_and_its_units_judged(tmp_path):
+    """The real file's channels are in Newtons and m/s²: refused, the lab wants volts; the
+    same file in Volts reads its decimal-comma samples at 1 / Delta_X = 25 600 Hz."""
+    with pytest.raises(InputError, match="'Excitation \\(Trigger\\)' is in 'Newtons', not in "
+                                         "volts"):
+        open_channel(LVM)
+    volts = tmp_path / "short.lvm"
+    volts.write_text(LVM.read_text(encoding="utf-8").replace("Newtons\tm/s^2", "Volts\tVolts"),
+                     encoding="utf-8")
+    first, second = open_channels(volts, ["Excitation (Trigger)", 1])
+    assert (first.name, second.name) == ("Excitation (Trigger)", "Response (Trigger)")
+    assert first.sample_rate == 25600.0 and first.length == 10
+    np.testing.assert_array_equal(first.read()[:3], [0.914018, 0.537321, 0.616905])
+    np.testing.assert_array_equal(second.read()[-1], 1.212775)
+
+
+@pytest.mark.parametrize("x_columns", ["One", "No"])
+def test_lvm_files_read_as_the_plain_csv(tmp_path, plain, x_columns):
+    path = tmp_path / "run.lvm"
+    path.write_text(labview(x_columns=x_columns), encoding="utf-8")
+    for c, p in zip(open_channels(path, ["acc", "tdc"]), plain):
+        np.testing.assert_array_equal(c.read(), p.read())
+        assert c.sample_rate == pytest.approx(p.sample_rate, rel=1e-9)
+
+
+def test_an_lvm_file_of_two_segments_is_refused(tmp_path):
+    path = tmp_path / "run.lvm"
+    path.write_text(labview(segments=2), encoding="utf-8")
+    with pytest.raises(InputError, match=f"a second segment begins: its header ends at row "
+                                         f"{13 + 9 + 1 + N + 9}"):
+        open_channel(path)

@@ -26,6 +26,12 @@ Keysight / Agilent InfiniiVision; Rigol DS1000E
 PicoScope 6 / 7
     ``Time,Channel A,Channel B`` then the units ``(ms),(V),(mV)``, a blank row, then rows;
     ``∞`` and ``-∞`` mark a sample beyond the input range.
+LabVIEW Measurement (``.lvm``, NI's Write To Measurement File)
+    The file's header and one segment's (``Channels``, ``Samples``, ``Y_Unit_Label``,
+    ``X0``, ``Delta_X``), each closed by ``***End_of_Header***``, then ``X_Value,<channels>,
+    Comment`` and the rows, tab- or comma-separated with the stated decimal separator; the
+    time is a first column (``X_Columns One``) or ``X0 + k·Delta_X`` (``No``). One segment is
+    read: a file of several is refused.
 
 In every layout a number of SCPI's, ±9.9E+37 (beyond the range) or 9.91E+37 (no reading), is a
 mark, never a value (:func:`scpi_marks`).
@@ -65,6 +71,9 @@ TIME_UNITS = {"s": 1.0, "sec": 1.0, "second": 1.0, "seconds": 1.0, "ms": 1e-3, "
 VOLT_UNITS = {"v": 1.0, "volt": 1.0, "volts": 1.0, "mv": 1e-3, "uv": 1e-6, "µv": 1e-6,
               "μv": 1e-6, "kv": 1e3}
 """Volts per unit of an export's channel (units as written, lower case)."""
+
+END_OF_HEADER = "***End_of_Header***"
+"""The line that ends a LabVIEW Measurement file's header and each segment's."""
 
 SETTINGS = {"record length", "sample interval", "memory length", "sampling period",
             "horizontal scale", "vertical units"}
@@ -111,6 +120,11 @@ class Layout:
         The number of samples the header states.
     marks : bool
         Whether cells may hold over-range marks (:data:`OVER`).
+    timed : bool
+        Whether the first of ``names`` is a time column (else the header's interval alone
+        gives the time base).
+    end : str or None
+        The line that ends a header: met again among the rows, it opens a second segment.
     """
 
     instrument: str
@@ -124,11 +138,13 @@ class Layout:
     start: float = 0.0
     length: Field | None = None
     marks: bool = False
+    timed: bool = True
+    end: str | None = None
 
     @property
-    def time(self) -> str:
-        """The time column's name."""
-        return self.names[0]
+    def time(self) -> str | None:
+        """The time column's name, None for an export without one."""
+        return self.names[0] if self.timed else None
 
     def scale(self, name: str) -> float | None:
         """SI units (seconds, volts) per unit of column ``name``, None for a unit not known."""
@@ -175,6 +191,8 @@ def recognise(lines: Sequence[tuple[int, str]], refuse: Refuse) -> Layout | None
     """
     if not lines:
         return None
+    if _cells(lines[0][1], _separator(lines[0][1]))[0] == "LabVIEW Measurement":
+        return _labview(lines, refuse)
     tek = _tektronix(lines)
     if tek is not None:
         return tek
@@ -294,6 +312,59 @@ def _name_values(preamble, sep: str, data) -> Layout | None:
                   tuple(range(len(names))), tuple(names), units,
                   interval=_field(settings, "sample interval", _positive),
                   length=_field(settings, "record length", _whole))
+
+
+def _labview(lines, refuse: Refuse) -> Layout:
+    """A LabVIEW Measurement file (NI's LVM, Writer_Version 2): the file's header, a
+    segment's header (``Channels``, ``Samples``, ``Y_Unit_Label``, ``X0``, ``Delta_X``), each
+    ending in ``***End_of_Header***``, the row of names (``X_Value``, the channels,
+    ``Comment``), the rows; the time is a first column (``X_Columns One``) or ``X0 + k
+    Delta_X`` (``X_Columns No``, the first cell left empty)."""
+    sep = {"tab": "\t", "comma": ",", "semicolon": ";"}
+    ends = [k for k, (_, line) in enumerate(lines) if line.strip().startswith(END_OF_HEADER)]
+    head = {}
+    for _, line in lines[:ends[0] if ends else len(lines)]:
+        cells = _cells(line, "\t" if "\t" in line else ",")
+        head[cells[0].lower()] = cells[1] if len(cells) > 1 else ""
+    separator = sep.get(head.get("separator", "tab").lower(), "\t")
+    columns = head.get("x_columns", "One").lower()
+    if len(ends) < 2 or len(lines) <= ends[1] + 2:
+        raise refuse("the LabVIEW Measurement file holds no segment of samples (a segment "
+                     "header ending in ***End_of_Header***, a row of names, rows of numbers)",
+                     "save the measurement again with Write To Measurement File, segment "
+                     "headers on", ("в файле LabVIEW Measurement нет сегмента отсчётов",
+                                    "сохраните измерение заново (Write To Measurement File) "
+                                    "с заголовками сегментов"))
+    if columns == "multi":
+        raise refuse("the LabVIEW Measurement file has a time column for every channel "
+                     "(X_Columns Multi)", "save it with X Value Columns: One column only (or "
+                     "None) and Decimal_Separator of your choice",
+                     ("в файле LabVIEW Measurement столбец времени у каждого канала "
+                      "(X_Columns Multi)", "сохраните его с X Value Columns: One column only "
+                      "(или None)"))
+    settings = {}
+    for row, line in lines[ends[0] + 1:ends[1]]:
+        cells = _cells(line, separator)
+        settings[cells[0].lower()] = (cells, row)
+    names_row, names_line = lines[ends[1] + 1]
+    names = _filled(_cells(names_line, separator))
+    if names and names[-1] == "Comment":
+        names = names[:-1]
+    count = len(names) - 1
+    units = settings.get("y_unit_label", ([], 0))[0][1:]
+    channels = [_channel(n) for n in names[1:]]
+    unit_of = {n: units[k] if k < len(units) and units[k] else "V"
+               for k, n in enumerate(channels)}
+    timed = columns == "one"
+    start = _number(settings.get("x0", (["", "0"], 0))[0][1]) or 0.0
+    if timed:
+        unit_of[names[0]] = "s"
+    return Layout("LabVIEW Measurement", names_row, ends[1] + 2, separator,
+                  tuple(range(count + 1)) if timed else tuple(range(1, count + 1)),
+                  tuple(([names[0]] if timed else []) + channels), unit_of,
+                  interval=_field(settings, "delta_x", _positive), start=start,
+                  length=_field(settings, "samples", _whole), timed=timed,
+                  end=END_OF_HEADER)
 
 
 def _tektronix(lines) -> Layout | None:

@@ -18,9 +18,10 @@ CSV / TXT (``.csv``, ``.txt``, ``.tsv``, ``.dat``)
     ``t``, ``time`` or ``время``, optionally with a unit (``time_s``, ``t, ms``, ``t [us]``),
     is the time base: it must rise uniformly, and the sample rate follows from it. Rows are
     counted as a spreadsheet shows them (the header is row 1).
-CSV exported by an oscilloscope or acquisition program
+CSV exported by an oscilloscope or acquisition program; LabVIEW Measurement (``.lvm``)
     Rigol DS1000Z and DS1000E, Tektronix TDS/TBS1000 and MSO/MDO, Siglent SDS, Keysight
-    InfiniiVision, PicoScope 6/7: recognised by their header rows, not the file's name
+    InfiniiVision, PicoScope 6/7, LabVIEW's Write To Measurement File (one segment):
+    recognised by their header rows, not the file's name
     (:mod:`processing.inputs.scope_exports` lists the layouts). The channels keep the
     instrument's names (``CH1``, ``Channel A``) and are also chosen by index; the header's
     time base (Start and Increment, Sample Interval) or the time column with its unit row
@@ -90,8 +91,8 @@ RATE_TOLERANCE = 1e-3
 """Relative disagreement allowed between a given sample rate and the file's, and the allowed
 relative deviation of a CSV time step from the usual (median) step."""
 
-_FORMATS = {".csv": "csv", ".txt": "csv", ".tsv": "csv", ".dat": "csv", ".wav": "wav",
-            ".h5": "hdf5", ".hdf5": "hdf5"}
+_FORMATS = {".csv": "csv", ".txt": "csv", ".tsv": "csv", ".dat": "csv", ".lvm": "csv",
+            ".wav": "wav", ".h5": "hdf5", ".hdf5": "hdf5"}
 _FORMAT_HINTS = {"csv": ".csv or .txt (a table of numbers)", "wav": ".wav (a sound-card recording)",
                  "hdf5": ".h5 or .hdf5", "image": ".png, .jpg or .tif (a photograph or scan of "
                  "a paper record)"}
@@ -792,6 +793,7 @@ class _Table:
     def _export(cls, src: _Source, text: str, layout: Layout) -> _Table:
         """An instrument's export (:mod:`processing.inputs.scope_exports`): its columns of
         numbers read under the instrument's names, the rows counted against its header."""
+        cls._check_segments(src, text, layout)
         data = next(itertools.islice(_content_lines(text), layout.lead, None))[1]
         decimal = "," if layout.sep != "," and "," in data else "."
         try:
@@ -808,6 +810,22 @@ class _Table:
         table = cls(src, frame.set_axis(list(layout.names), axis=1), text, True, decimal, layout)
         table._check_export()
         return table
+
+    @staticmethod
+    def _check_segments(src: _Source, text: str, layout: Layout) -> None:
+        """One segment of an export whose headers end in a mark line (LabVIEW's): a header
+        met among the rows opens a second, refused."""
+        end = layout.end
+        if end is None or text.count(end) <= 2:
+            return
+        at = text.index(end, text.index(end, text.index(end) + 1) + 1)
+        row = text.count("\n", 0, at) + 1
+        raise src.error(f"a second segment begins: its header ends at row {row}",
+                             "save one segment a file (Write To Measurement File: one header "
+                             "only, or a new file for each segment)",
+                             ru=(f"начинается второй сегмент: его заголовок кончается в "
+                                 f"строке {row}", "сохраняйте по сегменту в файл (Write To "
+                                 "Measurement File: один заголовок или новый файл на сегмент)"))
 
     def _check_export(self) -> None:
         """An export's rows against its header: the stated number of samples, a last row
@@ -1029,6 +1047,8 @@ def _time_base(src: _Source, table: _Table) -> tuple[str | None, float | None]:
     """The time column's name and the sample rate it implies, or (None, None). An export's
     header interval gives its rate, every step of its time column checked against it."""
     layout, interval = table.layout, None
+    if layout is not None and layout.time is None:
+        return None, None if layout.interval is None else 1.0 / layout.interval.value
     if layout is not None:
         first, interval = layout.time, layout.interval
         t = table.numbers(first)
