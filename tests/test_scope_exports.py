@@ -152,6 +152,14 @@ MARKS = {"pico": ("Time,Channel A\n(ms),(V)\n\n", {1: "∞", -1: "-∞"}),
 """An export's header and its over-range marks: PicoScope's, SCPI's (±9.9E+37)."""
 
 
+def test_a_time_axis_in_another_unit_is_refused(tmp_path):
+    path = tmp_path / "pico.csv"
+    path.write_text(pico(time_unit="div"), encoding="utf-8")
+    with pytest.raises(InputError, match=r"the time column 'Time' is in '\(div\)', not a unit of "
+                                         "time.*s, ms, µs or ns"):
+        open_channel(path)
+
+
 @pytest.mark.parametrize("style", MARKS)
 @pytest.mark.parametrize("amplitude, decay, clipped", [(1.2, 0.01, "warned"),
                                                       (1.3, np.inf, "refused")])

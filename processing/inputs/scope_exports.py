@@ -59,7 +59,8 @@ OVER = {"∞": 1, "+∞": 1, "-∞": -1, "−∞": -1}
 
 SCPI_INFINITY = 9.9e37
 """SCPI's +∞ (−9.9E+37: −∞), which SCPI instruments write for a reading beyond their range
-(IEEE 488.2 / SCPI-99 vol. 1 §7.2.1.5); no recorded voltage comes near it."""
+(SCPI-99, vol. 1, the special numeric values INFinity and NAN); no recorded voltage comes near
+it."""
 
 SCPI_NAN = 9.91e37
 """SCPI's not-a-number: a reading the instrument does not have (a hole in the record)."""
@@ -114,8 +115,6 @@ class Layout:
         Each column's unit as written (the time column's: ``"Sequence"`` for a sample index).
     interval : Field or None
         The sampling interval the header states [s].
-    start : float
-        The header's time of the first sample, or 0 [s].
     length : Field or None
         The number of samples the header states.
     marks : bool
@@ -135,7 +134,6 @@ class Layout:
     names: tuple[str, ...]
     units: dict[str, str]
     interval: Field | None = None
-    start: float = 0.0
     length: Field | None = None
     marks: bool = False
     timed: bool = True
@@ -186,8 +184,8 @@ def recognise(lines: Sequence[tuple[int, str]], refuse: Refuse) -> Layout | None
     --------
     >>> rows = ["X,CH1,Start,Increment,", "Sequence,Volt,-2.0e-02,2.0e-05,", "0,0.01,"]
     >>> lay = recognise(list(enumerate(rows, 1)), None)
-    >>> lay.instrument, lay.names, lay.scale("X"), lay.start, lay.skip
-    ('Rigol DS1000Z', ('X', 'CH1'), 2e-05, -0.02, 2)
+    >>> lay.instrument, lay.names, lay.scale("X"), lay.skip
+    ('Rigol DS1000Z', ('X', 'CH1'), 2e-05, 2)
     """
     if not lines:
         return None
@@ -261,8 +259,7 @@ def _rigol(preamble, sep: str, data) -> Layout | None:
     row = preamble[1][0]
     return Layout("Rigol DS1000Z", _skip(preamble, data), 2, sep, tuple(range(channels)),
                   tuple(names[:channels]), dict(zip(names[:channels], values[:channels])),
-                  interval=Field(names[at_step], _number(values[at_step]), row),
-                  start=_number(values[at_start]))
+                  interval=Field(names[at_step], _number(values[at_step]), row))
 
 
 def _units_row(preamble, sep: str, data) -> Layout | None:
@@ -292,7 +289,7 @@ def _name_values(preamble, sep: str, data) -> Layout | None:
     settings = {}
     for row, line in preamble[:-1]:
         cells = _filled(_cells(line, sep))
-        if cells and cells[0]:
+        if len(cells) > 1 and cells[0]:
             settings[cells[0].lower()] = (cells, row)
     if not settings:
         return None
@@ -356,13 +353,12 @@ def _labview(lines, refuse: Refuse) -> Layout:
     unit_of = {n: units[k] if k < len(units) and units[k] else "V"
                for k, n in enumerate(channels)}
     timed = columns == "one"
-    start = _number(settings.get("x0", (["", "0"], 0))[0][1]) or 0.0
     if timed:
         unit_of[names[0]] = "s"
     return Layout("LabVIEW Measurement", names_row, ends[1] + 2, separator,
                   tuple(range(count + 1)) if timed else tuple(range(1, count + 1)),
                   tuple(([names[0]] if timed else []) + channels), unit_of,
-                  interval=_field(settings, "delta_x", _positive), start=start,
+                  interval=_field(settings, "delta_x", _positive),
                   length=_field(settings, "samples", _whole), timed=timed,
                   end=END_OF_HEADER)
 

@@ -29,9 +29,9 @@ CSV exported by an oscilloscope or acquisition program; LabVIEW Measurement (``.
     become data. A header the rows contradict (Record Length, a time column off the stated
     interval, a skipped sample index, a cut last row, no rows at all) is refused naming the
     setting and its row. An over-range mark (PicoScope's ``∞``, ``-∞``; SCPI's ±9.9E+37) is
-    read as the channel's highest (lowest) reading, where a recorder's rail holds a clipped sample, so
-    that :func:`~processing.inputs.record_quality.clipped_mask` and ``check_record`` count
-    it as clipped.
+    read as the channel's highest (lowest) reading, where a recorder's rail holds a clipped
+    sample, so that :func:`~processing.inputs.record_quality.clipped_mask` and
+    ``check_record`` count it as clipped.
 WAV (``.wav``)
     A sound-card recording: uint8, int16, 24-bit, int32, float32 or float64 samples; the
     channel is its 0-based index or ``"left"`` / ``"right"``. The rate is the file's.
@@ -821,11 +821,11 @@ class _Table:
         at = text.index(end, text.index(end, text.index(end) + 1) + 1)
         row = text.count("\n", 0, at) + 1
         raise src.error(f"a second segment begins: its header ends at row {row}",
-                             "save one segment a file (Write To Measurement File: one header "
-                             "only, or a new file for each segment)",
-                             ru=(f"начинается второй сегмент: его заголовок кончается в "
-                                 f"строке {row}", "сохраняйте по сегменту в файл (Write To "
-                                 "Measurement File: один заголовок или новый файл на сегмент)"))
+                        "save one segment a file (Write To Measurement File: one header only, "
+                        "or a new file for each segment)",
+                        ru=(f"начинается второй сегмент: его заголовок кончается в строке "
+                            f"{row}", "сохраняйте по сегменту в файл (Write To Measurement File: "
+                            "один заголовок или новый файл на сегмент)"))
 
     def _check_export(self) -> None:
         """An export's rows against its header: the stated number of samples, a last row
@@ -935,18 +935,22 @@ class _Table:
     def _scale(self, name: str) -> float:
         """Seconds or volts per unit of an export's column ``name``."""
         scale = self.layout.scale(name)
-        if scale is None:
-            unit = self.layout.units.get(name, "")
-            raise self.src.error(f"column '{name}' is in '{unit}', not in volts"
-                                 if name != self.layout.time else
-                                 f"the time column '{name}' is in '{unit}', not a unit of time",
-                                 "export the channel in volts (V or mV), the probe's scaling "
-                                 "off: the lab converts volts with the sensor's own sensitivity",
-                                 ru=(f"столбец '{name}' в '{unit}', а не в вольтах",
-                                     "экспортируйте канал в вольтах (V или mV), без пересчёта "
-                                     "пробника: лаб. работа пересчитывает вольты по "
-                                     "чувствительности датчика"))
-        return scale
+        if scale is not None:
+            return scale
+        unit = self.layout.units.get(name, "")
+        if name == self.layout.time:
+            raise self.src.error(f"the time column '{name}' is in '{unit}', not a unit of time",
+                                 "export the waveform with its time axis in s, ms, µs or ns",
+                                 ru=(f"столбец времени '{name}' в '{unit}', а не в единицах "
+                                     "времени", "экспортируйте осциллограмму со временем в "
+                                     "s, ms, µs или ns"))
+        raise self.src.error(f"column '{name}' is in '{unit}', not in volts",
+                             "export the channel in volts (V or mV), the probe's scaling off: "
+                             "the lab converts volts with the sensor's own sensitivity",
+                             ru=(f"столбец '{name}' в '{unit}', а не в вольтах",
+                                 "экспортируйте канал в вольтах (V или mV), без пересчёта "
+                                 "пробника: лаб. работа пересчитывает вольты по "
+                                 "чувствительности датчика"))
 
 
 def _read_text(src: _Source) -> str:
