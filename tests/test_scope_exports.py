@@ -17,8 +17,11 @@ the layouts are reproduced from where they are documented or quoted):
 - Siglent SDS: ``Record Length,Analog:4``, ``Sample Interval,1.000000E-07``, ``Vertical
   Units,V``, ``Horizontal Units,s``, ``Source,CH1``, ``Second,Value`` (a public parser's
   fixture);
-- Rigol DS1000E: ``Time,X(CH1),X(CH2),`` / ``Second,Volt,Volt,`` (quoted in a public
-  reader's comments; a public config's DS1102E signature ``Time,X(CH1),X(CH2)``);
+- Rigol DS1000E: ``X,CH1,CH2`` / ``Second,Voltage,Voltage`` / ``-8.19E-06,-4.00E-03,
+  -2.40E-01``, the times printed to three digits so that five rows share one (DS1052E.csv and
+  DS1102E-A.csv, exported by the scopes, in scottprahl/RigolWFM's wfm/); and ``Time,X(CH1),
+  X(CH2),`` / ``Second,Volt,Volt,`` (quoted in a public reader's comments; a public config's
+  DS1102E signature ``Time,X(CH1),X(CH2)``);
 - Keysight InfiniiVision: ``x-axis,1,2`` / ``second,Volt,Volt`` / ``-1.000000E-03,+0.0E+00,
   -402.010E-06`` (the 3000 X-series files quoted by several public readers);
 - PicoScope 6: ``Time,Channel A,Channel B`` / ``(µs),(V),(V)`` (PicoScope 6 User's Guide,
@@ -336,3 +339,25 @@ def test_an_lvm_file_of_two_segments_is_refused(tmp_path):
     with pytest.raises(InputError, match=f"a second segment begins: its header ends at row "
                                          f"{13 + 9 + 1 + N + 9}"):
         open_channel(path)
+
+
+def ds1000e(rate=500e6, n=N):
+    """A Rigol DS1052E export as the scope writes it: times and volts to three digits."""
+    t = -8.19e-06 + np.arange(n) / rate
+    return ("X,CH1,CH2\nSecond,Voltage,Voltage\n"
+            + "".join(f"{s:.2E},{a:.2E},{b:.2E}\n" for s, a, b in zip(t, A[:n], B[:n])))
+
+
+def test_a_ds1000e_export_takes_its_rate_from_sample_rate_checked_against_its_times(tmp_path):
+    path = tmp_path / "ds1052e.csv"
+    path.write_text(ds1000e(), encoding="utf-8")
+    with pytest.raises(InputError, match=r"the time column 'X' repeats its times from row 4 "
+                                         r"\(-8.19e-06 s\).*give sample_rate"):
+        open_channel(path)
+    first, second = open_channels(path, ["CH1", "CH2"], sample_rate=500e6)
+    assert first.sample_rate == 500e6 and first.length == N
+    np.testing.assert_array_equal(second.read(), [float(f"{b:.2E}") for b in B])
+    with pytest.raises(InputError, match=r"sample_rate = 5e\+07 Hz puts row 5 at -8.15e-06 s, but its "
+                                         r"time is -8.19e-06 s \(the times are rounded to "
+                                         r"1e-08 s\)"):
+        open_channel(path, sample_rate=50e6)

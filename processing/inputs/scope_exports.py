@@ -21,8 +21,11 @@ Name–value preamble (Tektronix MSO/DPO/TBS2000, Siglent SDS)
     ``Second,Volt,Volt`` or ``Second,Value``, whose channels are named by ``Source``), then rows
     of numbers. Siglent's ``Record Length,Analog:1400`` counts the analog samples.
 Keysight / Agilent InfiniiVision; Rigol DS1000E
-    ``x-axis,1,2`` then ``second,Volt,Volt`` (Rigol DS1000E: ``Time,X(CH1),X(CH2),`` then
-    ``Second,Volt,Volt,``), then rows; channel k is named ``CHk``.
+    ``x-axis,1,2`` then ``second,Volt,Volt`` (Rigol DS1000E: ``X,CH1,CH2`` then
+    ``Second,Voltage,Voltage``, or ``Time,X(CH1),X(CH2),`` then ``Second,Volt,Volt,``), then
+    rows; channel k is named ``CHk``. The DS1000E prints its times to three digits, so that
+    they repeat: its rate is the ``sample_rate`` given, checked against them within their
+    rounding.
 PicoScope 6 / 7
     ``Time,Channel A,Channel B`` then the units ``(ms),(V),(mV)``, a blank row, then rows;
     ``∞`` and ``-∞`` mark a sample beyond the input range.
@@ -69,7 +72,7 @@ TIME_UNITS = {"s": 1.0, "sec": 1.0, "second": 1.0, "seconds": 1.0, "ms": 1e-3, "
               "µs": 1e-6, "μs": 1e-6, "ns": 1e-9}
 """Seconds per unit of an export's time axis (units as written, lower case)."""
 
-VOLT_UNITS = {"v": 1.0, "volt": 1.0, "volts": 1.0, "mv": 1e-3, "uv": 1e-6, "µv": 1e-6,
+VOLT_UNITS = {"v": 1.0, "volt": 1.0, "volts": 1.0, "voltage": 1.0, "mv": 1e-3, "uv": 1e-6, "µv": 1e-6,
               "μv": 1e-6, "kv": 1e3}
 """Volts per unit of an export's channel (units as written, lower case)."""
 
@@ -267,12 +270,13 @@ def _units_row(preamble, sep: str, data) -> Layout | None:
     if len(preamble) != 2:
         return None
     names, units = (_filled(_cells(line, sep)) for _, line in preamble)
-    if len(units) != len(names) or not _TIME_HEADER.fullmatch(names[0].lower()) \
+    if len(units) != len(names) or not (_TIME_HEADER.fullmatch(names[0].lower())
+                                        or units[0].lower() in TIME_UNITS) \
             or not all(u.strip("()[] ").lower() in TIME_UNITS | VOLT_UNITS or
                        re.fullmatch(r"\(.*\)", u) for u in units):
         return None
     keysight = names[0].lower() == "x-axis"
-    rigol = any(re.fullmatch(r"X\(.+\)", n) for n in names[1:])
+    rigol = names[0] == "X" or any(re.fullmatch(r"X\(.+\)", n) for n in names[1:])
     names = [names[0]] + [_channel(n) for n in names[1:]]
     pico = all(u.startswith("(") for u in units)
     return Layout("Keysight InfiniiVision" if keysight else "PicoScope" if pico else

@@ -1020,7 +1020,7 @@ def _clean_columns(frame: pd.DataFrame, header: bool) -> pd.DataFrame:
 
 def _csv_channels(src: _Source, selectors: list, given: float | None) -> list[Channel]:
     table = _Table.read(src)
-    time, found = _time_base(src, table)
+    time, found = _time_base(src, table, given)
     data = [n for n in table.names if n != time]
     if not data:
         raise src.error(f"only a time column '{time}', no data column",
@@ -1047,9 +1047,12 @@ def _memory_reader(values: np.ndarray) -> Iterator[_Reader]:
     yield lambda a, b: values[a:b].copy()
 
 
-def _time_base(src: _Source, table: _Table) -> tuple[str | None, float | None]:
+def _time_base(src: _Source, table: _Table,
+               given: float | None = None) -> tuple[str | None, float | None]:
     """The time column's name and the sample rate it implies, or (None, None). An export's
-    header interval gives its rate, every step of its time column checked against it."""
+    header interval gives its rate, every step of its time column checked against it; an
+    export's time column rounded so far that it repeats gives none, and ``given`` [Hz] is
+    checked against it (:func:`_rounded_rate`)."""
     layout, interval = table.layout, None
     if layout is not None and layout.time is None:
         return None, None if layout.interval is None else 1.0 / layout.interval.value
@@ -1069,6 +1072,8 @@ def _time_base(src: _Source, table: _Table) -> tuple[str | None, float | None]:
                             "времени", "экспортируйте всю запись"))
     if interval is not None:
         return first, _stated_rate(src, table, t, interval)
+    if layout is not None and (np.diff(t) == 0).any():
+        return first, _rounded_rate(src, table, t, given)
     _check_rising(src, table, first, t)
     steps = np.diff(t)
     typical = np.median(steps)
@@ -1081,6 +1086,39 @@ def _time_base(src: _Source, table: _Table) -> tuple[str | None, float | None]:
                         "stretch; if the times were rounded on export, write them with more "
                         "digits, or delete the time column and give sample_rate")
     return first, (len(t) - 1) / (t[-1] - t[0])  # the mean step: robust to rounded times
+
+
+def _rounded_rate(src: _Source, table: _Table, t: np.ndarray, given: float | None) -> float:
+    """The ``given`` sample rate [Hz] of an export whose times (``t`` [s]) were printed with
+    too few digits to tell the samples apart (Rigol DS1000E: three), once they agree with it:
+    they never fall, and each lies within two of their largest steps (a unit of their last
+    digit) of ``t[0] + k / given``."""
+    name = table.layout.time
+    _check_rising(src, table, name, t, strict=False)
+    k = int(np.argmax(np.diff(t) == 0)) + 1
+    if given is None:
+        raise src.error(f"the time column '{name}' repeats its times from row {table.line(k)} "
+                        f"({t[k]:.6g} s): the instrument printed them with too few digits to "
+                        "give the sample rate", "give sample_rate = the oscilloscope's Sa/s "
+                        "(shown on its screen); the times are then checked against it",
+                        ru=(f"столбец времени '{name}' повторяет значения со строки "
+                            f"{table.line(k)} ({t[k]:.6g} с): прибор записал время слишком "
+                            "малым числом цифр, и частоту отсчётов по нему не найти",
+                            "задайте sample_rate = частота дискретизации осциллографа (Sa/s "
+                            "на его экране); время будет проверено по ней"))
+    off = np.abs(t - t[0] - np.arange(len(t)) / given)
+    unit = np.diff(t).max()
+    if (off > 2 * unit).any():
+        k = int(np.argmax(off > 2 * unit))
+        raise src.error(f"sample_rate = {given:.6g} Hz puts row {table.line(k)} at "
+                        f"{t[0] + k / given:.6g} s, but its time is {t[k]:.6g} s (the times "
+                        f"are rounded to {unit:.3g} s)", "give the oscilloscope's true Sa/s, "
+                        "or check that this is the right file",
+                        ru=(f"при sample_rate = {given:.6g} Гц строка {table.line(k)} "
+                            f"приходится на {t[0] + k / given:.6g} с, а её время {t[k]:.6g} с "
+                            f"(время округлено до {unit:.3g} с)", "укажите истинную частоту "
+                            "дискретизации осциллографа или проверьте, тот ли это файл"))
+    return given
 
 
 def _stated_rate(src: _Source, table: _Table, t: np.ndarray, interval) -> float:
@@ -1104,14 +1142,17 @@ def _stated_rate(src: _Source, table: _Table, t: np.ndarray, interval) -> float:
     return 1.0 / interval.value
 
 
-def _check_rising(src: _Source, table: _Table, name: str, t: np.ndarray) -> None:
-    falls = np.diff(t) <= 0
+def _check_rising(src: _Source, table: _Table, name: str, t: np.ndarray, *,
+                  strict: bool = True) -> None:
+    """Times that rise (``strict``) or, rounded, never fall."""
+    falls = np.diff(t) <= 0 if strict else np.diff(t) < 0
     if falls.any():
         k = int(np.argmax(falls))
-        raise src.error(f"column '{name}' is not strictly increasing at row {table.line(k + 1)}"
+        how, how_ru = ("strictly increasing", "строго ") if strict else ("rising", "")
+        raise src.error(f"column '{name}' is not {how} at row {table.line(k + 1)}"
                         f" ({t[k + 1]:.9g} s after {t[k]:.9g} s)", "times must rise: remove "
                         "repeated rows, and split a recording whose counter restarted",
-                        ru=(f"столбец '{name}' не возрастает строго в строке "
+                        ru=(f"столбец '{name}' не возрастает {how_ru}в строке "
                             f"{table.line(k + 1)} ({t[k + 1]:.9g} с после {t[k]:.9g} с)",
                             "время должно расти: удалите повторные строки и разделите запись, "
                             "счётчик которой начался заново"))
