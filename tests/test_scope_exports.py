@@ -361,3 +361,20 @@ def test_a_ds1000e_export_takes_its_rate_from_sample_rate_checked_against_its_ti
                                          r"time is -8.19e-06 s \(the times are rounded to "
                                          r"1e-08 s\)"):
         open_channel(path, sample_rate=50e6)
+
+
+def test_the_first_rows_of_a_real_ds1054z_export(tmp_path):
+    """The first rows of DS1054Z-A.csv (scottprahl/RigolWFM, wfm/), as the scope wrote them:
+    four channels, the second header row without the trailing comma the rows carry."""
+    path = tmp_path / "DS1054Z-A.csv"
+    path.write_text("X,CH1,CH2,CH3,CH4,Start,Increment,\n"
+                    "Sequence,Volt,Volt,Volt,Volt,-3.000000e-07,5.000000e-10\n"
+                    "0,3.28e+00,9.60e-01,-1.60e-01,0.00e+00,\n"
+                    "1,3.28e+00,9.60e-01,-1.60e-01,0.00e+00,\n"
+                    "2,3.20e+00,9.60e-01,-8.00e-02,0.00e+00,\n"
+                    "3,3.20e+00,9.60e-01,-8.00e-02,0.00e+00,\n"
+                    "4,3.20e+00,1.12e+00,0.00e+00,0.00e+00,\n", encoding="utf-8")
+    channels = open_channels(path, ["CH3", 3])
+    assert [c.name for c in channels] == ["CH3", "CH4"]
+    assert channels[0].sample_rate == pytest.approx(2e9, rel=1e-12)
+    np.testing.assert_array_equal(channels[0].read(), [-0.16, -0.16, -0.08, -0.08, 0.0])
