@@ -378,3 +378,41 @@ def test_the_first_rows_of_a_real_ds1054z_export(tmp_path):
     assert [c.name for c in channels] == ["CH3", "CH4"]
     assert channels[0].sample_rate == pytest.approx(2e9, rel=1e-12)
     np.testing.assert_array_equal(channels[0].read(), [-0.16, -0.16, -0.08, -0.08, 0.0])
+
+
+TDS2001C = """Record Length,2.50E+03,,-0.00000033,0.0056
+Sample Interval,1.00E-09,,-0.000000329,0.0056
+Trigger Point,3.30E+02,,-0.000000328,0.0056
+,,,-0.000000327,0.0056
+,,,-0.000000326,0.0056
+,,,-0.000000325,0.0048
+Source,CH1,,-0.000000324,0.0056
+Vertical Units,V,,-0.000000323,0.0056
+Vertical Scale,2.00E-02,,-0.000000322,0.0048
+Vertical Offset,-4.32E-02,,-0.000000321,0.0056
+Horizontal Units,s,,-0.00000032,0.0048
+Horizontal Scale,2.50E-07,,-0.000000319,0.0056
+Pt Fmt,Y,,-0.000000318,0.0048
+Yzero,0.00E+00,,-0.000000317,0.0048
+Probe Atten,1.00E+01,,-0.000000316,0.0048
+Model Number,TDS2001C,,-0.000000315,0.0048
+Serial Number,C040529,,-0.000000314,0.0048
+Firmware Version,FV:v24.26,,-0.000000313,0.0048
+,,,-0.000000312,0.0048
+,,,-0.000000311,0.0048
+,,,-0.00000031,0.0056
+"""
+"""The first 21 rows of a TDS2001C's F0000CH1.CSV as the scope wrote it (chemdrv/
+python-for-pchem): no trailing comma, the settings printed as 2.50E+03."""
+
+
+def test_the_first_rows_of_a_real_tds2001c_export(tmp_path):
+    path = tmp_path / "F0000CH1.CSV"
+    path.write_text(TDS2001C, encoding="utf-8")
+    with pytest.raises(InputError, match=r"'Record Length' \(row 1\) says 2500 samples, but 21 "
+                                         "rows of numbers follow"):
+        open_channel(path)
+    path.write_text(TDS2001C.replace("2.50E+03", "21"), encoding="utf-8")
+    channel = open_channel(path, channel="CH1")
+    assert channel.sample_rate == pytest.approx(1e9, rel=1e-12) and channel.length == 21
+    np.testing.assert_array_equal(channel.read()[:6], [0.0056] * 5 + [0.0048])
