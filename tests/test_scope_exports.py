@@ -416,3 +416,15 @@ def test_the_first_rows_of_a_real_tds2001c_export(tmp_path):
     channel = open_channel(path, channel="CH1")
     assert channel.sample_rate == pytest.approx(1e9, rel=1e-12) and channel.length == 21
     np.testing.assert_array_equal(channel.read()[:6], [0.0056] * 5 + [0.0048])
+
+
+def test_the_picoscope_manuals_layout(tmp_path):
+    """PicoScope 6 User's Guide, §6.1.1.1.1: "Time, Channel A, Channel B / (µs), (V), (V) /
+    -500.004, 5.511, 1.215 / -500.002, 4.724, 2.130 / -500, 5.552, 2.212" (a space after each
+    comma, no blank row)."""
+    path = tmp_path / "pico.csv"
+    path.write_text("Time, Channel A, Channel B\n(µs), (V), (V)\n-500.004, 5.511, 1.215\n"
+                    "-500.002, 4.724, 2.130\n-500, 5.552, 2.212\n", encoding="utf-8")
+    a, b = open_channels(path, ["Channel A", "Channel B"])
+    assert a.sample_rate == pytest.approx(500e6, rel=1e-6)  # 2 ns steps
+    np.testing.assert_array_equal(b.read(), [1.215, 2.130, 2.212])
