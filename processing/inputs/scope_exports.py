@@ -299,7 +299,7 @@ def _name_values(preamble, sep: str, data) -> Layout | None:
         return None
     columns = names[1:]
     vertical = settings.get("vertical units", ([], 0))[0][1:]
-    if all(c.lower() in set(VOLT_UNITS) | {"value"} for c in columns):   # Siglent: Second,Volt,Volt
+    if all(c.lower() in set(VOLT_UNITS) | {"value"} for c in columns):  # Siglent's Second,Volt
         vertical = [c if c.lower() in VOLT_UNITS else "V" for c in columns]
         source = settings.get("source", ([], 0))[0][1:]
         columns = source if len(source) == len(columns) else \
@@ -339,7 +339,7 @@ def _labview(lines, refuse: Refuse) -> Layout:
     if columns == "multi":
         raise refuse("the LabVIEW Measurement file has a time column for every channel "
                      "(X_Columns Multi)", "save it with X Value Columns: One column only (or "
-                     "None) and Decimal_Separator of your choice",
+                     "None)",
                      ("в файле LabVIEW Measurement столбец времени у каждого канала "
                       "(X_Columns Multi)", "сохраните его с X Value Columns: One column only "
                       "(или None)"))
@@ -369,7 +369,7 @@ def _labview(lines, refuse: Refuse) -> Layout:
 
 def _tektronix(lines) -> Layout | None:
     """TDS/TBS1000: settings in columns 1–2 beside the data in columns 4–5 of every row."""
-    row, line = lines[0]
+    line = lines[0][1]
     sep = _separator(line)
     cells = _cells(line, sep)
     if cells[0].lower() != "record length" or len(cells) < 5 or not _numbers(sep.join(cells[3:5])):
