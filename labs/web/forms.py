@@ -27,7 +27,7 @@ from processing.measurement import META_KEYS, Field, LabSpec
 from processing.inputs.toml_writer import value_text
 from processing.units import SLIP_UNITS, same_kind, unit_text
 
-FILE_ACCEPT = "image/*,video/*,.csv,.tsv,.txt,.wav,.h5,.hdf5"
+FILE_ACCEPT = "image/*,video/*,.csv,.tsv,.txt,.lvm,.wav,.h5,.hdf5"
 """What a file field offers to pick: a phone's camera (photographs, films) and recordings."""
 
 FILM_ACCEPT = "video/*"

@@ -18,6 +18,20 @@ CSV / TXT (``.csv``, ``.txt``, ``.tsv``, ``.dat``)
     ``t``, ``time`` or ``время``, optionally with a unit (``time_s``, ``t, ms``, ``t [us]``),
     is the time base: it must rise uniformly, and the sample rate follows from it. Rows are
     counted as a spreadsheet shows them (the header is row 1).
+CSV exported by an oscilloscope or acquisition program; LabVIEW Measurement (``.lvm``)
+    Rigol DS1000Z and DS1000E, Tektronix TDS/TBS1000 and MSO/MDO, Siglent SDS, Keysight
+    InfiniiVision, PicoScope 6/7, LabVIEW's Write To Measurement File (one segment):
+    recognised by their header rows, not the file's name
+    (:mod:`processing.inputs.scope_exports` lists the layouts). The channels keep the
+    instrument's names (``CH1``, ``Channel A``) and are also chosen by index; the header's
+    time base (Start and Increment, Sample Interval) or the time column with its unit row
+    gives the rate; times go to seconds and values to volts; the header's settings never
+    become data. A header the rows contradict (Record Length, a time column off the stated
+    interval, a skipped sample index, a cut last row, no rows at all) is refused naming the
+    setting and its row. An over-range mark (PicoScope's ``∞``, ``-∞``; SCPI's ±9.9E+37) is
+    read as the channel's highest (lowest) reading, where a recorder's rail holds a clipped
+    sample, so that :func:`~processing.inputs.record_quality.clipped_mask` and
+    ``check_record`` count it as clipped.
 WAV (``.wav``)
     A sound-card recording: uint8, int16, 24-bit, int32, float32 or float64 samples; the
     channel is its 0-based index or ``"left"`` / ``"right"``. The rate is the file's.
@@ -61,6 +75,7 @@ from scipy.io import wavfile
 from processing.diagnostics import InputError
 from processing.files import IMAGE, STREAMED, TABLE, read_text, regular
 from processing.inputs.reuse import by_content
+from processing.inputs.scope_exports import OVER, PREAMBLE_MOST, Layout, recognise, scpi_marks
 
 CHUNK = 2**22
 """Default block length of :meth:`Channel.chunks` [samples]: 32 MB of float64."""
@@ -76,8 +91,8 @@ RATE_TOLERANCE = 1e-3
 """Relative disagreement allowed between a given sample rate and the file's, and the allowed
 relative deviation of a CSV time step from the usual (median) step."""
 
-_FORMATS = {".csv": "csv", ".txt": "csv", ".tsv": "csv", ".dat": "csv", ".wav": "wav",
-            ".h5": "hdf5", ".hdf5": "hdf5"}
+_FORMATS = {".csv": "csv", ".txt": "csv", ".tsv": "csv", ".dat": "csv", ".lvm": "csv",
+            ".wav": "wav", ".h5": "hdf5", ".hdf5": "hdf5"}
 _FORMAT_HINTS = {"csv": ".csv or .txt (a table of numbers)", "wav": ".wav (a sound-card recording)",
                  "hdf5": ".h5 or .hdf5", "image": ".png, .jpg or .tif (a photograph or scan of "
                  "a paper record)"}
@@ -473,7 +488,8 @@ def read_edge_times(path, *, column: str | int | None = None,
     _file_format(src, ("csv",))
     table = _Table.read(src)
     name = _edge_column(src, table, column)
-    times = table.numbers(name).astype(np.float64) * (_time_scale(name) or 1.0)
+    scale = 1.0 if table.layout is not None else _time_scale(name) or 1.0  # an export's: s
+    times = table.numbers(name).astype(np.float64) * scale
     if len(times) < 3:
         raise src.error(f"only {len(times)} edge time(s) in column '{name}': at least 3 are "
                         "needed", "record longer, or check that the counter wrote every edge")
@@ -708,6 +724,7 @@ class _Table:
     text: str
     header: bool
     decimal: str
+    layout: Layout | None = None
 
     @classmethod
     def read(cls, src: _Source) -> _Table:
@@ -720,6 +737,10 @@ class _Table:
     @by_content(lambda cls, src: src.path, shared=True)
     def _parsed(cls, src: _Source) -> _Table:
         text = _read_text(src)
+        layout = recognise(list(itertools.islice(_content_lines(text), PREAMBLE_MOST + 1)),
+                           lambda problem, fix, ru: src.error(problem, fix, ru=ru))
+        if layout is not None:
+            return cls._export(src, text, layout)
         lines = _content_lines(text)
         first = next(lines, None)
         if first is None:
@@ -768,21 +789,90 @@ class _Table:
                                 "имя в заголовке")) from None
         return cls(src, _clean_columns(frame, header), text, header, decimal)
 
+    @classmethod
+    def _export(cls, src: _Source, text: str, layout: Layout) -> _Table:
+        """An instrument's export (:mod:`processing.inputs.scope_exports`): its columns of
+        numbers read under the instrument's names, the rows counted against its header."""
+        cls._check_segments(src, text, layout)
+        data = next(itertools.islice(_content_lines(text), layout.lead, None))[1]
+        decimal = "," if layout.sep != "," and "," in data else "."
+        try:
+            frame = pd.read_csv(_Slices(text), sep=layout.sep, header=None, skiprows=layout.skip,
+                                usecols=list(layout.usecols), decimal=decimal, comment="#",
+                                skipinitialspace=True, index_col=False, low_memory=False)
+        except (pd.errors.ParserError, ValueError) as exc:
+            raise src.error(f"the {layout.instrument} export is not a regular table after its "
+                            f"header ({exc})".replace("\n", " "),
+                            "export the waveform again, unedited",
+                            ru=(f"экспорт {layout.instrument} после заголовка — не правильная "
+                                "таблица", "экспортируйте осциллограмму заново, без правки")
+                            ) from None
+        table = cls(src, frame.set_axis(list(layout.names), axis=1), text, True, decimal, layout)
+        table._check_export()
+        return table
+
+    @staticmethod
+    def _check_segments(src: _Source, text: str, layout: Layout) -> None:
+        """One segment of an export whose headers end in a mark line (LabVIEW's): a header
+        met among the rows opens a second, refused."""
+        end = layout.end
+        if end is None or text.count(end) <= 2:
+            return
+        at = text.index(end, text.index(end, text.index(end) + 1) + 1)
+        row = text.count("\n", 0, at) + 1
+        raise src.error(f"a second segment begins: its header ends at row {row}",
+                        "save one segment a file (Write To Measurement File: one header only, "
+                        "or a new file for each segment)",
+                        ru=(f"начинается второй сегмент: его заголовок кончается в строке "
+                            f"{row}", "сохраняйте по сегменту в файл (Write To Measurement File: "
+                            "один заголовок или новый файл на сегмент)"))
+
+    def _check_export(self) -> None:
+        """An export's rows against its header: the stated number of samples, a last row
+        cut short."""
+        layout, rows = self.layout, len(self.frame)
+        if layout.length is not None and rows != layout.length.value:
+            n, where = layout.length, f"'{layout.length.name}' (row {layout.length.row})"
+            raise self.src.error(
+                f"the header's {where} says {n.value:.0f} samples, but {rows} rows of numbers "
+                "follow: the file was cut short or edited",
+                "export the waveform again and copy the whole file; if rows were cut on "
+                f"purpose, correct {n.name} to {rows}",
+                ru=(f"{where} заголовка говорит {n.value:.0f} отсчётов, а строк чисел {rows}: "
+                    "файл обрезан или правлен", "экспортируйте осциллограмму заново и "
+                    f"скопируйте файл целиком; если строки убраны намеренно, исправьте "
+                    f"{n.name} на {rows}"))
+        last = self.frame.iloc[-1]
+        if last.isna().any():
+            row = self.line(rows - 1)
+            raise self.src.error(f"the last row (row {row}) is cut short: it lacks "
+                                 f"'{last.index[last.isna()][0]}'",
+                                 "copy the whole file again from the instrument, or delete the "
+                                 "cut row", ru=(f"последняя строка (строка {row}) обрезана",
+                                                "скопируйте файл с прибора заново целиком или "
+                                                "удалите обрезанную строку"))
+
     @property
     def names(self) -> list[str]:
         return list(self.frame.columns)
 
     def line(self, row: int) -> int:
         """The file's row number (as a spreadsheet counts them) of data row ``row`` (0-based)."""
-        return next(itertools.islice(_content_lines(self.text), row + self.header, None))[0]
+        lead = self.header if self.layout is None else self.layout.lead
+        return next(itertools.islice(_content_lines(self.text), row + lead, None))[0]
 
     def numbers(self, name: str) -> np.ndarray:
-        """Column ``name`` as numbers, every cell checked: numeric and finite."""
+        """Column ``name`` as numbers, every cell checked: numeric and finite; an export's in
+        seconds or volts, its over-range marks at the column's extremes (:meth:`_over`)."""
         column = self.frame[name]
+        over = None
         if column.dtype.kind not in "biuf":
-            text = column.astype(str)
+            text = column.astype(str).str.strip()
             if self.decimal == ",":
                 text = text.str.replace(",", ".", regex=False)
+            if self.layout is not None and self.layout.marks:
+                over = text.map(OVER).to_numpy(dtype=float, na_value=0.0)
+                text = text.where(over == 0, "0")
             numeric = pd.to_numeric(text, errors="coerce")
             bad = (numeric.isna() & column.notna()).to_numpy()
             if bad.any():
@@ -808,7 +898,59 @@ class _Table:
                                      "впишите недостающее значение или удалите строку (пропуск "
                                      "в оцифрованном сигнале значит, что запись надо разрезать "
                                      "здесь)"))
-        return values.copy()            # the caller's own: a table may be read again
+        if self.layout is None:
+            return values.copy()        # the caller's own: a table may be read again
+        over = np.zeros(len(values)) if over is None else over
+        if values.dtype.kind == "f":
+            scpi, holes = scpi_marks(values)
+            if holes.any():
+                row = self.line(int(np.argmax(holes)))
+                raise self.src.error(
+                    f"row {row}, column '{name}' holds {values[holes][0]:.4g}, the "
+                    "instrument's mark of a sample it does not have", "export the waveform "
+                    "again, or reduce a stretch without holes",
+                    ru=(f"строка {row}, столбец '{name}' содержит {values[holes][0]:.4g} — "
+                        "так прибор отмечает отсутствующий отсчёт", "экспортируйте "
+                        "осциллограмму заново или обработайте участок без пропусков"))
+            over = over + scpi
+        if over.any():
+            values = self._over(name, values, over)
+        return values * self._scale(name)
+
+    def _over(self, name: str, values: np.ndarray, over: np.ndarray) -> np.ndarray:
+        """Over-range samples (``over`` = +1 above the range, −1 below) put at the column's
+        highest or lowest reading, where a recorder's rail holds a clipped sample: there
+        :func:`~processing.inputs.record_quality.clipped_mask` counts them as clipped."""
+        values = values.astype(float)
+        inside = over == 0
+        if not inside.any():
+            raise self.src.error(f"every sample of '{name}' is marked over range (∞)",
+                                 "raise the channel's input range and record again",
+                                 ru=(f"все отсчёты '{name}' отмечены как вне диапазона (∞)",
+                                     "увеличьте диапазон входа канала и запишите заново"))
+        values[over > 0] = values[inside].max()
+        values[over < 0] = values[inside].min()
+        return values
+
+    def _scale(self, name: str) -> float:
+        """Seconds or volts per unit of an export's column ``name``."""
+        scale = self.layout.scale(name)
+        if scale is not None:
+            return scale
+        unit = self.layout.units.get(name, "")
+        if name == self.layout.time:
+            raise self.src.error(f"the time column '{name}' is in '{unit}', not a unit of time",
+                                 "export the waveform with its time axis in s, ms, µs or ns",
+                                 ru=(f"столбец времени '{name}' в '{unit}', а не в единицах "
+                                     "времени", "экспортируйте осциллограмму со временем в "
+                                     "s, ms, µs или ns"))
+        raise self.src.error(f"column '{name}' is in '{unit}', not in volts",
+                             "export the channel in volts (V or mV), the probe's scaling off: "
+                             "the lab converts volts with the sensor's own sensitivity",
+                             ru=(f"столбец '{name}' в '{unit}', а не в вольтах",
+                                 "экспортируйте канал в вольтах (V или mV), без пересчёта "
+                                 "пробника: лаб. работа пересчитывает вольты по "
+                                 "чувствительности датчика"))
 
 
 def _read_text(src: _Source) -> str:
@@ -878,7 +1020,7 @@ def _clean_columns(frame: pd.DataFrame, header: bool) -> pd.DataFrame:
 
 def _csv_channels(src: _Source, selectors: list, given: float | None) -> list[Channel]:
     table = _Table.read(src)
-    time, found = _time_base(src, table)
+    time, found = _time_base(src, table, given)
     data = [n for n in table.names if n != time]
     if not data:
         raise src.error(f"only a time column '{time}', no data column",
@@ -905,18 +1047,33 @@ def _memory_reader(values: np.ndarray) -> Iterator[_Reader]:
     yield lambda a, b: values[a:b].copy()
 
 
-def _time_base(src: _Source, table: _Table) -> tuple[str | None, float | None]:
-    """The time column's name and the sample rate it implies, or (None, None)."""
-    first = table.names[0]
-    scale = _time_scale(first) if table.header else None
-    if scale is None:
-        return None, None
-    t = table.numbers(first) * scale
+def _time_base(src: _Source, table: _Table,
+               given: float | None = None) -> tuple[str | None, float | None]:
+    """The time column's name and the sample rate it implies, or (None, None). An export's
+    header interval gives its rate, every step of its time column checked against it; an
+    export's time column rounded so far that it repeats gives none, and ``given`` [Hz] is
+    checked against it (:func:`_rounded_rate`)."""
+    layout, interval = table.layout, None
+    if layout is not None and layout.time is None:
+        return None, None if layout.interval is None else 1.0 / layout.interval.value
+    if layout is not None:
+        first, interval = layout.time, layout.interval
+        t = table.numbers(first)
+    else:
+        first = table.names[0]
+        scale = _time_scale(first) if table.header else None
+        if scale is None:
+            return None, None
+        t = table.numbers(first) * scale
     if len(t) < 2:
         raise src.error("one row: a sample rate needs at least two times",
                         "export the whole recording",
                         ru=("одна строка: для частоты отсчётов нужны хотя бы два момента "
                             "времени", "экспортируйте всю запись"))
+    if interval is not None:
+        return first, _stated_rate(src, table, t, interval)
+    if layout is not None and (np.diff(t) == 0).any():
+        return first, _rounded_rate(src, table, t, given)
     _check_rising(src, table, first, t)
     steps = np.diff(t)
     typical = np.median(steps)
@@ -931,14 +1088,71 @@ def _time_base(src: _Source, table: _Table) -> tuple[str | None, float | None]:
     return first, (len(t) - 1) / (t[-1] - t[0])  # the mean step: robust to rounded times
 
 
-def _check_rising(src: _Source, table: _Table, name: str, t: np.ndarray) -> None:
-    falls = np.diff(t) <= 0
+def _rounded_rate(src: _Source, table: _Table, t: np.ndarray, given: float | None) -> float:
+    """The ``given`` sample rate [Hz] of an export whose times (``t`` [s]) were printed with
+    too few digits to tell the samples apart (Rigol DS1000E: three), once they agree with it:
+    they never fall, and each lies within two of their largest steps (a unit of their last
+    digit) of ``t[0] + k / given``."""
+    name = table.layout.time
+    _check_rising(src, table, name, t, strict=False)
+    k = int(np.argmax(np.diff(t) == 0)) + 1
+    if given is None:
+        raise src.error(f"the time column '{name}' repeats its times from row {table.line(k)} "
+                        f"({t[k]:.6g} s): the instrument printed them with too few digits to "
+                        "give the sample rate", "give sample_rate = the oscilloscope's Sa/s "
+                        "(shown on its screen); the times are then checked against it",
+                        ru=(f"столбец времени '{name}' повторяет значения со строки "
+                            f"{table.line(k)} ({t[k]:.6g} с): прибор записал время слишком "
+                            "малым числом цифр, и частоту отсчётов по нему не найти",
+                            "задайте sample_rate = частота дискретизации осциллографа (Sa/s "
+                            "на его экране); время будет проверено по ней"))
+    off = np.abs(t - t[0] - np.arange(len(t)) / given)
+    unit = np.diff(t).max()
+    if (off > 2 * unit).any():
+        k = int(np.argmax(off > 2 * unit))
+        raise src.error(f"sample_rate = {given:.6g} Hz puts row {table.line(k)} at "
+                        f"{t[0] + k / given:.6g} s, but its time is {t[k]:.6g} s (the times "
+                        f"are rounded to {unit:.3g} s)", "give the oscilloscope's true Sa/s, "
+                        "or check that this is the right file",
+                        ru=(f"при sample_rate = {given:.6g} Гц строка {table.line(k)} "
+                            f"приходится на {t[0] + k / given:.6g} с, а её время {t[k]:.6g} с "
+                            f"(время округлено до {unit:.3g} с)", "укажите истинную частоту "
+                            "дискретизации осциллографа или проверьте, тот ли это файл"))
+    return given
+
+
+def _stated_rate(src: _Source, table: _Table, t: np.ndarray, interval) -> float:
+    """1 / the interval an export's header states [Hz], once every step of its time column
+    (``t`` [s]) agrees with it."""
+    layout = table.layout
+    steps = np.diff(t)
+    off = np.abs(steps - interval.value) > RATE_TOLERANCE * interval.value
+    if off.any():
+        k = int(np.argmax(off))
+        raise src.error(f"row {table.line(k + 1)}: the time column '{layout.time}' steps by "
+                        f"{steps[k]:.6g} s, but the header's '{interval.name}' (row "
+                        f"{interval.row}) is {interval.value:.6g} s",
+                        "a jump means lost or deleted rows: export the waveform again whole "
+                        "and leave it unedited (or cut it to an unbroken stretch)",
+                        ru=(f"строка {table.line(k + 1)}: столбец времени '{layout.time}' "
+                            f"шагает на {steps[k]:.6g} с, а '{interval.name}' заголовка "
+                            f"(строка {interval.row}) равен {interval.value:.6g} с",
+                            "скачок значит потерянные или удалённые строки: экспортируйте "
+                            "осциллограмму заново целиком и не правьте её"))
+    return 1.0 / interval.value
+
+
+def _check_rising(src: _Source, table: _Table, name: str, t: np.ndarray, *,
+                  strict: bool = True) -> None:
+    """Times that rise (``strict``) or, rounded, never fall."""
+    falls = np.diff(t) <= 0 if strict else np.diff(t) < 0
     if falls.any():
         k = int(np.argmax(falls))
-        raise src.error(f"column '{name}' is not strictly increasing at row {table.line(k + 1)}"
+        how, how_ru = ("strictly increasing", "строго ") if strict else ("rising", "")
+        raise src.error(f"column '{name}' is not {how} at row {table.line(k + 1)}"
                         f" ({t[k + 1]:.9g} s after {t[k]:.9g} s)", "times must rise: remove "
                         "repeated rows, and split a recording whose counter restarted",
-                        ru=(f"столбец '{name}' не возрастает строго в строке "
+                        ru=(f"столбец '{name}' не возрастает {how_ru}в строке "
                             f"{table.line(k + 1)} ({t[k + 1]:.9g} с после {t[k]:.9g} с)",
                             "время должно расти: удалите повторные строки и разделите запись, "
                             "счётчик которой начался заново"))
