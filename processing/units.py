@@ -20,7 +20,8 @@ read here, the same for every field of every lab and for the values ``dynlab che
   its caret (``м2``, ``с-1``), a second typed as a Latin ``c`` (the key of ``с``).
 * **Numbers as written by hand or copied from a report** (:func:`plain_notation`): a power of
   ten (``6,13·10⁶``, ``1,706*10^-1``, ``2×10**3``), a minus sign (``−0,5``), a stopwatch's
-  minutes and seconds (``1:05,32`` is 65.32 s), a value and its limit in brackets (``(2,23 ± 0,06) кН/мм``, ``(6,13 ± 0,05)·10⁶ Н/м``).
+  minutes and seconds (``1:05,32`` is 65.32 s), a value and its limit in brackets
+  (``(2,23 ± 0,06) кН/мм``, ``(6,13 ± 0,05)·10⁶ Н/м``).
 * **Rotational speeds count revolutions** (:func:`cycles_factor`): in a field declared as an
   angle per time (``rpm``, ``rad/s``) a speed written per time alone (``1/s``, ``s^-1``,
   ``с⁻¹``, ``Hz``, ``Гц``, ``1/min``, ``мин⁻¹``) is revolutions per that time, as are ``rps``,
@@ -382,8 +383,10 @@ def plain_notation(text: str, expected_unit: str = "") -> str:
     ('6.13e6 Н/м', '1.706e-1 kg*m^2')
     >>> plain_notation("(2.23 ± 0.06) kN/mm"), plain_notation("(6.13 ± 0.05)·10⁶ N/m")
     ('2.23 kN/mm ± 0.06 kN/mm', '6.13e6 N/m ± 0.05e6 N/m')
-    >>> plain_notation("−0.5 mm"), plain_notation("1:05.32", "s"), plain_notation("1:05.3 ± 0.2 s", "s")
-    ('-0.5 mm', '65.32 s', '65.3 s ± 0.2 s')
+    >>> plain_notation("−0.5 mm"), plain_notation("1:05.32", "s")
+    ('-0.5 mm', '65.32 s')
+    >>> plain_notation("1:05.3 ± 0.2 s", "s"), plain_notation("1:10", "")
+    ('65.3 s ± 0.2 s', '1:10')
     """
     text = text.replace("\u2212", "-")
     clock = _CLOCK.match(text) if dimension(expected_unit) == dimension("s") else None
