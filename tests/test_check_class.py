@@ -323,3 +323,29 @@ def test_a_value_that_cannot_be_read_is_unreadable_and_the_rest_of_the_class_jud
     assert_one_clear_error(*run(capsys, "check", s01), s01,
                            "reported.c_total" + (".u" if "u =" in written else ""), says,
                            tmp_path / "nothing")
+
+
+def test_a_submission_saved_by_notepad_as_toml_txt_or_in_capitals_is_checked(tmp_path,
+                                                                            variants, capsys):
+    """Notepad's "Text Documents" saves lab5_s02.toml.txt; another student types LAB5.TOML:
+    both handed in, neither shown as absent."""
+    cls = tmp_path / "class"
+    hand_in(cls, "s01", handout(variants, "s01"))
+    txt = hand_in(cls, "s02", handout(variants, "s02"))
+    txt.rename(txt.with_name(txt.name + ".txt"))
+    upper = hand_in(cls, "s03", handout(variants, "s03"))
+    upper.rename(upper.with_name("LAB5.TOML"))
+    out = tmp_path / "check"
+    main(["check", str(cls), "--keys", str(variants), "--out", str(out)])
+    capsys.readouterr()
+    rows = list(csv.DictReader((out / "summary.csv").open(encoding="utf-8")))
+    status = {r["id"]: r["status"] for r in rows}
+    assert status["s01"] == status["s02"] == status["s03"] == "checked", status
+
+
+def test_dynlab_run_reduces_a_submission_and_points_to_dynlab_check(tmp_path, variants,
+                                                                    capsys):
+    path = hand_in(tmp_path, "s01", handout(variants, "s01"))
+    code = main(["run", str(path), "--out", str(tmp_path / "reports")])
+    out = capsys.readouterr().out
+    assert code == 0 and f"judged by: dynlab check {path}" in out

@@ -187,7 +187,11 @@ def _run_files(files, out: Path | None, formats, lang: str, as_json: bool,
     for path, stem in _progress(list(zip(files, _stems(files))), "reducing"):
         try:
             regular(path, MEASUREMENT)
-            result = evaluate(path, confine=confine)
+            from processing.measurement import read_toml
+
+            data = read_toml(path)
+            reported = data.pop("reported", None)       # a submission's: dynlab check's table
+            result = evaluate(path, data=data, confine=confine)
             from processing.reporting.render import FORMATS, to_json, to_terminal
 
             formats = formats or FORMATS
@@ -211,6 +215,9 @@ def _run_files(files, out: Path | None, formats, lang: str, as_json: bool,
             replaced_word = say(says, " (replaced)", " (заменён)")
             print("  → " + ", ".join(str(p) + (replaced_word if p in replaced else "")
                                      for p in written))
+            if reported is not None:
+                print(say(says, f"  [reported]: your values are judged by: dynlab check {path}",
+                          f"  [reported]: ваши значения проверит: dynlab check {path}"))
     if documents:
         print(documents[0] if len(files) == 1 else "[\n" + ",\n".join(documents) + "\n]")
     return 1 if crashes else EXIT_INPUT if failures else 0
@@ -321,7 +328,7 @@ def _check(args) -> int:
     import json
 
     from labs.teachers.check import (ClassCheck, check, check_class, read_policy, read_variants,
-                                     unknown_expected)
+                                     submissions, unknown_expected)
     from labs.teachers.check_report import terminal, write_summary
     from labs.teachers.variants import read_roster
 
@@ -330,7 +337,7 @@ def _check(args) -> int:
         p = Path(item)
         if _is_folder(p):
             folders.append(p)
-            files += sorted(p.rglob("*.toml"))
+            files += submissions(p)
         else:
             files.append(p)
     if folders and not files:

@@ -1292,6 +1292,14 @@ def check_class(files, folders=(), *, policy: PolicyFile | None = None,
     return ClassCheck(checks, refused, copies(checks), policy, variants, ids, problems)
 
 
+
+def submissions(folder: Path) -> list[Path]:
+    """The measurement files below a class folder: each ``.toml``, in any letter case, and
+    each ``.toml.txt`` (Notepad saving a "Text Document" adds ``.txt`` to the name); whatever
+    they are (a FIFO named so is refused when it is checked, not passed over)."""
+    return sorted(p for p in Path(folder).rglob("*")
+                  if p.name.lower().endswith((".toml", ".toml.txt")) and not p.is_dir())
+
 def read_class(folder: str | Path, *, policy: str | Path | None = None,
                keys: str | Path | None = None, roster: str | Path | None = None,
                lang: str = "en", crash=None) -> ClassCheck:
@@ -1309,7 +1317,7 @@ def read_class(folder: str | Path, *, policy: str | Path | None = None,
     from .variants import read_roster
 
     folder = Path(folder)
-    files = sorted(folder.rglob("*.toml"))
+    files = submissions(folder)
     if not files:
         raise InputError("no .toml submission in the folder", "give the folder holding the "
                          "students' measurement files", file=str(folder),
