@@ -705,9 +705,13 @@ def test_lab4_sensitivity_takes_a_limit_in_per_cent_with_a_decimal_comma(text, v
     ("2 rad", "%", "is an angle, but a plain number is expected"),
     ("30 %", "deg", "is a plain number or share, but an angle is expected"),
     ("0,5 %", "rad", "is a plain number or share, but an angle is expected"),
+    ("1:10", "", "and here no time is expected"),
+    ("1:05,32", "mm", "and here no time is expected"),
+    ("1:75", "s", "the seconds under 60"),
 ])
-def test_an_angle_is_not_taken_for_a_ratio_nor_a_share_for_an_angle(text, unit, problem):
-    """pint takes both for dimensionless: 1.5 deg would be read 0.026 as a rocker ratio."""
+def test_a_text_of_another_kind_is_refused_saying_why(text, unit, problem):
+    """pint takes an angle and a plain number both for dimensionless (1.5 deg would be read
+    0.026 as a rocker ratio); a colon is a stopwatch's, where a time is expected."""
     with pytest.raises(QuantityError, match=problem):
         parse_quantity(text, unit)
 
@@ -767,16 +771,6 @@ def test_a_power_of_ten_reported_in_russian_is_judged(tmp_path):
 ])
 def test_a_stopwatch_reading_is_read_where_a_time_is_expected(text, seconds):
     assert parse_quantity(text, "s")[0] == pytest.approx(seconds, rel=1e-12)
-
-
-@pytest.mark.parametrize("text, unit, problem", [
-    ("1:10", "", "and here no time is expected"),
-    ("1:05,32", "mm", "and here no time is expected"),
-    ("1:75", "s", "the seconds under 60"),
-])
-def test_a_colon_that_is_no_stopwatch_time_is_refused_saying_so(text, unit, problem):
-    with pytest.raises(QuantityError, match=problem):
-        parse_quantity(text, unit)
 
 
 def test_a_trifilar_timed_on_a_stopwatch_reduces_as_in_seconds(tmp_path):
