@@ -131,6 +131,44 @@ def test_ripples_below_the_hysteresis_are_not_oscillations():
     assert nu == pytest.approx(200.0) and fit.dof == 7
 
 
+@pytest.mark.parametrize("ripple", [0.01, -0.01])
+def test_the_first_extremum_does_not_hang_on_a_ripple_at_the_start(ripple):
+    """A record that starts on a ripple just above its first minimum: the minimum is the
+    first extremum whichever way the ripple turned first (the zig-zag starts from the first
+    sample as both the highest and the lowest value seen; started from the first turn, a
+    ripple turning up first made a maximum of it that swallowed the minimum)."""
+    t = np.linspace(0, 1.2, 1201)
+    x = np.cos(2 * np.pi * (t + 0.45)) + ripple * np.sin(2 * np.pi * 200 * t) * (t < 0.02)
+    i, k = extrema(x, 0.5)
+    assert k.tolist() == [-1, 1]
+    assert_allclose(t[i], [0.05, 0.55], atol=2e-3)
+
+
+def test_a_swing_to_the_records_end_keeps_its_last_extremum():
+    """The last minimum of a record that then rises to its end by more than the hysteresis
+    is kept (it is left by a swing of ``threshold``, though the record ends before it
+    turns again); a last one left by less is not."""
+    t = np.linspace(0, 1.1, 1101)
+    i, k = extrema(np.sin(2 * np.pi * t), 0.5)
+    assert_allclose(t[i], [0.25, 0.75], atol=1e-9)
+    i, k = extrema(np.sin(2 * np.pi * t[:851]), 0.5)         # ends at 0.85: risen by 0.19
+    assert_allclose(t[i], [0.25], atol=1e-9)
+
+
+def test_the_oscillations_are_read_where_the_ends_do_not_lean_on_a_guess():
+    """A 170 Hz oscillation whose record does not close on itself: the FFT filters ring at
+    its ends; the extrema are read inside the span where the record read as it is and read
+    extended by its mirror image agree (a few ms at most), and φ_max holds."""
+    fs = 4000.0
+    t = np.arange(900) / fs
+    x = (1 + 0.3 * np.sin(2 * np.pi * 4 * t)) * np.sin(2 * np.pi * 170 * t + 0.4) + 0.5 * t
+    marks = np.arange(0.003, t[-1], 1 / 25)
+    tg = read_oscillations(t, x, marks, natural_frequency=1.5, damping_ratio=0.2)
+    assert 0 < tg.seen[0] < 0.005 and t[-1] - 0.005 < tg.seen[1], tg.seen
+    assert tg.peaks.position.min() >= tg.seen[0] and tg.peaks.position.max() <= tg.seen[1]
+    assert tg.peaks.largest == pytest.approx(np.abs(x - 0.5 * t).max(), rel=0.01)
+
+
 def test_mean_cycle_peak_closed_form():
     t = np.linspace(0, 1, 2001)
     th = 2 * np.pi * 16 * t

@@ -255,8 +255,13 @@ def extrema(x, threshold: float) -> tuple[np.ndarray, np.ndarray]:
 
     A maximum is kept once the record has fallen ``threshold`` below it, a minimum once it
     has risen ``threshold`` above it (a zig-zag with hysteresis): swings smaller than the
-    threshold are ripples on an oscillation, not oscillations. The last candidate, not yet
-    confirmed by such a swing, is left out.
+    threshold are ripples on an oscillation, not oscillations. The walk starts from the
+    record's first sample as both the highest and the lowest value seen: the first extremum
+    is the lowest (or highest) turn before the record's first swing of ``threshold``,
+    whichever way a ripple before it first turned; the first sample itself is not an
+    extremum (the record may have been falling or rising before it). The last candidate is
+    kept if the record has left it by ``threshold`` at its last sample, and left out
+    otherwise.
 
     Parameters
     ----------
@@ -278,6 +283,13 @@ def extrema(x, threshold: float) -> tuple[np.ndarray, np.ndarray]:
     >>> i, k = extrema(np.sin(2 * np.pi * t) + 0.05 * np.sin(2 * np.pi * 25 * t), 0.5)
     >>> k.tolist(), np.round(t[i], 2).tolist()
     ([1, -1, 1, -1], [0.25, 0.75, 1.25, 1.75])
+
+    A record that starts on a ripple falling into its first minimum: the minimum is kept,
+    whether the ripple first turns up or down.
+
+    >>> i, k = extrema(np.array([0.1, 0.12, 0.05, 0.0, 0.5, 1.0, 0.4, 0.0, 0.6]), 0.5)
+    >>> i.tolist(), k.tolist()
+    ([3, 5, 7], [-1, 1, -1])
     """
     x = np.asarray(x, dtype=float)
     d = np.diff(x)
@@ -288,7 +300,23 @@ def extrema(x, threshold: float) -> tuple[np.ndarray, np.ndarray]:
     # microsecond an operation, and a long record turns thousands of times)
     turns = zip(turn.tolist(), np.where(d[turn - 1] > 0, 1, -1).tolist(), x[turn].tolist())
     kept_i, kept_k = [], []
-    best_i, best_k, best_v = next(turns)
+    start = float(x[0])
+    low, high = (-1, start), (-1, start)       # (index, value); -1: the first sample
+    best_i = -1
+    for i, k, v in turns:
+        if k > 0 and v > high[1]:
+            high = (i, v)
+        elif k < 0 and v < low[1]:
+            low = (i, v)
+        if high[1] - low[1] >= threshold:
+            (first, first_k), (best_i, best_v) = (low, -1), high
+            best_k = 1
+            if high[0] < low[0]:
+                (first, first_k), (best_i, best_v), best_k = (high, 1), low, -1
+            if first[0] >= 0:
+                kept_i.append(first[0])
+                kept_k.append(first_k)
+            break
     for i, k, v in turns:
         if k == best_k:
             if (v - best_v) * k > 0:
@@ -297,6 +325,9 @@ def extrema(x, threshold: float) -> tuple[np.ndarray, np.ndarray]:
             kept_i.append(best_i)
             kept_k.append(best_k)
             best_i, best_k, best_v = i, k, v
+    if best_i >= 0 and (best_v - x[-1]) * best_k >= threshold:
+        kept_i.append(best_i)
+        kept_k.append(best_k)
     return np.asarray(kept_i, dtype=int), np.asarray(kept_k, dtype=int)
 
 
@@ -530,7 +561,7 @@ def half_range_u(peaks: Peaks, noise: float) -> float:
     --------
     >>> p = peak_amplitudes(np.arange(9.0), np.array([1, -1] * 4 + [1.0]), 0.5)
     >>> round(half_range_u(p, 0.1), 4)
-    0.1189
+    0.1258
     """
     a = peaks.amplitude
     if not np.isfinite(a).any():

@@ -36,6 +36,15 @@ HYSTERESIS_SPAN = 1.25
 ripple whose swing lies within it of the hysteresis counts as an oscillation or not, and
 the largest peak amplitude's u carries that choice."""
 
+EDGE_SPREAD = 4.0
+"""How far apart, in σ of the noise left, the record read as it is and read extended by its
+mirror image may be where it is still seen (:func:`seen_span`)."""
+
+EDGE_SHARE = 0.005
+"""… or, if larger, as a share of the reading's range: a difference below it moves a peak
+amplitude (half a range) by under 1 %, so that a record free of noise is not cut where its
+ends' transients have decayed below what any reading resolves (:func:`seen_span`)."""
+
 ORDER_SHARE = 0.4
 """Highest frequency fitted, as a share of the sample rate (below the Nyquist frequency and a
 recorder's anti-alias roll-off)."""
@@ -74,7 +83,10 @@ class Torsiogram(Record):
     """The drift at ``time``. [record unit]"""
     peaks: Peaks
     """Peak amplitudes of the single oscillations of ``corrected`` less ``drift`` (values
-    without the drift), the manual's reading and the design value's source."""
+    without the drift) within ``seen``, the manual's reading and the design value's source."""
+    seen: tuple
+    """First and last instant of the record where its reading does not lean on what lies
+    beyond its ends (:func:`seen_span`): the extrema are read between them. [s]"""
     u_largest: float
     """Standard uncertainty of the largest of them from the noise left at its extrema and
     the choice among equal ones (:func:`processing.torsional.torsiogram.half_range_u`).
@@ -174,8 +186,10 @@ def analyse_trace(time, x, mark_times, *, natural_frequency: float, damping_rati
     frequency (:func:`processing.torsional.seismic.correct_trace`) on a grid ``upsample`` times
     finer, its white noise taken out below the highest order fitted
     (:func:`processing.torsional.torsiogram.denoise`: whatever stands out of the noise is kept, in
-    or between the orders) — and its single oscillations, the manual's reading: extrema with
-    hysteresis at :data:`EXTREMUM_THRESHOLD` of their range (and 4 σ of the noise left), their peak
+    or between the orders) — and its single oscillations, the manual's reading, within the span
+    where that reading does not lean on what lies beyond the record's ends (:func:`seen_span`:
+    the residual read again extended by its mirror image): extrema with hysteresis at
+    :data:`EXTREMUM_THRESHOLD` of their range (and 4 σ of the noise left), their peak
     amplitudes with the drift removed (:func:`peak_amplitudes`), the largest one's u
     (:func:`processing.torsional.torsiogram.half_range_u`) and their frequency by counting
     (:func:`oscillation_frequency`). The orders describe the mean working cycle; the single
@@ -239,18 +253,71 @@ def analyse_trace(time, x, mark_times, *, natural_frequency: float, damping_rati
     cycle = cycle_peaks(fit, correction, strokes=strokes)
     fine = t[0] + np.arange(t.size * upsample) / (rate * upsample)
     low = 0.5 * step * f_rev
-    residual = correct_trace(x - fit.periodic - fit.drift, rate, natural_frequency,
-                             damping_ratio, low=low, upsample=upsample, blur=blur,
-                             band=top * f_rev)
-    slow = _below(residual, rate * upsample, low)
+    orders = fit.synthesize(steady_crank_angle(fine, revs), correction)
+    residual = x - fit.periodic - fit.drift
+    plain, mirrored = (correct_trace(r, rate, natural_frequency, damping_ratio, low=low,
+                                     upsample=upsample, blur=blur, band=top * f_rev)
+                       for r in (residual, _mirrored(residual)))
+    slow = _below(plain, rate * upsample, low)
     drift = np.interp(fine, t, fit.drift) + slow
-    oscillation = fit.synthesize(steady_crank_angle(fine, revs), correction) + residual - slow
+    beyond = (mirrored - _below(mirrored, rate * upsample, low))[:fine.size]
     return Torsiogram(revolutions=revs, fit=fit, correction=correction, cycle=cycle,
-                      **_oscillations(fine, oscillation, drift, top * f_rev, rate / 2))
+                      **_oscillations(fine, orders + plain - slow, orders + beyond, drift,
+                                      top * f_rev, rate / 2))
 
 
-def _oscillations(fine: np.ndarray, oscillation: np.ndarray, drift: np.ndarray,
-                  band: float, reach: float) -> dict:
+def _mirrored(x: np.ndarray) -> np.ndarray:
+    """The record followed by its mirror image (an even extension: no step where an FFT
+    wraps it round), the other guess :func:`seen_span` compares."""
+    return np.concatenate([x, x[::-1]])
+
+
+def seen_span(plain: np.ndarray, mirrored: np.ndarray, noise: float, *,
+              spread: float = EDGE_SPREAD, share: float = EDGE_SHARE) -> slice:
+    """The samples of a record where its reading does not lean on what lies beyond its ends.
+
+    The reader's filters (the instrument's correction, the drift's removal, the denoising,
+    the band-limited upsampling) work by FFT on the record wrapped round; near each end their
+    output holds a transient whose reach depends on the record. Read once as it is and once
+    extended by its mirror image (a different, equally possible guess at what lies beyond),
+    the two readings part where that guess matters: from each end to the last sample (within
+    the outer quarter) where they differ by more than ``spread`` times the noise left, or
+    ``share`` of the plain reading's range if that is more.
+
+    Parameters
+    ----------
+    plain, mirrored : ndarray
+        The two readings, same grid. [record unit]
+    noise : float
+        σ of the noise left in them. [record unit]
+    spread : float, keyword-only
+        The difference, in units of ``noise``, beyond which a sample is not seen.
+    share : float, keyword-only
+        The same as a share of the range of ``plain``.
+
+    Returns
+    -------
+    slice
+        The seen samples.
+
+    Examples
+    --------
+    >>> a = np.sin(np.arange(100.0)); b = a.copy(); b[:3] += 1.0; b[-5:] -= 1.0
+    >>> seen_span(a, b, 0.1)
+    slice(3, 95, None)
+    """
+    plain = np.asarray(plain, dtype=float)
+    far = np.abs(plain - np.asarray(mirrored)) > max(spread * noise, share * np.ptp(plain))
+    n = far.size
+    quarter = n // 4
+    head = np.flatnonzero(far[:quarter])
+    tail = np.flatnonzero(far[n - quarter:])
+    return slice(int(head[-1]) + 1 if head.size else 0,
+                 n - quarter + int(tail[0]) if tail.size else n)
+
+
+def _oscillations(fine: np.ndarray, oscillation: np.ndarray, beyond: np.ndarray,
+                  drift: np.ndarray, band: float, reach: float) -> dict:
     """The single oscillations of a drift-free corrected record on its fine grid: its noise
     taken out below ``band`` (:func:`processing.torsional.torsiogram.denoise`, its floor taken up to
     ``reach``, the record's own Nyquist frequency), the extrema with
@@ -260,20 +327,24 @@ def _oscillations(fine: np.ndarray, oscillation: np.ndarray, drift: np.ndarray,
     frequency."""
     rate = (fine.size - 1) / (fine[-1] - fine[0])
     clean = denoise(oscillation, rate, band=band, reach=reach)
-    share = max(EXTREMUM_THRESHOLD, 4 * clean.noise_left / np.ptp(clean.value)) \
-        if np.ptp(clean.value) > 0 else EXTREMUM_THRESHOLD
-    peaks = peak_amplitudes(fine, clean.value, share * np.ptp(clean.value))
+    other_end = denoise(_mirrored(beyond), rate, band=band, reach=reach)
+    seen = seen_span(clean.value, other_end.value[:fine.size], clean.noise_left)
+    span = np.ptp(clean.value[seen])
+    share = max(EXTREMUM_THRESHOLD, 4 * clean.noise_left / span) if span > 0 \
+        else EXTREMUM_THRESHOLD
+    peaks = peak_amplitudes(fine[seen], clean.value[seen], share * span)
     nu, fit_nu = oscillation_frequency(peaks.position) if peaks.position.size >= 3 \
         else (np.nan, None)
     # a ripple near the hysteresis may count as an oscillation or not: the largest read
     # with the hysteresis a quarter lower or higher bounds that choice (rectangular)
-    other = [peak_amplitudes(fine, clean.value, f * share * np.ptp(clean.value)).largest
+    other = [peak_amplitudes(fine[seen], clean.value[seen],
+                             f * share * span).largest
              for f in (1 / HYSTERESIS_SPAN, HYSTERESIS_SPAN)]
     choice = max(abs(a - peaks.largest) for a in other) / np.sqrt(3) \
         if np.isfinite(other).all() else 0.0
     u = float(np.hypot(half_range_u(peaks, clean.noise_left), choice))
     return dict(time=fine, corrected=drift + clean.value, drift=drift, peaks=peaks,
-                u_largest=u, frequency=nu,
+                seen=(float(fine[seen][0]), float(fine[seen][-1])), u_largest=u, frequency=nu,
                 frequency_fit=fit_nu, noise=clean.noise, noise_left=clean.noise_left,
                 cutoff=band)
 
@@ -288,7 +359,8 @@ def read_oscillations(time, x, mark_times, *, natural_frequency: float,
     frequency by frequency above half the lowest order
     (:func:`processing.torsional.seismic.correct_trace`), its slow part taken for the drift
     (:func:`processing.torsional.seismic.slow_part`), and the oscillations read as by
-    :func:`analyse_trace`. Parameters as :func:`analyse_trace`'s; the result has no fit and
+    :func:`analyse_trace` (within :func:`seen_span`: the record less its slow part read again
+    extended by its mirror image). Parameters as :func:`analyse_trace`'s; the result has no fit and
     no mean cycle.
     """
     t = np.asarray(time, dtype=float)
@@ -299,8 +371,15 @@ def read_oscillations(time, x, mark_times, *, natural_frequency: float,
     low = 0.5 * (0.5 if strokes == 4 else 1.0) * f_rev
     top = min(max_order, ORDER_SHARE * rate / f_rev)
     fine = t[0] + np.arange(t.size * upsample) / (rate * upsample)
-    corrected = correct_trace(x, rate, natural_frequency, damping_ratio, low=low,
-                              upsample=upsample, blur=blur, band=top * f_rev)
+    # the mirror image is taken of the record less its slow part, which the correction
+    # takes out before its FFT and puts back after: a drift mirrored would turn sharply
+    line = slow_part(x, rate, low)
+    corrected, mirrored = (correct_trace(r, rate, natural_frequency, damping_ratio, low=low,
+                                         upsample=upsample, blur=blur, band=top * f_rev)
+                           for r in (x, _mirrored(x - line)))
     drift = slow_part(corrected, rate * upsample, low)
+    mirrored = mirrored[:fine.size] + np.interp(fine, t, line)
+    beyond = mirrored - slow_part(mirrored, rate * upsample, low)
     return Torsiogram(revolutions=revs, fit=None, correction=np.empty(0), cycle=None,
-                      **_oscillations(fine, corrected - drift, drift, top * f_rev, rate / 2))
+                      **_oscillations(fine, corrected - drift, beyond, drift, top * f_rev,
+                                      rate / 2))
