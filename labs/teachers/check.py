@@ -1296,9 +1296,9 @@ def check_class(files, folders=(), *, policy: PolicyFile | None = None,
 def submissions(folder: Path) -> list[Path]:
     """The measurement files below a class folder: each ``.toml``, in any letter case, and
     each ``.toml.txt`` (Notepad saving a "Text Document" adds ``.txt`` to the name); whatever
-    they are (a FIFO named so is refused when it is checked, not passed over)."""
+    they are (a FIFO or a folder named so is refused when it is checked, not passed over)."""
     return sorted(p for p in Path(folder).rglob("*")
-                  if p.name.lower().endswith((".toml", ".toml.txt")) and not p.is_dir())
+                  if p.name.lower().endswith((".toml", ".toml.txt")))
 
 def read_class(folder: str | Path, *, policy: str | Path | None = None,
                keys: str | Path | None = None, roster: str | Path | None = None,
