@@ -124,3 +124,13 @@ def test_free_chain_rigid_rotation_under_a_steady_torque_sum():
 def test_bad_chains_are_refused(J, c, match):
     with pytest.raises(ValueError, match=match):
         natural_modes(J, c)
+
+
+@pytest.mark.parametrize("n, k", [(10, 3), (11, 4), (1000, 250), (40_000, 571), (40_000, 570)])
+def test_the_slow_parts_moving_average_is_numpys_convolution(n, k):
+    """By running sums, to rounding: the mean over k samples about each, zeros beyond."""
+    from processing.torsional.seismic import _moving_average
+
+    x = np.random.default_rng(n + k).standard_normal(n) + 5.0
+    assert np.allclose(_moving_average(x, k), np.convolve(x, np.ones(k) / k, mode="same"),
+                       rtol=0, atol=1e-13)
