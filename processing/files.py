@@ -72,6 +72,10 @@ MEASUREMENT = Kind("measurement file", MiB,
                        "названном в файле измерений, а примечания — короткими"))
 """A lab sheet: a few kB."""
 
+MEASUREMENT_NAMES = (".toml", ".toml.txt")
+"""How a measurement file's name ends, in lower case: Notepad saving a "Text Document" adds
+``.txt`` to it."""
+
 TABLE = Kind("CSV table", 64 * MiB, "save long recordings as WAV or HDF5, which are streamed",
              ru=("таблица CSV", "длинные записи сохраняйте в WAV или HDF5: их читают "
                  "по частям"))

@@ -428,3 +428,14 @@ def test_the_picoscope_manuals_layout(tmp_path):
     a, b = open_channels(path, ["Channel A", "Channel B"])
     assert a.sample_rate == pytest.approx(500e6, rel=1e-6)  # 2 ns steps
     np.testing.assert_array_equal(b.read(), [1.215, 2.130, 2.212])
+
+
+def test_a_segmented_memory_saved_whole_is_refused_asking_for_one_segment(tmp_path):
+    """Keysight's "save all segments": a second acquisition's times follow the first's after
+    a gap; the fix names the segments, not lost samples alone."""
+    path = tmp_path / "segments.csv"
+    half = N // 2
+    path.write_text("x-axis,1,2\nsecond,Volt,Volt\n" + rows(T[:half], A[:half], B[:half])
+                    + rows(T[:half] + 1.0, A[:half], B[:half]), encoding="utf-8")
+    with pytest.raises(InputError, match="export one segment"):
+        open_channel(path, field="decay.signal")

@@ -481,6 +481,13 @@ def test_a_toml_opened_with_its_recording_opens_as_its_zip_does(client):
     assert comparable(client.get(f"{run}/report.json").json()) == expected_json(sample)
 
 
+def test_a_toml_saved_by_notepad_as_toml_txt_opens(client):
+    sample = SAMPLES / "lab1/flywheel.toml"
+    form = client.post("/open", data={"csrf": csrf(client, "/")},
+                       files=[("files", ("flywheel.toml.txt", sample.read_bytes()))])
+    assert form.status_code == 200 and 'name="trifilar.R1"' in form.text
+
+
 def test_a_toml_opened_without_the_recording_it_names_is_refused_naming_it(client):
     sample = SAMPLES / "lab9/synthetic_damper.toml"
     reply = client.post("/open", data={"csrf": csrf(client, "/")},

@@ -39,6 +39,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from processing.diagnostics import InputError
+from processing.files import MEASUREMENT_NAMES
 from processing.checking.grading import (CONSTANT_SLIPS, FACTOR_SLIPS, SQUARED_SPEED_SLIPS,
                                          TRANSCENDENTAL_SLIPS, Z_LIMIT, Policy, Reported, Slip,
                                          Verdict, judge, written_digits)
@@ -1297,8 +1298,7 @@ def submissions(folder: Path) -> list[Path]:
     """The measurement files below a class folder: each ``.toml``, in any letter case, and
     each ``.toml.txt`` (Notepad saving a "Text Document" adds ``.txt`` to the name); whatever
     they are (a FIFO or a folder named so is refused when it is checked, not passed over)."""
-    return sorted(p for p in Path(folder).rglob("*")
-                  if p.name.lower().endswith((".toml", ".toml.txt")))
+    return sorted(p for p in Path(folder).rglob("*") if p.name.lower().endswith(MEASUREMENT_NAMES))
 
 def read_class(folder: str | Path, *, policy: str | Path | None = None,
                keys: str | Path | None = None, roster: str | Path | None = None,

@@ -38,7 +38,7 @@ from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
 
 from processing.diagnostics import InputError
-from processing.files import MEASUREMENT as MEASUREMENT_KIND
+from processing.files import MEASUREMENT as MEASUREMENT_KIND, MEASUREMENT_NAMES
 from processing.measurement import TomlDocument, measurement_text
 from processing.reporting.i18n import LANGS
 from processing.inputs.toml_writer import dumps
@@ -498,7 +498,7 @@ def _opened(uploads: list, folder: Path, file_limit: int, total_limit: int,
     uploads = [u for u in uploads if isinstance(u, UploadFile) and u.filename]
     if not uploads:
         raise _bad_opening("no file chosen", "файл не выбран")
-    if len(uploads) == 1 and not uploads[0].filename.lower().endswith(".toml"):
+    if len(uploads) == 1 and not uploads[0].filename.lower().endswith(MEASUREMENT_NAMES):
         return _unpack(uploads[0].file, folder, file_limit, total_limit, max_files)
     return _stored([(u.filename, lambda u=u: contextlib.nullcontext(u.file)) for u in uploads],
                    folder, file_limit, total_limit, max_files, "chosen")
@@ -532,7 +532,7 @@ def _stored(entries: list, folder: Path, file_limit: int, total_limit: int, max_
     if len(entries) > max_files:
         raise _bad_opening(f"{len(entries)} files {where}, more than {max_files}",
                            f"{ru_where} {len(entries)} файлов, больше {max_files}")
-    tomls = [e for e in entries if e[0].lower().endswith(".toml")]
+    tomls = [e for e in entries if e[0].lower().endswith(MEASUREMENT_NAMES)]
     if len(tomls) != 1:
         raise _bad_opening(f"{len(tomls)} .toml files {where}, not one",
                            f"{ru_where} {len(tomls)} файлов .toml, а не один")
@@ -550,7 +550,7 @@ def _stored(entries: list, folder: Path, file_limit: int, total_limit: int, max_
         return size
 
     for name, opener in entries:
-        if name.lower().endswith(".toml"):
+        if name.lower().endswith(MEASUREMENT_NAMES):
             blob = io.BytesIO()
             left -= copy(name, opener, blob, min(MEASUREMENT_KIND.limit, left))
             text = measurement_text(blob.getvalue())

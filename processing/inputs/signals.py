@@ -1082,9 +1082,12 @@ def _time_base(src: _Source, table: _Table,
         k = int(np.argmax(off))
         raise src.error(f"the time column '{first}' is not uniformly sampled at row "
                         f"{table.line(k + 1)}: step {steps[k]:.6g} s, usual step "
-                        f"{typical:.6g} s", "a gap means lost samples: cut the file to an unbroken "
-                        "stretch; if the times were rounded on export, write them with more "
-                        "digits, or delete the time column and give sample_rate")
+                        f"{typical:.6g} s", "a gap means lost samples"
+                        + (" or a new segment (an oscilloscope's segmented memory saved whole: "
+                           "export one segment)" if layout is not None else "")
+                        + ": cut the file to an unbroken stretch; if the times were rounded on "
+                        "export, write them with more digits, or delete the time column and "
+                        "give sample_rate")
     return first, (len(t) - 1) / (t[-1] - t[0])  # the mean step: robust to rounded times
 
 
