@@ -342,3 +342,31 @@ def test_edge_times_only_from_tables(tmp_path):
     write_wav(tmp_path / "rec.wav", np.zeros(10, np.int16), 8000)
     with pytest.raises(InputError, match=r"unknown file type '\.wav'.*Fix: give a \.csv"):
         read_edge_times(tmp_path / "rec.wav")
+
+
+def _sine_table(header: str, t_scale: float, u_scale: float, sep: str = ",") -> str:
+    t = np.arange(500) / 5000.0
+    u = np.sin(2 * np.pi * 50 * t)
+    return header + "\n" + "".join(f"{a * t_scale:.4f}{sep}{b * u_scale:.6f}\n"
+                                   for a, b in zip(t, u))
+
+
+@pytest.mark.parametrize("header, u_scale", [
+    ('"t, ms","U, mV"', 1e3), ("t_ms,u_мВ", 1e3), ('"t, ms","u [µV]"', 1e6), ("t_ms,U", 1.0),
+    ('"t, мс","Напряжение, В"', 1.0),
+])
+def test_a_channel_whose_header_names_millivolts_is_read_in_volts(tmp_path, header, u_scale):
+    path = tmp_path / "decay.csv"
+    path.write_text(_sine_table(header, 1e3, u_scale), encoding="utf-8")
+    channel = open_channel(path, field="decay.signal")
+    assert channel.sample_rate == pytest.approx(5000.0, rel=1e-9)
+    assert channel.read().max() == pytest.approx(1.0, abs=2e-6)
+
+
+def test_a_comma_inside_an_unquoted_name_is_refused_not_read_as_another_column(tmp_path):
+    """'t, ms,U, mV' names four columns of a two-column table: read as it stands, the time
+    would be taken in seconds (a rate of 5 Hz) and the volts from the millivolts."""
+    path = tmp_path / "decay.csv"
+    path.write_text(_sine_table("t, ms,U, mV", 1e3, 1e3), encoding="utf-8")
+    with pytest.raises(InputError, match=r"names 4 columns .* row 2 holds 2 cells: a ',' inside"):
+        open_channel(path, field="decay.signal")

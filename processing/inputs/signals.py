@@ -16,8 +16,10 @@ CSV / TXT (``.csv``, ``.txt``, ``.tsv``, ``.dat``)
     Comma, semicolon, tab or whitespace separated; a header row is optional; ``#`` starts a
     comment; with semicolons or tabs a decimal comma is accepted. A first column named
     ``t``, ``time`` or ``время``, optionally with a unit (``time_s``, ``t, ms``, ``t [us]``),
-    is the time base: it must rise uniformly, and the sample rate follows from it. Rows are
-    counted as a spreadsheet shows them (the header is row 1).
+    is the time base: it must rise uniformly, and the sample rate follows from it. A channel
+    is in volts, or in the unit its name ends with (``U, mV``, ``u_мВ``, ``ch1 [µV]``). A
+    header naming more columns than the rows hold (``t, ms,U, mV``: a comma inside a name
+    unquoted) is refused. Rows are counted as a spreadsheet shows them (the header is row 1).
 CSV exported by an oscilloscope or acquisition program; LabVIEW Measurement (``.lvm``)
     Rigol DS1000Z and DS1000E, Tektronix TDS/TBS1000 and MSO/MDO, Siglent SDS, Keysight
     InfiniiVision, PicoScope 6/7, LabVIEW's Write To Measurement File (one segment):
@@ -52,6 +54,7 @@ the measurement-file field that pointed to it (``field=``) and the fix.
 from __future__ import annotations
 
 import contextlib
+import csv
 import dataclasses
 import difflib
 import functools
@@ -107,6 +110,9 @@ _TIME_UNITS = {"s": 1.0, "с": 1.0, "ms": 1e-3, "мс": 1e-3, "us": 1e-6, "µs":
                "мкс": 1e-6, "ns": 1e-9}
 _TIME_NAME = re.compile(r"(?:t|time|время)(?:\s*[,_\[(/]\s*(" + "|".join(_TIME_UNITS)
                         + r")\s*[\])]?)?")
+_VOLT_UNITS = {"v": 1.0, "в": 1.0, "mv": 1e-3, "мв": 1e-3, "uv": 1e-6, "µv": 1e-6,
+               "μv": 1e-6, "мкв": 1e-6}
+_VOLT_NAME = re.compile(r".*?\S\s*[,_\[(/]\s*(" + "|".join(_VOLT_UNITS) + r")\s*[\])]?")
 _WAV_SIDES = {"left": 0, "right": 1}
 
 _Reader = Callable[[int, int], np.ndarray]
@@ -707,6 +713,13 @@ def _listing(options: list[str], most: int = 12, lang: str = "en") -> str:
     return shown + (more.format(len(options) - most) if len(options) > most else "")
 
 
+def _volt_scale(name: str) -> float:
+    """Volts per unit of a channel whose header names its unit (``U, mV``, ``ch1_мВ``,
+    ``u [µV]``); 1 for any other (a plain table's values are volts)."""
+    match = _VOLT_NAME.fullmatch(name.strip().lower())
+    return 1.0 if match is None else _VOLT_UNITS[match.group(1)]
+
+
 def _time_scale(name: str) -> float | None:
     """Seconds per unit of a time column's header (``t``, ``time_ms``, ``t, us``), else None."""
     match = _TIME_NAME.fullmatch(name.strip().lower())
@@ -764,6 +777,18 @@ class _Table:
                                 "таблицей чисел (строка заголовка, затем по строке чисел на "
                                 "отсчёт)"))
         decimal = "," if sep != "," and "," in data_line[1] else "."
+        named = [f.strip() for f in _cells(first[1], sep) if f.strip()] if header else []
+        if len(_cells(data_line[1], sep)) < len(named):
+            raise src.error(f"the header names {len(named)} columns ({', '.join(named)}) but "
+                            f"row {data_line[0]} holds {len(_cells(data_line[1], sep))} cells: "
+                            f"a '{sep}' inside a name (\"t, ms\") splits it in two",
+                            f"put such a name in quotes (\"t, ms\"), write it without the "
+                            f"'{sep}' (t_ms, t [ms]) or separate the columns with ';'",
+                            ru=(f"в заголовке {len(named)} имён столбцов, а в строке "
+                                f"{data_line[0]} {len(_cells(data_line[1], sep))} ячеек: "
+                                f"'{sep}' внутри имени (\"t, мс\") делит его надвое",
+                                f"возьмите такое имя в кавычки (\"t, мс\"), напишите его без "
+                                f"'{sep}' (t_ms, t [мс]) или разделяйте столбцы ';'"))
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("error", pd.errors.ParserWarning)  # rows beyond the header
@@ -899,7 +924,8 @@ class _Table:
                                      "в оцифрованном сигнале значит, что запись надо разрезать "
                                      "здесь)"))
         if self.layout is None:
-            return values.copy()        # the caller's own: a table may be read again
+            scale = _volt_scale(name) if self.header else 1.0
+            return values * scale if scale != 1.0 else values.copy()   # the caller's own
         over = np.zeros(len(values)) if over is None else over
         if values.dtype.kind == "f":
             scpi, holes = scpi_marks(values)
@@ -998,6 +1024,13 @@ def _separator(line: str) -> str:
 
 def _split(line: str, sep: str) -> list[str]:
     return line.split() if sep == r"\s+" else line.split(sep)
+
+
+def _cells(line: str, sep: str) -> list[str]:
+    """A row's cells as the table's reader takes them: a separator inside quotes is text."""
+    if sep == r"\s+":
+        return line.split()
+    return next(csv.reader([line.rstrip("\r\n")], delimiter=sep, skipinitialspace=True), [])
 
 
 def _is_number(cell: str) -> bool:
