@@ -1,6 +1,8 @@
 """Which labs exist, and running one measurement file through its lab."""
 from __future__ import annotations
 
+import re
+
 from collections.abc import Iterator, Mapping
 from importlib import import_module
 from pathlib import Path
@@ -36,12 +38,24 @@ LABS = _Labs()
 def lab_module(lab_id: str, file: str | None = None):
     """The module of lab ``lab_id``, or an :class:`InputError` listing the known labs."""
     if lab_id not in LABS:
+        meant = _meant(lab_id)
         raise InputError(f"unknown lab {lab_id!r}",
-                         f"use one of {', '.join(LABS)} ('dynlab list' shows them)",
+                         (f"write lab = \"{meant}\"; " if meant else "")
+                         + f"use one of {', '.join(LABS)} ('dynlab list' shows them)",
                          file=file, field="lab" if file else None,
                          ru=(f"неизвестная работа {lab_id!r}",
-                             f"укажите одну из {', '.join(LABS)} (их показывает 'dynlab list')"))
+                             (f"напишите lab = \"{meant}\"; " if meant else "")
+                             + f"укажите одну из {', '.join(LABS)} (их показывает 'dynlab "
+                             "list')"))
     return LABS[lab_id]
+
+
+def _meant(lab_id: str) -> str | None:
+    """The lab a misspelt id means (``Lab1``, ``lab 1``, ``лаб01``, ``1``), or None."""
+    text = re.sub(r"[\s_\-№#]", "", str(lab_id).lower()).replace("лаб", "lab")
+    number = re.fullmatch(r"(?:lab)?0*(\d)", text)
+    meant = f"lab{number.group(1)}" if number else text
+    return meant if meant in LABS else None
 
 
 def evaluate(path: str | Path, *, data: dict | None = None, confine: bool = False,

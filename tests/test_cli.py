@@ -414,3 +414,13 @@ def test_list_names_every_registered_lab_with_its_specs_title(capsys):
     out = capsys.readouterr().out
     for lab_id, module in LABS.items():
         assert f"{lab_id:8} {module.SPEC.title['en']}  /  {module.SPEC.title['ru']}" in out
+
+
+@pytest.mark.parametrize("written, meant", [('"Lab1"', "lab1"), ('"лаб 01"', "lab1"),
+                                            ("5", "lab5"), ('"DynCalc"', "dyncalc")])
+def test_a_misspelt_lab_is_refused_saying_which_lab_it_means(tmp_path, capsys, written, meant):
+    path = tmp_path / "mine.toml"
+    path.write_text(f"lab = {written}\n", encoding="utf-8")
+    code, out, err = run(capsys, "run", path, "--out", tmp_path / "out")
+    assert_one_clear_error(code, out, err, path, "lab", "unknown lab", tmp_path / "out")
+    assert f'write lab = "{meant}"' in err
