@@ -271,10 +271,7 @@ def read_text(path, kind: Kind, *, field: str | None = None, legacy: str | None 
     fix, fix_ru = fix or f"save the {kind.what} as UTF-8 text", \
         fix_ru or (None if fix else f"сохраните его ({kind.ru[0]}) как текст UTF-8")
     try:
-        if raw.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
-            text = raw.decode("utf-16")
-        else:
-            text = raw.decode("utf-8-sig")
+        text = unicode_text(raw)
     except UnicodeDecodeError:
         if legacy is None:
             raise InputError(f"not a text file in UTF-8 ({kind.a} is text)", fix,
@@ -288,6 +285,15 @@ def read_text(path, kind: Kind, *, field: str | None = None, legacy: str | None 
                          ru=fix_ru and (f"не текстовый файл (двоичные данные), а значит, не "
                                         f"{kind.ru[0]}", fix_ru))
     return text
+
+
+def unicode_text(raw: bytes) -> str:
+    """Bytes decoded as UTF-8 (a byte-order mark dropped), or as UTF-16 where its byte-order
+    mark opens them (a spreadsheet's or Notepad's "Unicode"). Raises UnicodeDecodeError for
+    anything else."""
+    if raw.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        return raw.decode("utf-16")
+    return raw.decode("utf-8-sig")
 
 
 _CONTROLS = re.compile(r"[\x00-\x08\x0b\x0c\x0e-\x1f]")

@@ -20,7 +20,6 @@ File format (ARCHITECTURE.md, "Measurement file")::
 """
 from __future__ import annotations
 
-import codecs
 import contextlib
 import difflib
 import math
@@ -37,7 +36,7 @@ from typing import Any, NamedTuple
 from .decimal_comma import decode_error, split_reading
 from .diagnostics import (ImplausibleValueWarning, InputError, SingleReadingWarning,
                           TextTruncatedWarning)
-from .files import MEASUREMENT, read_bytes, resolved
+from .files import MEASUREMENT, read_bytes, resolved, unicode_text
 from .uncertainty import Measured
 from .units import (QuantityError, likely_slip, magnitude_verdict, number_to_si,
                     parse_quantity, read_quantity, si_factor, si_unit, unit_text)
@@ -435,12 +434,8 @@ def measurement_text(raw: bytes) -> str | None:
     """A measurement file's text as a student's editor saved it: UTF-8 (a byte-order mark
     dropped), UTF-16 with its byte-order mark (Notepad's "Unicode"), or Windows-1251 (an
     older Russian Notepad's "ANSI") where that reads as TOML; None for anything else."""
-    if raw.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
-        with contextlib.suppress(UnicodeDecodeError):
-            return raw.decode("utf-16")
-        return None
     with contextlib.suppress(UnicodeDecodeError):
-        return raw.decode("utf-8-sig")
+        return unicode_text(raw)
     try:
         text = raw.decode("cp1251")
         tomllib.loads(text)
@@ -465,7 +460,7 @@ def read_toml(path: str | Path) -> TomlDocument:
                                              "укажите файл измерений TOML, сохранённый как "
                                              "текст UTF-8 (Блокнот: Сохранить как, Кодировка "
                                              "UTF-8); его заготовку пишет 'dynlab template "
-                                             "LAB'")) from None
+                                             "LAB'"))
     try:
         return TomlDocument(tomllib.loads(text), text)
     except tomllib.TOMLDecodeError as exc:
