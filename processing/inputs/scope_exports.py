@@ -68,13 +68,15 @@ it."""
 SCPI_NAN = 9.91e37
 """SCPI's not-a-number: a reading the instrument does not have (a hole in the record)."""
 
-TIME_UNITS = {"s": 1.0, "sec": 1.0, "second": 1.0, "seconds": 1.0, "ms": 1e-3, "us": 1e-6,
-              "µs": 1e-6, "μs": 1e-6, "ns": 1e-9}
-"""Seconds per unit of an export's time axis (units as written, lower case)."""
+TIME_UNITS = {"s": 1.0, "sec": 1.0, "second": 1.0, "seconds": 1.0, "с": 1.0, "ms": 1e-3,
+              "мс": 1e-3, "us": 1e-6, "µs": 1e-6, "μs": 1e-6, "мкс": 1e-6, "ns": 1e-9}
+"""Seconds per unit of a time axis, an export's or a plain table's (units as written, lower
+case, Russian too)."""
 
-VOLT_UNITS = {"v": 1.0, "volt": 1.0, "volts": 1.0, "voltage": 1.0, "mv": 1e-3, "uv": 1e-6, "µv": 1e-6,
-              "μv": 1e-6, "kv": 1e3}
-"""Volts per unit of an export's channel (units as written, lower case)."""
+VOLT_UNITS = {"v": 1.0, "volt": 1.0, "volts": 1.0, "voltage": 1.0, "в": 1.0, "mv": 1e-3,
+              "мв": 1e-3, "uv": 1e-6, "µv": 1e-6, "μv": 1e-6, "мкв": 1e-6, "kv": 1e3}
+"""Volts per unit of a channel, an export's or a plain table's (units as written, lower case,
+Russian too)."""
 
 END_OF_HEADER = "***End_of_Header***"
 """The line that ends a LabVIEW Measurement file's header and each segment's."""

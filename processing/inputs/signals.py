@@ -78,7 +78,8 @@ from scipy.io import wavfile
 from processing.diagnostics import InputError
 from processing.files import IMAGE, STREAMED, TABLE, read_text, regular
 from processing.inputs.reuse import by_content
-from processing.inputs.scope_exports import OVER, PREAMBLE_MOST, Layout, recognise, scpi_marks
+from processing.inputs.scope_exports import (OVER, PREAMBLE_MOST, TIME_UNITS, VOLT_UNITS,
+                                             Layout, recognise, scpi_marks)
 
 CHUNK = 2**22
 """Default block length of :meth:`Channel.chunks` [samples]: 32 MB of float64."""
@@ -106,13 +107,9 @@ _IMAGES = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp")
 _FORMATS.update(dict.fromkeys(_IMAGES, "image"))
 _FILE_KINDS = {"csv": TABLE, "image": IMAGE}
 """The formats read whole, and their size limits; the others stream (:data:`STREAMED`)."""
-_TIME_UNITS = {"s": 1.0, "с": 1.0, "ms": 1e-3, "мс": 1e-3, "us": 1e-6, "µs": 1e-6, "μs": 1e-6,
-               "мкс": 1e-6, "ns": 1e-9}
-_TIME_NAME = re.compile(r"(?:t|time|время)(?:\s*[,_\[(/]\s*(" + "|".join(_TIME_UNITS)
+_TIME_NAME = re.compile(r"(?:t|time|время)(?:\s*[,_\[(/]\s*(" + "|".join(TIME_UNITS)
                         + r")\s*[\])]?)?")
-_VOLT_UNITS = {"v": 1.0, "в": 1.0, "mv": 1e-3, "мв": 1e-3, "uv": 1e-6, "µv": 1e-6,
-               "μv": 1e-6, "мкв": 1e-6}
-_VOLT_NAME = re.compile(r".*?\S\s*[,_\[(/]\s*(" + "|".join(_VOLT_UNITS) + r")\s*[\])]?")
+_VOLT_NAME = re.compile(r".*?\S\s*[,_\[(/]\s*(" + "|".join(VOLT_UNITS) + r")\s*[\])]?")
 _WAV_SIDES = {"left": 0, "right": 1}
 
 _Reader = Callable[[int, int], np.ndarray]
@@ -717,13 +714,13 @@ def _volt_scale(name: str) -> float:
     """Volts per unit of a channel whose header names its unit (``U, mV``, ``ch1_мВ``,
     ``u [µV]``); 1 for any other (a plain table's values are volts)."""
     match = _VOLT_NAME.fullmatch(name.strip().lower())
-    return 1.0 if match is None else _VOLT_UNITS[match.group(1)]
+    return 1.0 if match is None else VOLT_UNITS[match.group(1)]
 
 
 def _time_scale(name: str) -> float | None:
     """Seconds per unit of a time column's header (``t``, ``time_ms``, ``t, us``), else None."""
     match = _TIME_NAME.fullmatch(name.strip().lower())
-    return None if match is None else _TIME_UNITS[match.group(1) or "s"]
+    return None if match is None else TIME_UNITS[match.group(1) or "s"]
 
 
 # ---- CSV ----
