@@ -759,13 +759,15 @@ class _Table:
                             ru=("нет данных: только пустые строки или комментарии",
                                 "экспортируйте запись заново как таблицу чисел"))
         sep = _separator(first[1])
-        header = any(f.strip(" \"'") and not _is_number(f) for f in _split(first[1], sep))
+        titles = _cells(first[1], sep)
+        header = any(f.strip(" \"'") and not _is_number(f) for f in titles)
         data_line = next(lines, None) if header else first
         if data_line is None:
             raise src.error("no data: only a header row", "export the recording with its rows "
                             "of numbers", ru=("нет данных: только строка заголовка",
                                               "экспортируйте запись со строками чисел"))
-        if not any(_is_number(c) for c in _split(data_line[1], sep)):
+        row = _cells(data_line[1], sep)
+        if not any(_is_number(c) for c in row):
             raise src.error(f"row {data_line[0]} holds no number: this is text, not a table "
                             "of readings", "give the recording exported as a table of numbers "
                             "(a header row, then one row of numbers per sample)",
@@ -774,15 +776,15 @@ class _Table:
                                 "таблицей чисел (строка заголовка, затем по строке чисел на "
                                 "отсчёт)"))
         decimal = "," if sep != "," and "," in data_line[1] else "."
-        named = [f.strip() for f in _cells(first[1], sep) if f.strip()] if header else []
-        if len(_cells(data_line[1], sep)) < len(named):
+        named = [f.strip() for f in titles if f.strip()] if header else []
+        if len(row) < len(named):
             raise src.error(f"the header names {len(named)} columns ({', '.join(named)}) but "
-                            f"row {data_line[0]} holds {len(_cells(data_line[1], sep))} cells: "
+                            f"row {data_line[0]} holds {len(row)} cells: "
                             f"a '{sep}' inside a name (\"t, ms\") splits it in two",
                             f"put such a name in quotes (\"t, ms\"), write it without the "
                             f"'{sep}' (t_ms, t [ms]) or separate the columns with ';'",
                             ru=(f"в заголовке {len(named)} имён столбцов, а в строке "
-                                f"{data_line[0]} {len(_cells(data_line[1], sep))} ячеек: "
+                                f"{data_line[0]} {len(row)} ячеек: "
                                 f"'{sep}' внутри имени (\"t, мс\") делит его надвое",
                                 f"возьмите такое имя в кавычки (\"t, мс\"), напишите его без "
                                 f"'{sep}' (t_ms, t [мс]) или разделяйте столбцы ';'"))
@@ -794,7 +796,7 @@ class _Table:
                                     index_col=False, low_memory=False)
         except (pd.errors.ParserError, pd.errors.ParserWarning, ValueError) as exc:
             if sep == "," and re.search(r"\d,\d", data_line[1]) and header and \
-                    len(_split(data_line[1], sep)) > len(_split(first[1], sep)):
+                    len(row) > len(titles):
                 raise src.error("the rows have more cells than the header: the numbers seem to "
                                 "use decimal commas while commas also separate the columns",
                                 "export the table with ';' (or tabs) between the columns, or "
@@ -1017,10 +1019,6 @@ class _Slices:
 
 def _separator(line: str) -> str:
     return next((s for s in (";", "\t", ",") if s in line), r"\s+")
-
-
-def _split(line: str, sep: str) -> list[str]:
-    return line.split() if sep == r"\s+" else line.split(sep)
 
 
 def _cells(line: str, sep: str) -> list[str]:
