@@ -362,7 +362,9 @@ class WebApp:
         lab = doc.get("lab")
         if lab not in CATALOGUE:
             return self.refuse(request, session, "bad_zip", 422, str(lab)[:80])
-        missing = {path: name for path, name in forms.named_files(doc, _spec(lab)).items()
+        spec = _spec(lab)
+        values, counts = forms.values(doc, spec)
+        missing = {path: name for path, name in forms.named_files(values, spec).items()
                    if _base_name(name) not in renamed}
         if missing:
             listed = ", ".join(f"{name} ({path})" for path, name in missing.items())
@@ -370,7 +372,6 @@ class WebApp:
                 f"the .toml names {listed}, not given with it",
                 f"в .toml названы {listed}, но не даны вместе с ним").text(session.lang))
         run.lab = lab
-        values, counts = forms.values(doc, _spec(lab))
         values = {k: renamed.get(_base_name(v), v) if isinstance(v, str) else v
                   for k, v in values.items()}
         (run.folder / MEASUREMENT).write_text(dumps(doc), encoding="utf-8")

@@ -140,11 +140,11 @@ def values(doc: Mapping, spec: LabSpec) -> tuple[dict[str, str], dict[str, int]]
     return out, counts
 
 
-def named_files(doc: Mapping, spec: LabSpec) -> dict[str, str]:
-    """The files a measurement document names, by the path of their field (``decay.signal``,
-    ``record[2].signal``)."""
+def named_files(form: Mapping[str, str], spec: LabSpec) -> dict[str, str]:
+    """The files a document's form values (:func:`values`) name, by the path of their field
+    (``decay.signal``, ``record[2].signal``)."""
     files = {f.name for sec in spec.sections for f in sec.fields if f.kind == "file"}
-    return {path: text for path, text in values(doc, spec)[0].items()
+    return {path: text for path, text in form.items()
             if path.rsplit(".", 1)[-1] in files and text}
 
 
