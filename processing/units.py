@@ -371,11 +371,11 @@ or before a ± limit."""
 
 
 def plain_notation(text: str, expected_unit: str = "") -> str:
-    """``text`` (its decimal commas already points) with the ways a number is written by
-    hand or copied from a report put as Python writes it: a minus sign (−) as a hyphen, a
-    stopwatch's minutes and seconds as seconds (where ``expected_unit`` is a time: ``1:10``
-    is no lever ratio), a power of ten as an exponent, a value and its limit in brackets each
-    followed by the power and the unit.
+    """``text`` with the ways a number is written by hand or copied from a report put as
+    Python writes it: its decimal commas as points (:func:`decimal_point`), a minus sign (−)
+    as a hyphen, a stopwatch's minutes and seconds as seconds (where ``expected_unit`` is a
+    time: ``1:10`` is no lever ratio), a power of ten as an exponent, a value and its limit
+    in brackets each followed by the power and the unit.
 
     Examples
     --------
@@ -388,7 +388,7 @@ def plain_notation(text: str, expected_unit: str = "") -> str:
     >>> plain_notation("1:05.3 ± 0.2 s", "s"), plain_notation("1:10", "")
     ('65.3 s ± 0.2 s', '1:10')
     """
-    text = text.replace("\u2212", "-")
+    text = decimal_point(text).replace("\u2212", "-")
     clock = _CLOCK.match(text) if dimension(expected_unit) == dimension("s") else None
     if clock:
         h, m = int(clock["h"] or 0), int(clock["m"])
@@ -452,7 +452,7 @@ def read_quantity(text: str, expected_unit: str) -> tuple[float, float | None, s
     >>> read_quantity("0,8 m", "mm")
     (0.8, None, 'm')
     """
-    written, text = text, plain_notation(decimal_point(text), expected_unit)
+    written, text = text, plain_notation(text, expected_unit)
     if "," in text:
         raise QuantityError(f"cannot read {written!r}: a comma that is no decimal comma (not "
                             f"between two digits) separates two values",

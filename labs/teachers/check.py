@@ -442,7 +442,7 @@ def _expected_unit(result) -> str:
 
 
 def _quantity(path: str, field: str, value, u, unit: str) -> Reported:
-    from processing.units import decimal_point, parse_quantity, plain_notation
+    from processing.units import parse_quantity, plain_notation
 
     if isinstance(value, bool) or not isinstance(value, (int, float, str)):
         raise InputError(f"{value!r} is not a value", "write a number with its unit, e.g. "
@@ -477,7 +477,7 @@ def _quantity(path: str, field: str, value, u, unit: str) -> Reported:
                              ru=(f"неопределённость дана дважды: ± в значении и u = {u!r}",
                                  "оставьте одно из двух"))
         u_si = _uncertainty(path, f"{field}.u", u, unit)
-    text = plain_notation(decimal_point(text), unit or "")   # "0,1708": 0.1708's digits
+    text = plain_notation(text, unit or "")     # "0,1708" has the digits of 0.1708
     digits, exponent = written_digits(text)
     scale = si / float(text.split()[0]) if _plain_number(text) and float(text.split()[0]) \
         else 1.0
